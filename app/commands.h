@@ -1,0 +1,36 @@
+// The table of subcommands (COLMAP's exe/colmap.cc): each entry adds its CLI11 subcommand and
+// options, then runs when chosen. Exit codes are shared so scripts can trust them.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mesocap::app {
+
+// 0 success; 1 the work failed on bad data or I/O (message names the file); 2 a bad option;
+// 3 interrupted or cancelled; 70 an internal error (a bug). CLI11 parse errors keep CLI11's codes.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitCancelled = 3;
+inline constexpr int kExitInternal = 70;
+
+struct Command {
+  std::string name;
+  std::function<void(CLI::App&)> setup;
+  std::function<int()> run;
+};
+
+// Prints "mesocap <verb>: <message>" on stderr and returns `code`.
+int Fail(const std::string& verb, const std::string& message, int code = kExitFailure);
+
+std::vector<Command> AllCommands();
+
+// One factory per <verb>_cmd.cc.
+Command SimulateCommand();
+Command DemoCommand();
+
+}  // namespace mesocap::app

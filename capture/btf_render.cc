@@ -1,0 +1,97 @@
+#include "capture/btf_render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/directions.h"
+#include "core/parallel.h"
+
+namespace mesocap {
+
+MaterialHit TraceFromViewer(const Material& m, double x, double y, const Eigen::Vector3d& wo) {
+  const double horizontal = std::hypot(wo.x(), wo.y());
+  double s_hit = 0;
+  if (horizontal > 1e-9 && m.max_height_m() > 0) {
+    // March from where the ray enters the slab z <= max height down to the reference plane,
+    // half a cell of horizontal travel per step, then bisect the crossing.
+    const double s_top = m.max_height_m() / wo.z();
+    const double ds = 0.5 * m.cell_m() / horizontal;
+    auto above = [&](double s) {
+      return s * wo.z() > m.Height(x + s * wo.x(), y + s * wo.y());
+    };
+    double s_prev = s_top, s = s_top;
+    while (s > 0) {
+      s = std::max(0.0, s - ds);
+      if (!above(s)) break;
+      s_prev = s;
+    }
+    double lo = s, hi = s_prev;  // lo below the surface (or 0), hi above
+    for (int it = 0; it < 8 && hi - lo > 1e-12; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (above(mid) ? hi : lo) = mid;
+    }
+    s_hit = hi;
+  }
+  const double hx = x + s_hit * wo.x(), hy = y + s_hit * wo.y();
+  MaterialHit hit;
+  hit.point = {hx, hy, double(m.Height(hx, hy))};
+  hit.normal = m.Normal(hx, hy);
+  hit.albedo = m.Albedo(hx, hy);
+  return hit;
+}
+
+bool SelfShadowed(const Material& m, const Eigen::Vector3d& p, const Eigen::Vector3d& wi) {
+  if (wi.z() <= 0) return true;
+  const double horizontal = std::hypot(wi.x(), wi.y());
+  if (horizontal < 1e-9 || m.max_height_m() <= 0) return false;
+  const double ds = m.cell_m() / horizontal;
+  const double s_end = (m.max_height_m() - p.z()) / wi.z();
+  for (double s = ds; s < s_end; s += ds) {
+    const Eigen::Vector3d q = p + s * wi;
+    if (q.z() < m.Height(q.x(), q.y()) - 1e-6) return true;
+  }
+  return false;
+}
+
+Eigen::Vector3f ReflectedRadiance(const Material& m, const MaterialHit& hit, const Eigen::Vector3d& wi,
+                                  const Eigen::Vector3d& wo) {
+  const Eigen::Vector3d n = hit.normal.cast<double>();
+  const double cos_i = n.dot(wi);
+  if (cos_i <= 0) return Eigen::Vector3f::Zero();
+  Eigen::Vector3f f = hit.albedo / float(std::numbers::pi);
+  if (m.specular_f0() > 0) {
+    const double cos_o = std::max(n.dot(wo), 1e-3);
+    const double a2 = m.roughness() * m.roughness();
+    const Eigen::Vector3d h = (wi + wo).normalized();
+    const double nh = std::max(n.dot(h), 0.0);
+    const double denom = nh * nh * (a2 - 1) + 1;
+    const double D = a2 / (std::numbers::pi * denom * denom);
+    auto g1 = [&](double c) { return 2 * c / (c + std::sqrt(a2 + (1 - a2) * c * c)); };
+    const double G = g1(cos_i) * g1(cos_o);
+    const double F = m.specular_f0() + (1 - m.specular_f0()) * std::pow(1 - std::clamp(wi.dot(h), 0.0, 1.0), 5);
+    f += Eigen::Vector3f::Constant(float(F * D * G / (4 * cos_i * cos_o)));
+  }
+  return f * float(cos_i);
+}
+
+Image RenderTrueBtfSlice(const Material& m, const TrueBtfRequest& r, int num_threads) {
+  const Eigen::Vector3d wi = DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg);
+  const Eigen::Vector3d wo = DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);
+  Image out(r.size, r.size, 3);
+  ParallelFor(0, r.size, [&](int j) {
+    for (int i = 0; i < r.size; ++i) {
+      const Eigen::Vector2d xy = TexelCentre(i, j, r.size, r.patch_m) + r.offset_m;
+      const MaterialHit hit = TraceFromViewer(m, xy.x(), xy.y(), wo);
+      Eigen::Vector3f L = Eigen::Vector3f::Zero();
+      if (!SelfShadowed(m, hit.point, wi)) L = ReflectedRadiance(m, hit, wi, wo);
+      float* px = out.pixel(i, j);
+      px[0] = L.x();
+      px[1] = L.y();
+      px[2] = L.z();
+    }
+  }, num_threads);
+  return out;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,326 @@
+#include "capture/rig_render.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/parallel.h"
+
+namespace mesocap {
+namespace {
+
+constexpr float kInvPi = float(1.0 / std::numbers::pi);
+
+// Ray (origin o, unit direction d) against the square |x|,|y| <= half in the frame (R, t).
+double IntersectSquare(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Matrix3d& R,
+                       const Eigen::Vector3d& t, double half_x, double half_y, double lo_x = NAN, double lo_y = NAN) {
+  const Eigen::Vector3d ol = R.transpose() * (o - t), dl = R.transpose() * d;
+  if (std::abs(dl.z()) < 1e-12) return -1;
+  const double s = -ol.z() / dl.z();
+  if (s <= 0) return -1;
+  const double x = ol.x() + s * dl.x(), y = ol.y() + s * dl.y();
+  const double x0 = std::isnan(lo_x) ? -half_x : lo_x, y0 = std::isnan(lo_y) ? -half_y : lo_y;
+  return (x >= x0 && x <= half_x && y >= y0 && y <= half_y) ? s : -1;
+}
+
+double IntersectSphere(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& c, double r) {
+  const Eigen::Vector3d oc = o - c;
+  const double b = oc.dot(d), cc = oc.squaredNorm() - r * r;
+  const double disc = b * b - cc;
+  if (disc < 0) return -1;
+  const double sq = std::sqrt(disc);
+  const double s0 = -b - sq;
+  if (s0 > 1e-9) return s0;
+  const double s1 = -b + sq;
+  return s1 > 1e-9 ? s1 : -1;
+}
+
+double IntersectPlane(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& n,
+                      const Eigen::Vector3d& p0) {
+  const double den = n.dot(d);
+  if (std::abs(den) < 1e-12) return -1;
+  const double s = n.dot(p0 - o) / den;
+  return s > 0 ? s : -1;
+}
+
+// Counter-based RNG: one independent stream per (seed, stream, index).
+uint64_t Mix(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+float GaussianAt(uint64_t seed, uint64_t stream, uint64_t index) {
+  const uint64_t a = Mix(seed ^ Mix(stream ^ Mix(index)));
+  const uint64_t b = Mix(a);
+  const double u1 = (double(a >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+  const double u2 = double(b >> 11) * (1.0 / 9007199254740992.0);
+  return float(std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2));
+}
+
+}  // namespace
+
+std::string RigRenderOptions::Check() const {
+  if (samples_per_axis < 1 || samples_per_axis > 8) return "samples per axis must be 1..8";
+  if (patch_texels < 32 || patch_texels > 4096) return "patch texels must be 32..4096";
+  return "";
+}
+
+RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const RigRenderOptions& options)
+    : scene_(scene), material_(material), options_(options) {
+  int max_id = 0;
+  for (const auto& b : scene_.boards)
+    for (const auto& t : b.tags) max_id = std::max(max_id, t.id);
+  for (int id = 0; id <= max_id; ++id) tag_bitmaps_.push_back(Tag36h11Bitmap(id));
+}
+
+std::vector<Eigen::Vector2d> RigRenderer::SubpixelOffsets() const {
+  // Stratified, with distinct x and y per sample (n-rooks inside the grid).
+  const int k = options_.samples_per_axis;
+  std::vector<Eigen::Vector2d> offsets;
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) offsets.emplace_back((i + (j + 0.5) / k) / k, (j + (i + 0.5) / k) / k);
+  return offsets;
+}
+
+RigRenderer::Sample RigRenderer::TracePrimary(const Eigen::Vector3d& d) const {
+  const Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  double best = 1e30;
+  Kind kind = kNone;
+  int index = 0;
+  auto consider = [&](double s, Kind k, int i) {
+    if (s > 0 && s < best) {
+      best = s;
+      kind = k;
+      index = i;
+    }
+  };
+  consider(IntersectPlane(o, d, scene_.TableNormalInCam(), scene_.TablePointInCam()), kTable, 0);
+  for (size_t b = 0; b < scene_.boards.size(); ++b) {
+    const auto& board = scene_.boards[b];
+    consider(IntersectSquare(o, d, board.R, board.t, board.size_m / 2, board.size_m / 2), kBoard, int(b));
+  }
+  for (size_t i = 0; i < scene_.spheres.size(); ++i)
+    consider(IntersectSphere(o, d, scene_.spheres[i].center_m, scene_.spheres[i].radius_m), kSphere, int(i));
+  for (size_t i = 0; i < scene_.grey_cards.size(); ++i) {
+    const auto& c = scene_.grey_cards[i];
+    consider(IntersectSquare(o, d, c.R, c.t, c.size_m / 2, c.size_m / 2), kCard, int(i));
+  }
+  const Eigen::Vector3d p = kind == kNone ? Eigen::Vector3d::Zero() : Eigen::Vector3d(best * d);
+  return {float(p.x()), float(p.y()), float(p.z()), kind, uint8_t(index)};
+}
+
+void RigRenderer::Prepare(const ProgressFn& progress) {
+  const int W = scene_.camera.width, H = scene_.camera.height;
+  const auto offsets = SubpixelOffsets();
+  const size_t spp = offsets.size();
+  gbuffer_.assign(size_t(W) * H * spp, Sample{});
+  ParallelFor(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x)
+      for (size_t s = 0; s < spp; ++s) {
+        const Eigen::Vector2d px(x - 0.5 + offsets[s].x(), y - 0.5 + offsets[s].y());
+        gbuffer_[(size_t(y) * W + x) * spp + s] = TracePrimary(scene_.camera.PixelToRay(px));
+      }
+  }, options_.num_threads);
+  ReportProgress(progress, 1, 2, "geometry buffer");
+
+  // Each patch texel's view ray, traced into the height field once: the camera is fixed.
+  const int N = options_.patch_texels;
+  patch_texels_.assign(scene_.boards.size(), std::vector<PatchTexel>(size_t(N) * N));
+  ParallelFor(0, int(scene_.boards.size()) * N, [&](int job) {
+    const int b = job / N, j = job % N;
+    const RigBoard& board = scene_.boards[b];
+    const Eigen::Vector3d camera_in_board = -board.R.transpose() * board.t;
+    for (int i = 0; i < N; ++i) {
+      const Eigen::Vector2d uv = TexelCentre(i, j, N, board.patch_m);
+      const Eigen::Vector3d wo = (camera_in_board - Eigen::Vector3d(uv.x(), uv.y(), 0)).normalized();
+      const Eigen::Vector2d m = uv + board.material_offset_m;
+      const MaterialHit hit = TraceFromViewer(material_, m.x(), m.y(), wo);
+      PatchTexel& t = patch_texels_[b][size_t(j) * N + i];
+      t.point_board = (hit.point - Eigen::Vector3d(board.material_offset_m.x(), board.material_offset_m.y(), 0)).cast<float>();
+      t.normal = hit.normal;
+      t.albedo = hit.albedo;
+      t.wo = wo.cast<float>();
+    }
+  }, options_.num_threads);
+  ReportProgress(progress, 2, 2, "patch view rays");
+}
+
+bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, Kind self_kind,
+                           int self_index) const {
+  const Eigen::Vector3d to_light = light - p;
+  const double dist = to_light.norm();
+  const Eigen::Vector3d d = to_light / dist;
+  for (size_t i = 0; i < scene_.spheres.size(); ++i) {
+    if (self_kind == kSphere && int(i) == self_index) continue;
+    const double s = IntersectSphere(p, d, scene_.spheres[i].center_m, scene_.spheres[i].radius_m);
+    if (s > 0 && s < dist) return true;
+  }
+  for (size_t b = 0; b < scene_.boards.size(); ++b) {
+    if (self_kind == kBoard && int(b) == self_index) continue;
+    const auto& board = scene_.boards[b];
+    const double s = IntersectSquare(p, d, board.R, board.t, board.size_m / 2, board.size_m / 2);
+    if (s > 1e-6 && s < dist) return true;
+  }
+  return false;
+}
+
+float RigRenderer::BoardAlbedo(int b, double u, double v) const {
+  for (const RigTag& tag : scene_.boards[b].tags) {
+    const TagBitmap& bm = tag_bitmaps_[tag.id];
+    const double cell = tag.size_m / bm.border_cells;
+    const double half = 0.5 * cell * bm.cells;
+    const int col = int(std::floor((u - (tag.centre_m.x() - half)) / cell));
+    const int row = int(std::floor(((tag.centre_m.y() + half) - v) / cell));
+    if (col >= 0 && row >= 0 && col < bm.cells && row < bm.cells)
+      return bm.white[size_t(row) * bm.cells + col] ? float(scene_.board_albedo) : float(scene_.tag_black_albedo);
+  }
+  return float(scene_.board_albedo);
+}
+
+Image RigRenderer::RenderPatchRadiance(int b, const RigShot& shot) const {
+  const RigBoard& board = scene_.boards[b];
+  const int N = options_.patch_texels;
+  const Eigen::Vector3d light_board = board.R.transpose() * (shot.light_m - board.t);
+  const Eigen::Vector3d offset(board.material_offset_m.x(), board.material_offset_m.y(), 0);
+  Image out(N, N, 3);
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) {
+      const PatchTexel& t = patch_texels_[b][size_t(j) * N + i];
+      const Eigen::Vector3d p = t.point_board.cast<double>();
+      const Eigen::Vector3d to_light = light_board - p;
+      const double d2 = to_light.squaredNorm();
+      const Eigen::Vector3d wi = to_light / std::sqrt(d2);
+      float* px = out.pixel(i, j);
+      if (SelfShadowed(material_, p + offset, wi)) continue;  // stays black
+      const MaterialHit hit{p + offset, t.normal, t.albedo};
+      const Eigen::Vector3f L = ReflectedRadiance(material_, hit, wi, t.wo.cast<double>()) * float(shot.power / d2);
+      px[0] = L.x();
+      px[1] = L.y();
+      px[2] = L.z();
+    }
+  return out;
+}
+
+Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches) const {
+  if (s.kind == kNone) return Eigen::Vector3f::Zero();
+  const Eigen::Vector3d p(s.x, s.y, s.z);
+  if (Occluded(p, shot.light_m, s.kind, s.index)) return Eigen::Vector3f::Zero();
+  const Eigen::Vector3d to_light = shot.light_m - p;
+  const double d2 = to_light.squaredNorm();
+  const Eigen::Vector3d wi = to_light / std::sqrt(d2);
+  const float E = float(shot.power / d2);
+  auto lambert = [&](const Eigen::Vector3d& n, float albedo) {
+    return Eigen::Vector3f::Constant(albedo * kInvPi * E * float(std::max(0.0, n.dot(wi))));
+  };
+  switch (s.kind) {
+    case kTable:
+      return lambert(scene_.TableNormalInCam(), float(scene_.table_albedo));
+    case kCard: {
+      const auto& c = scene_.grey_cards[s.index];
+      return lambert(c.R.col(2), float(c.albedo));
+    }
+    case kBoard: {
+      const RigBoard& board = scene_.boards[s.index];
+      const Eigen::Vector3d q = board.R.transpose() * (p - board.t);
+      const double half = board.patch_m / 2;
+      if (std::abs(q.x()) <= half && std::abs(q.y()) <= half) {
+        const Image& tex = patches[s.index];
+        const double scale = tex.width() / board.patch_m;
+        Eigen::Vector3f L;
+        tex.SampleBilinear(float((q.x() + half) * scale), float((half - q.y()) * scale), L.data());
+        return L;
+      }
+      return lambert(board.R.col(2), BoardAlbedo(s.index, q.x(), q.y()));
+    }
+    case kSphere: {
+      const RigSphere& sp = scene_.spheres[s.index];
+      const Eigen::Vector3d n = (p - sp.center_m).normalized();
+      const double cos_i = n.dot(wi);
+      if (cos_i <= 0) return Eigen::Vector3f::Zero();
+      const Eigen::Vector3d wo = (-p).normalized();
+      const double cos_o = std::max(n.dot(wo), 1e-4);
+      const Eigen::Vector3d h = (wi + wo).normalized();
+      const double a2 = sp.coat_roughness * sp.coat_roughness, nh = std::max(n.dot(h), 0.0);
+      const double den = nh * nh * (a2 - 1) + 1;
+      const double D = a2 / (std::numbers::pi * den * den);
+      auto g1 = [&](double c) { return 2 * c / (c + std::sqrt(a2 + (1 - a2) * c * c)); };
+      const double F = sp.coat_f0 + (1 - sp.coat_f0) * std::pow(1 - std::clamp(wi.dot(h), 0.0, 1.0), 5);
+      const double spec = F * D * g1(cos_i) * g1(cos_o) / (4 * cos_i * cos_o);
+      const Eigen::Vector3f base = (sp.base_rgb * ((1 - F) / std::numbers::pi)).cast<float>();
+      return (base + Eigen::Vector3f::Constant(float(spec))) * float(E * cos_i);
+    }
+    default:
+      return Eigen::Vector3f::Zero();
+  }
+}
+
+Image RigRenderer::RenderShotLinear(int shot_index) const {
+  MESOCAP_CHECK(!gbuffer_.empty(), "Prepare() first");
+  const RigShot& shot = scene_.shots.at(shot_index);
+  std::vector<Image> patches(scene_.boards.size());
+  ParallelFor(0, int(patches.size()), [&](int b) { patches[b] = RenderPatchRadiance(b, shot); }, options_.num_threads);
+  const int W = scene_.camera.width, H = scene_.camera.height;
+  const size_t spp = size_t(options_.samples_per_axis) * options_.samples_per_axis;
+  const float scale = float(scene_.exposure / spp);
+  Image out(W, H, 3);
+  ParallelFor(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      const Sample* s = &gbuffer_[(size_t(y) * W + x) * spp];
+      for (size_t k = 0; k < spp; ++k) sum += Shade(s[k], shot, patches);
+      float* px = out.pixel(x, y);
+      for (int c = 0; c < 3; ++c) px[c] = sum[c] * scale;
+    }
+  }, options_.num_threads);
+  return out;
+}
+
+Image RigRenderer::RenderCalibLinear(int calib_index) const {
+  const RigCalibShot& cs = scene_.calib_shots.at(calib_index);
+  const RigCheckerboard& cb = scene_.checkerboard;
+  const int W = scene_.camera.width, H = scene_.camera.height;
+  const auto offsets = SubpixelOffsets();
+  const float ambient = float(scene_.ambient_radiance_calib);
+  const double sq = cb.square_m;
+  Image out(W, H, 3);
+  ParallelFor(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      float sum = 0;
+      for (const auto& off : offsets) {
+        const Eigen::Vector3d d = scene_.camera.PixelToRay({x - 0.5 + off.x(), y - 0.5 + off.y()});
+        const double s = IntersectSquare(Eigen::Vector3d::Zero(), d, cs.R, cs.t, cb.cols * sq + cb.margin_m,
+                                         cb.rows * sq + cb.margin_m, -sq - cb.margin_m, -sq - cb.margin_m);
+        float albedo = float(scene_.table_albedo);
+        if (s > 0) {
+          const Eigen::Vector3d q = cs.R.transpose() * (s * d - cs.t);
+          const int a = int(std::floor(q.x() / sq)), b = int(std::floor(q.y() / sq));
+          const bool in_squares = a >= -1 && a <= cb.cols - 1 && b >= -1 && b <= cb.rows - 1;
+          albedo = in_squares && ((a + b) % 2 == 0) ? 0.04f : 0.8f;
+        }
+        sum += albedo * ambient;
+      }
+      float* px = out.pixel(x, y);
+      px[0] = px[1] = px[2] = sum / offsets.size();
+    }
+  }, options_.num_threads);
+  return out;
+}
+
+void RigRenderer::ApplySensor(Image* image, uint64_t stream) const {
+  const uint64_t seed = scene_.options.seed;
+  const int W = image->width(), C = image->channels();
+  ParallelFor(0, image->height(), [&](int y) {
+    float* row = image->row(y);
+    for (int i = 0; i < W * C; ++i) {
+      const float v = std::max(row[i], 0.0f);
+      const float sigma = std::sqrt(float(scene_.noise_shot) * v + float(scene_.noise_read));
+      row[i] = std::clamp(v + sigma * GaussianAt(seed, stream, uint64_t(y) * W * C + i), 0.0f, 1.0f);
+    }
+  }, options_.num_threads);
+}
+
+}  // namespace mesocap

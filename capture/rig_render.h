@@ -1,0 +1,72 @@
+// Renders the virtual rig's photographs. The camera and target never move, so what each
+// sub-pixel sample sees (object and point) is traced once into a geometry buffer; each flash
+// shot then only shades: material patches in texture space (btf_render), everything else per
+// sample, with shadows from the balls and boards.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "capture/btf_render.h"
+#include "capture/rig_material.h"
+#include "capture/rig_scene.h"
+#include "capture/tag_pattern.h"
+#include "core/image.h"
+#include "core/progress.h"
+
+namespace mesocap {
+
+struct RigRenderOptions {
+  int samples_per_axis = 2;  // anti-aliasing: samples_per_axis^2 stratified samples a pixel
+  int patch_texels = 512;    // texture-space resolution of each material patch per shot
+  int num_threads = -1;      // -1: all cores
+  std::string Check() const;
+};
+
+class RigRenderer {
+ public:
+  RigRenderer(const RigScene& scene, const Material& material, const RigRenderOptions& options = {});
+
+  // Traces the geometry buffer and the patches' view rays (once per session).
+  void Prepare(const ProgressFn& progress = nullptr);
+
+  // Linear pixel values (radiance x exposure), no noise, no clipping.
+  Image RenderShotLinear(int shot_index) const;
+  Image RenderCalibLinear(int calib_index) const;
+  // Adds shot and read noise and clips to [0, 1]; deterministic in (seed, stream).
+  void ApplySensor(Image* image, uint64_t stream) const;
+
+  const RigScene& scene() const { return scene_; }
+
+  enum Kind : uint8_t { kNone = 0, kTable, kBoard, kSphere, kCard };
+  // True when a ball or a board (other than `self`) blocks the segment from `p` to `light`.
+  bool Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, Kind self_kind, int self_index) const;
+
+ private:
+  struct Sample {
+    float x, y, z;  // hit point, camera frame
+    Kind kind;
+    uint8_t index;
+  };
+  struct PatchTexel {
+    Eigen::Vector3f point_board;  // surface point seen, board frame (material offset removed)
+    Eigen::Vector3f normal;
+    Eigen::Vector3f albedo;
+    Eigen::Vector3f wo;           // toward the camera, board frame
+  };
+
+  Sample TracePrimary(const Eigen::Vector3d& ray) const;
+  float BoardAlbedo(int board, double u, double v) const;
+  Image RenderPatchRadiance(int board, const RigShot& shot) const;
+  Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches) const;
+  std::vector<Eigen::Vector2d> SubpixelOffsets() const;
+
+  RigScene scene_;
+  const Material& material_;
+  RigRenderOptions options_;
+  std::vector<TagBitmap> tag_bitmaps_;  // by tag id
+  std::vector<Sample> gbuffer_;         // width * height * spp
+  std::vector<std::vector<PatchTexel>> patch_texels_;  // per board
+};
+
+}  // namespace mesocap

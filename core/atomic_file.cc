@@ -1,0 +1,102 @@
+#include "core/atomic_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace mesocap {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string ErrnoText() { return std::strerror(errno); }
+
+fs::path TempPathFor(const fs::path& path) {
+  static std::atomic<unsigned> counter{0};
+  const std::string name = "." + path.stem().string() + ".tmp" + std::to_string(::getpid()) + "_" +
+                           std::to_string(counter++) + path.extension().string();
+  return path.parent_path() / name;
+}
+
+Status WriteAll(int fd, std::string_view text, const fs::path& path) {
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return Status::Error(path.string() + ": write failed: " + ErrnoText());
+    }
+    done += size_t(n);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status SyncPath(const fs::path& path) {
+  const int fd = ::open(path.empty() ? "." : path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return Status::Error(path.string() + ": cannot open to sync: " + ErrnoText());
+  const int rc = ::fsync(fd);
+  const int saved = errno;
+  ::close(fd);
+  if (rc != 0 && saved != EINVAL) {  // some file systems cannot fsync folders
+    errno = saved;
+    return Status::Error(path.string() + ": fsync failed: " + ErrnoText());
+  }
+  return Status::Ok();
+}
+
+Status WriteFileAtomically(const fs::path& path, const std::function<Status(const fs::path&)>& write) {
+  const fs::path temp = TempPathFor(path);
+  std::error_code ec;
+  Status st = write(temp);
+  if (st.ok()) st = SyncPath(temp);
+  if (st.ok()) {
+    fs::rename(temp, path, ec);
+    if (ec) st = Status::Error(path.string() + ": cannot rename into place: " + ec.message());
+  }
+  if (!st.ok()) {
+    fs::remove(temp, ec);
+    return st;
+  }
+  return SyncPath(path.parent_path());
+}
+
+Status WriteTextAtomically(const fs::path& path, std::string_view text) {
+  return WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return Status::Error(path.string() + ": cannot create: " + ErrnoText());
+    Status st = WriteAll(fd, text, path);
+    if (::close(fd) != 0 && st.ok()) st = Status::Error(path.string() + ": close failed: " + ErrnoText());
+    return st;
+  });
+}
+
+Status AppendLineDurably(const fs::path& path, std::string_view line) {
+  const bool existed = fs::exists(path);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) return Status::Error(path.string() + ": cannot open for append: " + ErrnoText());
+  std::string text(line);
+  text.push_back('\n');
+  Status st = WriteAll(fd, text, path);
+  if (st.ok() && ::fsync(fd) != 0) st = Status::Error(path.string() + ": fsync failed: " + ErrnoText());
+  ::close(fd);
+  if (st.ok() && !existed) st = SyncPath(path.parent_path());
+  return st;
+}
+
+StatusOr<std::string> ReadTextFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status::Error(path.string() + ": cannot open");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) return Status::Error(path.string() + ": read failed");
+  return ss.str();
+}
+
+}  // namespace mesocap

@@ -1,0 +1,31 @@
+// Crash-safe file writes: every output is written to a temp file beside its final name,
+// flushed to disk and renamed over it, so a reader sees the old file or the new one, never half.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include "core/status.h"
+
+namespace mesocap {
+
+// Calls `write(temp)` with a temp path in the same folder that keeps `path`'s extension (so
+// writers that choose a format by extension still work), then fsyncs and renames it to `path`.
+// On any failure the temp file is removed and `path` is untouched.
+Status WriteFileAtomically(const std::filesystem::path& path,
+                           const std::function<Status(const std::filesystem::path& temp)>& write);
+
+Status WriteTextAtomically(const std::filesystem::path& path, std::string_view text);
+
+// Appends one line and fsyncs it: used for journals, where a crash may cut only the last line.
+Status AppendLineDurably(const std::filesystem::path& path, std::string_view line);
+
+// Reads a whole file; error names it.
+StatusOr<std::string> ReadTextFile(const std::filesystem::path& path);
+
+// fsync a file or a folder by path (a folder after a rename makes the rename durable).
+Status SyncPath(const std::filesystem::path& path);
+
+}  // namespace mesocap

@@ -1,0 +1,57 @@
+#include "core/camera_model.h"
+
+#include <Eigen/Dense>
+
+namespace mesocap {
+
+Eigen::Vector2d CameraModel::Distort(const Eigen::Vector2d& xy) const {
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y;
+  const auto& [k1, k2, p1, p2, k3] = dist;
+  const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+          y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
+}
+
+Eigen::Vector2d CameraModel::Undistort(const Eigen::Vector2d& target) const {
+  Eigen::Vector2d xy = target;
+  for (int it = 0; it < 20; ++it) {
+    const Eigen::Vector2d residual = Distort(xy) - target;
+    if (residual.squaredNorm() < 1e-26) break;
+    // Jacobian by central differences: cheap next to the precision it buys.
+    const double h = 1e-7;
+    Eigen::Matrix2d J;
+    J.col(0) = (Distort(xy + Eigen::Vector2d(h, 0)) - Distort(xy - Eigen::Vector2d(h, 0))) / (2 * h);
+    J.col(1) = (Distort(xy + Eigen::Vector2d(0, h)) - Distort(xy - Eigen::Vector2d(0, h))) / (2 * h);
+    xy -= J.inverse() * residual;
+  }
+  return xy;
+}
+
+Eigen::Vector2d CameraModel::Project(const Eigen::Vector3d& p) const {
+  const Eigen::Vector2d d = Distort(Eigen::Vector2d(p.x() / p.z(), p.y() / p.z()));
+  return {K(0, 0) * d.x() + K(0, 1) * d.y() + K(0, 2), K(1, 1) * d.y() + K(1, 2)};
+}
+
+Eigen::Vector3d CameraModel::PixelToRay(const Eigen::Vector2d& px) const {
+  const double yd = (px.y() - K(1, 2)) / K(1, 1);
+  const double xd = (px.x() - K(0, 2) - K(0, 1) * yd) / K(0, 0);
+  const Eigen::Vector2d xy = Undistort({xd, yd});
+  return Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
+}
+
+Json CameraModel::ToJson() const {
+  return {{"width", width}, {"height", height}, {"K", mesocap::ToJson(K)},
+          {"dist", {dist[0], dist[1], dist[2], dist[3], dist[4]}}};
+}
+
+CameraModel CameraModel::FromJson(const Json& j) {
+  CameraModel c;
+  c.width = j.at("width").get<int>();
+  c.height = j.at("height").get<int>();
+  c.K = Matrix3dFromJson(j.at("K"));
+  for (int i = 0; i < 5; ++i) c.dist[i] = j.at("dist").at(i).get<double>();
+  return c;
+}
+
+}  // namespace mesocap

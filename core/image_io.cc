@@ -1,0 +1,174 @@
+#include "core/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "core/atomic_file.h"
+
+namespace mesocap {
+namespace fs = std::filesystem;
+namespace oiio = OIIO;
+
+float SrgbToLinear(float v) {
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float LinearToSrgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+namespace {
+
+// 256-entry decode table: 8-bit sRGB code -> linear.
+const std::array<float, 256>& SrgbDecodeTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0f);
+    return t;
+  }();
+  return table;
+}
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+ImageAttributes AttributesOf(const oiio::ImageSpec& spec) {
+  ImageAttributes out;
+  for (const auto& p : spec.extra_attribs) {
+    const oiio::TypeDesc t = p.type();
+    if (t == oiio::TypeInt || t == oiio::TypeUInt) {
+      out[p.name().string()] = p.get_int();
+    } else if (t == oiio::TypeFloat) {
+      out[p.name().string()] = p.get_float();
+    } else {
+      out[p.name().string()] = p.get_string();
+    }
+  }
+  return out;
+}
+
+void ApplyAttributes(const ImageAttributes& attributes, oiio::ImageSpec* spec) {
+  for (const auto& [name, value] : attributes) {
+    if (const int* i = std::get_if<int>(&value)) spec->attribute(name, *i);
+    if (const float* f = std::get_if<float>(&value)) spec->attribute(name, *f);
+    if (const std::string* s = std::get_if<std::string>(&value)) spec->attribute(name, *s);
+  }
+}
+
+}  // namespace
+
+PixelFormat DefaultFormatFor(const fs::path& path) {
+  const std::string ext = Lower(path.extension().string());
+  if (ext == ".jpg" || ext == ".jpeg") return PixelFormat::kUint8Srgb;
+  if (ext == ".exr") return PixelFormat::kHalf;
+  return PixelFormat::kUint16Linear;
+}
+
+StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
+  if (fs::file_size(path, ec) == 0) return Status::Error(path.string() + ": empty file");
+  oiio::ImageSpec config;
+  config.attribute("raw:ColorSpace", "linear");
+  auto in = oiio::ImageInput::open(path.string(), &config);
+  if (!in) {
+    std::string why = oiio::geterror();
+    if (why.empty()) why = "not a readable image";
+    return Status::Error(path.string() + ": " + why);
+  }
+  const oiio::ImageSpec& spec = in->spec();
+  ImageInfo info;
+  info.width = spec.width;
+  info.height = spec.height;
+  info.channels = spec.nchannels;
+  info.format_name = in->format_name();
+  info.bits_per_sample = int(spec.format.size()) * 8;
+  if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0)
+    info.bits_per_sample = bps;
+  info.attributes = AttributesOf(spec);
+  in->close();
+  return info;
+}
+
+StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options, ImageInfo* info_out) {
+  auto info = ReadImageInfo(path);
+  if (!info.ok()) return info.status();
+  oiio::ImageSpec config;
+  config.attribute("raw:ColorSpace", "linear");
+  auto in = oiio::ImageInput::open(path.string(), &config);
+  if (!in) return Status::Error(path.string() + ": " + oiio::geterror());
+  const oiio::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    return Status::Error(path.string() + ": image has no pixels");
+  const int channels = std::min(spec.nchannels, options.max_channels);
+  const bool is_8bit = spec.format == oiio::TypeDesc::UINT8;
+  Image image(spec.width, spec.height, channels);
+  bool ok = true;
+  if (is_8bit && options.linearize) {
+    std::vector<uint8_t> bytes(size_t(spec.width) * spec.height * channels);
+    ok = in->read_image(0, 0, 0, channels, oiio::TypeDesc::UINT8, bytes.data());
+    const auto& table = SrgbDecodeTable();
+    float* dst = image.data();
+    for (size_t i = 0; i < bytes.size(); ++i) dst[i] = table[bytes[i]];
+  } else {
+    ok = in->read_image(0, 0, 0, channels, oiio::TypeDesc::FLOAT, image.data());
+  }
+  // libjpeg reports a truncated file as a warning and pads with grey: treat it as corrupt.
+  std::string err = in->geterror();
+  in->close();
+  if (!ok || !err.empty()) {
+    if (err.empty()) err = "could not decode pixels";
+    return Status::Error(path.string() + ": " + err);
+  }
+  if (info_out) *info_out = *info;
+  return image;
+}
+
+Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOptions& options) {
+  if (image.empty()) return Status::Error(path.string() + ": refusing to write an empty image");
+  oiio::TypeDesc type = oiio::TypeDesc::UINT8;
+  switch (options.format) {
+    case PixelFormat::kUint8Srgb: type = oiio::TypeDesc::UINT8; break;
+    case PixelFormat::kUint16Linear: type = oiio::TypeDesc::UINT16; break;
+    case PixelFormat::kHalf: type = oiio::TypeDesc::HALF; break;
+    case PixelFormat::kFloat: type = oiio::TypeDesc::FLOAT; break;
+  }
+  oiio::ImageSpec spec(image.width(), image.height(), image.channels(), type);
+  const std::string ext = Lower(path.extension().string());
+  if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:" + std::to_string(options.jpeg_quality));
+  if (ext == ".exr") spec.attribute("compression", options.exr_compression);
+  ApplyAttributes(options.attributes, &spec);
+
+  // Encode sRGB ourselves so 8-bit output is exactly reproducible.
+  std::vector<uint8_t> srgb;
+  const void* pixels = image.data();
+  oiio::TypeDesc pixel_type = oiio::TypeDesc::FLOAT;
+  if (options.format == PixelFormat::kUint8Srgb) {
+    srgb.resize(image.size());
+    const float* src = image.data();
+    for (size_t i = 0; i < srgb.size(); ++i)
+      srgb[i] = uint8_t(std::lround(LinearToSrgb(src[i]) * 255.0f));
+    pixels = srgb.data();
+    pixel_type = oiio::TypeDesc::UINT8;
+  }
+
+  return WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
+    auto out = oiio::ImageOutput::create(path.string());
+    if (!out) return Status::Error(path.string() + ": no image writer for this extension");
+    if (!out->open(temp.string(), spec))
+      return Status::Error(path.string() + ": " + out->geterror());
+    const bool wrote = out->write_image(pixel_type, pixels);
+    const std::string err = out->geterror();
+    if (!out->close() || !wrote) return Status::Error(path.string() + ": " + err);
+    return Status::Ok();
+  });
+}
+
+}  // namespace mesocap

@@ -1,0 +1,58 @@
+// All image file I/O goes through OpenImageIO: JPEG, PNG, TIFF, camera RAW (libraw), OpenEXR.
+// Encoding rule (docs/formats.md): 8-bit files hold sRGB-encoded values, 16-bit and float files
+// hold linear values. Reading returns linear floats in [0,1] for integer files unless asked not to.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <variant>
+
+#include "core/image.h"
+#include "core/status.h"
+
+namespace mesocap {
+
+using AttributeValue = std::variant<int, float, std::string>;
+using ImageAttributes = std::map<std::string, AttributeValue>;
+
+enum class PixelFormat { kUint8Srgb, kUint16Linear, kHalf, kFloat };
+
+struct ImageWriteOptions {
+  // kUint8Srgb for JPEG/8-bit PNG, kUint16Linear for PNG/TIFF, kHalf or kFloat for EXR.
+  PixelFormat format = PixelFormat::kUint8Srgb;
+  int jpeg_quality = 95;
+  std::string exr_compression = "zip";  // zip, piz, none
+  ImageAttributes attributes;           // EXR: stored as header attributes; others: metadata
+};
+
+struct ImageReadOptions {
+  bool linearize = true;  // decode sRGB 8-bit files to linear
+  int max_channels = 4;   // drop alpha and extra channels beyond this many
+};
+
+struct ImageInfo {
+  int width = 0, height = 0, channels = 0;
+  std::string format_name;   // "jpeg", "png", "openexr", "raw", ...
+  int bits_per_sample = 0;   // 8, 16, 32
+  ImageAttributes attributes;  // every header/EXIF attribute OpenImageIO reports
+};
+
+// Reads header only (cheap): size, format, EXIF. Error names the file.
+StatusOr<ImageInfo> ReadImageInfo(const std::filesystem::path& path);
+// Reads the whole image. Error names the file and what was wrong (truncated, not an image ...).
+StatusOr<Image> ReadImage(const std::filesystem::path& path, const ImageReadOptions& options = {},
+                          ImageInfo* info = nullptr);
+// Writes atomically: a temp file beside `path`, fsync, rename. Nothing is left half-written.
+Status WriteImage(const std::filesystem::path& path, const Image& image,
+                  const ImageWriteOptions& options = {});
+
+// Picks a sensible format from the extension: .jpg/.jpeg -> 8-bit sRGB, .png/.tif -> 16-bit
+// linear, .exr -> half.
+PixelFormat DefaultFormatFor(const std::filesystem::path& path);
+
+// sRGB transfer curve (IEC 61966-2-1), per value.
+float SrgbToLinear(float v);
+float LinearToSrgb(float v);
+
+}  // namespace mesocap

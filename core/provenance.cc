@@ -1,0 +1,42 @@
+#include "core/provenance.h"
+
+#include <chrono>
+#include <ctime>
+
+namespace mesocap {
+
+namespace {
+std::string& CommandLineStorage() {
+  static std::string s;
+  return s;
+}
+}  // namespace
+
+const char* Version() { return MESOCAP_VERSION; }
+
+void SetCommandLine(int argc, char** argv) {
+  std::string s;
+  for (int i = 0; i < argc; ++i) {
+    if (i) s += ' ';
+    s += argv[i];
+  }
+  CommandLineStorage() = s;
+}
+
+const std::string& CommandLine() { return CommandLineStorage(); }
+
+std::string UtcNowIso8601() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+Json MakeProvenance(const Json& options) {
+  return {{"program", "mesocap"}, {"version", Version()}, {"command_line", CommandLine()},
+          {"time_utc", UtcNowIso8601()}, {"options", options}};
+}
+
+}  // namespace mesocap

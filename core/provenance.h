@@ -1,0 +1,23 @@
+// Every output folder records how it was made (mrcal): resolved options, command line,
+// program version and time.
+#pragma once
+
+#include <string>
+
+#include "core/json.h"
+
+namespace mesocap {
+
+// Version string from the build ("0.1.0").
+const char* Version();
+
+// The command line of this run, set once by app/main.cc.
+void SetCommandLine(int argc, char** argv);
+const std::string& CommandLine();
+
+std::string UtcNowIso8601();
+
+// {"program": "mesocap", "version", "command_line", "time_utc", "options": options}
+Json MakeProvenance(const Json& options);
+
+}  // namespace mesocap

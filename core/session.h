@@ -1,0 +1,65 @@
+// A session folder: session.json (manifest, written atomically), journal.jsonl (one JSON object
+// per completed shot, appended and fsynced), shots/ and calib/ (originals, never modified), and
+// one folder per later stage. Layout and formats: docs/formats.md.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/json.h"
+#include "core/status.h"
+
+namespace mesocap {
+
+struct ShotRecord {
+  int index = 0;              // 1-based, per kind, never reused
+  std::string kind = "shot";  // "shot" (lit by the flash) or "calib" (checkerboard)
+  std::string file;           // relative to the session root, e.g. "shots/shot_0001.jpg"
+  std::string time_utc;
+  Json settings = Json::object();  // camera settings when it was taken
+  Json exif = Json::object();      // read back from the file
+  std::vector<std::string> flags;  // e.g. "flash_not_fired"
+
+  Json ToJson() const;
+  static ShotRecord FromJson(const Json& j);
+};
+
+class Session {
+ public:
+  static constexpr const char* kManifestName = "session.json";
+  static constexpr const char* kJournalName = "journal.jsonl";
+
+  // Creates a new session at `root`, which must not exist or be an empty folder.
+  // `manifest` holds the caller's fields (source, camera, provenance ...).
+  static StatusOr<Session> Create(const std::filesystem::path& root, Json manifest);
+  // Opens an existing session and replays its journal; a torn last line (a crash while
+  // appending) is ignored and counted.
+  static StatusOr<Session> Open(const std::filesystem::path& root);
+
+  const std::filesystem::path& root() const { return root_; }
+  std::filesystem::path DirFor(const std::string& kind) const;  // shots/ or calib/
+  const Json& manifest() const { return manifest_; }
+  Status UpdateManifest(const Json& patch);  // merge_patch + atomic rewrite
+
+  // Appends a completed shot to the journal. Call only after its file is in place.
+  Status RecordShot(const ShotRecord& record);
+  const std::vector<ShotRecord>& shots() const { return shots_; }
+  std::vector<ShotRecord> ShotsOfKind(const std::string& kind) const;
+  // Next free index of a kind: one past the highest recorded, so resuming never overwrites.
+  int NextIndex(const std::string& kind) const;
+  // File name for shot `index` of `kind` with extension `ext` (".jpg"), relative to root.
+  static std::string ShotFileName(const std::string& kind, int index, const std::string& ext);
+  int torn_journal_lines() const { return torn_lines_; }
+
+ private:
+  std::filesystem::path root_;
+  Json manifest_;
+  std::vector<ShotRecord> shots_;
+  int torn_lines_ = 0;
+};
+
+// True when `dir` does not exist or is an empty folder.
+bool IsMissingOrEmptyDir(const std::filesystem::path& dir);
+
+}  // namespace mesocap

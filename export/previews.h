@@ -1,0 +1,29 @@
+// Pictures for people: contact sheets of shots, grids of slices, light-position plots.
+// Images in, image out (OpenImageIO ImageBufAlgo style); no file I/O here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/image.h"
+
+namespace mesocap {
+
+// Lays images out in a grid of `columns`, each scaled (area filter) to `thumb_width` pixels
+// wide, with `gap` pixels of background between them. Labels are drawn under each thumbnail.
+Image ContactSheet(const std::vector<Image>& images, const std::vector<std::string>& labels, int columns,
+                   int thumb_width, int gap = 8);
+
+// Scales an image to `width` pixels wide with an area filter (keeps aspect).
+Image Thumbnail(const Image& image, int width);
+
+// A polar plot of directions on the upper hemisphere (centre = zenith, rim = horizon),
+// one dot per direction, coloured by `values` in [0,1] when given.
+Image HemispherePlot(const std::vector<Eigen::Vector3d>& directions, int size, const std::string& title);
+
+// Linear values -> display: scales so the `percentile` value maps to 1, for HDR slices.
+Image ExposeForDisplay(const Image& linear, double percentile = 0.99);
+
+}  // namespace mesocap

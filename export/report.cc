@@ -1,0 +1,97 @@
+#include "export/report.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "core/atomic_file.h"
+#include "core/provenance.h"
+
+namespace mesocap {
+
+std::string Format(const char* fmt, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  return buf;
+}
+
+void Report::Heading(const std::string& text) { blocks_.push_back({Block::kHeading, text, "", {}, {}}); }
+void Report::Paragraph(const std::string& text) { blocks_.push_back({Block::kParagraph, text, "", {}, {}}); }
+void Report::Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  blocks_.push_back({Block::kTable, "", "", header, rows});
+}
+void Report::Picture(const std::string& path, const std::string& caption) {
+  blocks_.push_back({Block::kPicture, caption, path, {}, {}});
+}
+
+namespace {
+std::string Escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else out += c;
+  }
+  return out;
+}
+}  // namespace
+
+Status Report::Write(const std::filesystem::path& dir) const {
+  std::string md = "# " + title_ + "\n\n";
+  std::string html = "<!doctype html><html><head><meta charset=\"utf-8\"><title>" + Escape(title_) +
+                     "</title><style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
+                     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:3px 8px;"
+                     "text-align:right}th{background:#eee}img{max-width:100%;border:1px solid #ccc}"
+                     "figcaption{color:#555;font-size:90%}</style></head><body><h1>" + Escape(title_) + "</h1>\n";
+  for (const Block& b : blocks_) {
+    switch (b.kind) {
+      case Block::kHeading:
+        md += "## " + b.text + "\n\n";
+        html += "<h2>" + Escape(b.text) + "</h2>\n";
+        break;
+      case Block::kParagraph:
+        md += b.text + "\n\n";
+        html += "<p>" + Escape(b.text) + "</p>\n";
+        break;
+      case Block::kTable: {
+        std::string sep;
+        md += "|";
+        html += "<table><tr>";
+        for (const auto& h : b.header) {
+          md += " " + h + " |";
+          sep += "---|";
+          html += "<th>" + Escape(h) + "</th>";
+        }
+        md += "\n|" + sep + "\n";
+        html += "</tr>\n";
+        for (const auto& row : b.rows) {
+          md += "|";
+          html += "<tr>";
+          for (const auto& cell : row) {
+            md += " " + cell + " |";
+            html += "<td>" + Escape(cell) + "</td>";
+          }
+          md += "\n";
+          html += "</tr>\n";
+        }
+        md += "\n";
+        html += "</table>\n";
+        break;
+      }
+      case Block::kPicture:
+        md += "![" + b.text + "](" + b.path + ")\n\n*" + b.text + "*\n\n";
+        html += "<figure><img src=\"" + Escape(b.path) + "\"><figcaption>" + Escape(b.text) + "</figcaption></figure>\n";
+        break;
+    }
+  }
+  const std::string footer = "mesocap " + std::string(Version()) + ", " + UtcNowIso8601() + ": `" + CommandLine() + "`";
+  md += "---\n" + footer + "\n";
+  html += "<hr><p><small>" + Escape(footer) + "</small></p></body></html>\n";
+  MESOCAP_RETURN_IF_ERROR(WriteTextAtomically(dir / "report.md", md));
+  return WriteTextAtomically(dir / "report.html", html);
+}
+
+}  // namespace mesocap

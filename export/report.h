@@ -1,0 +1,40 @@
+// A report a person can read at a glance: headings, short paragraphs, tables and pictures,
+// written both as report.md and a self-contained-looking report.html beside its images.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+
+namespace mesocap {
+
+class Report {
+ public:
+  explicit Report(std::string title) : title_(std::move(title)) {}
+
+  void Heading(const std::string& text);
+  void Paragraph(const std::string& text);
+  void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  // `relative_path` is relative to the report's folder.
+  void Picture(const std::string& relative_path, const std::string& caption);
+
+  // Writes DIR/report.md and DIR/report.html atomically.
+  Status Write(const std::filesystem::path& dir) const;
+
+ private:
+  struct Block {
+    enum Kind { kHeading, kParagraph, kTable, kPicture } kind;
+    std::string text, path;
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+  };
+  std::string title_;
+  std::vector<Block> blocks_;
+};
+
+// printf-style formatting into a std::string, for table cells.
+std::string Format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+
+}  // namespace mesocap

@@ -1,0 +1,51 @@
+#include "tests/testing.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <sys/wait.h>
+
+namespace mesocap::testing {
+
+std::string CurrentTestName() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  return info ? std::string(info->test_suite_name()) + "." + info->name() : "no_test";
+}
+
+std::filesystem::path MakeTempDir() {
+  static int counter = 0;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("mesocap_test_" + CurrentTestName() + "_" + std::to_string(::getpid()) + "_" +
+                    std::to_string(counter++));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+uint32_t SeedFromTestName() {
+  uint32_t h = 2166136261u;  // FNV-1a
+  for (const char c : CurrentTestName()) h = (h ^ uint8_t(c)) * 16777619u;
+  return h;
+}
+
+std::string MesocapBinary() {
+  const char* bin = std::getenv("MESOCAP_BIN");
+  return bin ? bin : "mesocap";
+}
+
+int RunMesocap(const std::string& args, std::string* output) {
+  const std::string cmd = MesocapBinary() + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buf;
+  std::string out;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  if (output) *output = out;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace mesocap::testing

@@ -1,0 +1,20 @@
+// Shared test helpers: per-test temp folders, seeds derived from the test name (one seed
+// reproduces a failure), and running the real CLI.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace mesocap::testing {
+
+// A fresh empty folder under the system temp dir, named after the current test.
+std::filesystem::path MakeTempDir();
+// A stable seed from the current test's full name.
+uint32_t SeedFromTestName();
+// Path of the mesocap executable (from $MESOCAP_BIN, set by ctest).
+std::string MesocapBinary();
+// Runs `mesocap ARGS`, capturing stdout+stderr into *output; returns the exit code.
+int RunMesocap(const std::string& args, std::string* output = nullptr);
+
+}  // namespace mesocap::testing
