@@ -9,6 +9,6 @@ int Fail(const std::string& verb, const std::string& message, int code) {
   return code;
 }
 
-std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand()}; }
+std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(), ImportCommand()}; }
 
 }  // namespace mesocap::app

@@ -32,5 +32,6 @@ std::vector<Command> AllCommands();
 // One factory per <verb>_cmd.cc.
 Command SimulateCommand();
 Command DemoCommand();
+Command ImportCommand();
 
 }  // namespace mesocap::app

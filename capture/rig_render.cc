@@ -53,12 +53,30 @@ uint64_t Mix(uint64_t x) {
   return x ^ (x >> 31);
 }
 
+// Standard normal quantiles at 4096 equally likely levels: a table lookup per noise value
+// instead of a log and a cosine (sensor noise needs the shape, not 53 bits of it).
+const std::vector<float>& GaussianTable() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(4096);
+    for (size_t i = 0; i < t.size(); ++i) {
+      const double p = (i + 0.5) / t.size();
+      // Inverse normal CDF by Newton on erfc, from a rational first guess.
+      double x = std::sqrt(-2 * std::log(std::min(p, 1 - p)));
+      x = x - (2.515517 + 0.802853 * x + 0.010328 * x * x) / (1 + 1.432788 * x + 0.189269 * x * x + 0.001308 * x * x * x);
+      if (p < 0.5) x = -x;
+      for (int it = 0; it < 4; ++it) {
+        const double cdf = 0.5 * std::erfc(-x / std::sqrt(2.0));
+        x -= (cdf - p) / (std::exp(-0.5 * x * x) / std::sqrt(2 * std::numbers::pi));
+      }
+      t[i] = float(x);
+    }
+    return t;
+  }();
+  return table;
+}
+
 float GaussianAt(uint64_t seed, uint64_t stream, uint64_t index) {
-  const uint64_t a = Mix(seed ^ Mix(stream ^ Mix(index)));
-  const uint64_t b = Mix(a);
-  const double u1 = (double(a >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-  const double u2 = double(b >> 11) * (1.0 / 9007199254740992.0);
-  return float(std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2));
+  return GaussianTable()[Mix(seed ^ Mix(stream ^ Mix(index))) >> 52];
 }
 
 }  // namespace
@@ -75,6 +93,27 @@ RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const 
   for (const auto& b : scene_.boards)
     for (const auto& t : b.tags) max_id = std::max(max_id, t.id);
   for (int id = 0; id <= max_id; ++id) tag_bitmaps_.push_back(Tag36h11Bitmap(id));
+  const int W = scene_.camera.width, H = scene_.camera.height;
+  ray_grid_.resize(size_t(W + 1) * (H + 1));
+  ParallelFor(0, H + 1, [&](int j) {
+    for (int i = 0; i <= W; ++i) {
+      const Eigen::Vector3d r = scene_.camera.PixelToRay({i - 0.5, j - 0.5});
+      ray_grid_[size_t(j) * (W + 1) + i] = Eigen::Vector2f(float(r.x() / r.z()), float(r.y() / r.z()));
+    }
+  }, options_.num_threads);
+}
+
+Eigen::Vector3d RigRenderer::RayThrough(double x, double y) const {
+  const int W = scene_.camera.width, H = scene_.camera.height;
+  const double gx = std::clamp(x + 0.5, 0.0, double(W)), gy = std::clamp(y + 0.5, 0.0, double(H));
+  const int i = std::min(int(gx), W - 1), j = std::min(int(gy), H - 1);
+  const float ax = float(gx - i), ay = float(gy - j);
+  const Eigen::Vector2f* row0 = &ray_grid_[size_t(j) * (W + 1) + i];
+  const Eigen::Vector2f* row1 = row0 + (W + 1);
+  const Eigen::Vector2f top = row0[0] + (row0[1] - row0[0]) * ax;
+  const Eigen::Vector2f bottom = row1[0] + (row1[1] - row1[0]) * ax;
+  const Eigen::Vector2f xy = top + (bottom - top) * ay;
+  return Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
 }
 
 std::vector<Eigen::Vector2d> RigRenderer::SubpixelOffsets() const {
@@ -122,7 +161,7 @@ void RigRenderer::Prepare(const ProgressFn& progress) {
     for (int x = 0; x < W; ++x)
       for (size_t s = 0; s < spp; ++s) {
         const Eigen::Vector2d px(x - 0.5 + offsets[s].x(), y - 0.5 + offsets[s].y());
-        gbuffer_[(size_t(y) * W + x) * spp + s] = TracePrimary(scene_.camera.PixelToRay(px));
+        gbuffer_[(size_t(y) * W + x) * spp + s] = TracePrimary(RayThrough(px.x(), px.y()));
       }
   }, options_.num_threads);
   ReportProgress(progress, 1, 2, "geometry buffer");
@@ -162,6 +201,9 @@ bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& ligh
   for (size_t b = 0; b < scene_.boards.size(); ++b) {
     if (self_kind == kBoard && int(b) == self_index) continue;
     const auto& board = scene_.boards[b];
+    // Cheap reject: the segment must cross the board's plane.
+    const Eigen::Vector3d n = board.R.col(2);
+    if ((n.dot(p - board.t) > 0) == (n.dot(light - board.t) > 0)) continue;
     const double s = IntersectSquare(p, d, board.R, board.t, board.size_m / 2, board.size_m / 2);
     if (s > 1e-6 && s < dist) return true;
   }
@@ -291,7 +333,7 @@ Image RigRenderer::RenderCalibLinear(int calib_index) const {
     for (int x = 0; x < W; ++x) {
       float sum = 0;
       for (const auto& off : offsets) {
-        const Eigen::Vector3d d = scene_.camera.PixelToRay({x - 0.5 + off.x(), y - 0.5 + off.y()});
+        const Eigen::Vector3d d = RayThrough(x - 0.5 + off.x(), y - 0.5 + off.y());
         const double s = IntersectSquare(Eigen::Vector3d::Zero(), d, cs.R, cs.t, cb.cols * sq + cb.margin_m,
                                          cb.rows * sq + cb.margin_m, -sq - cb.margin_m, -sq - cb.margin_m);
         float albedo = float(scene_.table_albedo);

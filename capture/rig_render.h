@@ -60,11 +60,16 @@ class RigRenderer {
   Image RenderPatchRadiance(int board, const RigShot& shot) const;
   Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches) const;
   std::vector<Eigen::Vector2d> SubpixelOffsets() const;
+  // Camera ray through continuous pixel position (x, y), interpolated in ray_grid_.
+  Eigen::Vector3d RayThrough(double x, double y) const;
 
   RigScene scene_;
   const Material& material_;
   RigRenderOptions options_;
   std::vector<TagBitmap> tag_bitmaps_;  // by tag id
+  // Undistorted normalised coordinates at pixel corners ((W+1) x (H+1), node (i, j) at pixel
+  // position (i - 0.5, j - 0.5)): undistortion once, bilinear after (error < 1e-3 px).
+  std::vector<Eigen::Vector2f> ray_grid_;
   std::vector<Sample> gbuffer_;         // width * height * spp
   std::vector<std::vector<PatchTexel>> patch_texels_;  // per board
 };

@@ -25,6 +25,17 @@ float LinearToSrgb(float v) {
 namespace {
 
 // 256-entry decode table: 8-bit sRGB code -> linear.
+// Encode table: linear value quantised to 1/65535 -> 8-bit sRGB code. Exact to the 8-bit
+// result except where a value sits within 1/131070 of a rounding boundary.
+const std::array<uint8_t, 65536>& SrgbEncodeTable() {
+  static const std::array<uint8_t, 65536> table = [] {
+    std::array<uint8_t, 65536> t{};
+    for (int i = 0; i < 65536; ++i) t[i] = uint8_t(std::lround(LinearToSrgb(i / 65535.0f) * 255.0f));
+    return t;
+  }();
+  return table;
+}
+
 const std::array<float, 256>& SrgbDecodeTable() {
   static const std::array<float, 256> table = [] {
     std::array<float, 256> t{};
@@ -153,8 +164,9 @@ Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOpti
   if (options.format == PixelFormat::kUint8Srgb) {
     srgb.resize(image.size());
     const float* src = image.data();
+    const auto& table = SrgbEncodeTable();
     for (size_t i = 0; i < srgb.size(); ++i)
-      srgb[i] = uint8_t(std::lround(LinearToSrgb(src[i]) * 255.0f));
+      srgb[i] = table[size_t(std::clamp(src[i], 0.0f, 1.0f) * 65535.0f + 0.5f)];
     pixels = srgb.data();
     pixel_type = oiio::TypeDesc::UINT8;
   }

@@ -1,0 +1,106 @@
+// The real CLI as a script would use it: exit codes it can trust and one-line reasons.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include "core/image_io.h"
+#include "core/json.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+namespace fs = std::filesystem;
+
+int Lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(Cli, VersionAndHelp) {
+  std::string out;
+  EXPECT_EQ(testing::RunMesocap("--version", &out), 0);
+  EXPECT_NE(out.find("mesocap 0."), std::string::npos);
+  EXPECT_EQ(testing::RunMesocap("simulate --help", &out), 0);
+  EXPECT_NE(out.find("--material"), std::string::npos);
+  EXPECT_NE(testing::RunMesocap("", &out), 0);
+  EXPECT_NE(testing::RunMesocap("no-such-verb", &out), 0);
+}
+
+TEST(Cli, BadSimulateOptionsFailWithOneLine) {
+  const auto dir = testing::MakeTempDir();
+  std::string out;
+  EXPECT_EQ(testing::RunMesocap("simulate --out " + (dir / "a").string() + " --material velvet --no-progress", &out), 2);
+  EXPECT_EQ(Lines(out), 1) << out;
+  EXPECT_NE(out.find("unknown material 'velvet'"), std::string::npos) << out;
+  EXPECT_EQ(testing::RunMesocap("simulate --out " + (dir / "a").string() + " --width 5 --no-progress", &out), 2);
+  EXPECT_EQ(Lines(out), 1) << out;
+  std::ofstream(dir / "full" / "x").flush();
+  fs::create_directories(dir / "full");
+  std::ofstream(dir / "full" / "x") << "x";
+  EXPECT_EQ(testing::RunMesocap("simulate --out " + (dir / "full").string() + " --no-progress", &out), 2);
+  EXPECT_NE(out.find("not empty"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "a"));
+}
+
+TEST(Cli, WriteFailureMidRunLeavesNothingThatLooksComplete) {
+  // A file-size limit makes every write past 2 MB fail, as a full disk would.
+  const auto dir = testing::MakeTempDir();
+  const std::string cmd = "bash -c \"trap '' XFSZ; ulimit -f 2048; exec " + testing::MesocapBinary() +
+                          " simulate --out " + (dir / "s").string() +
+                          " --shots 4 --calib-shots 0 --width 3000 --height 2000 --format exr --no-progress\" 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char buf[4096];
+  std::string out;
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  const int status = ::pclose(pipe);
+  EXPECT_EQ(WEXITSTATUS(status), 1) << out;
+  EXPECT_EQ(Lines(out), 1) << out;
+  EXPECT_NE(out.find("shot_0001.exr"), std::string::npos) << out;
+  EXPECT_TRUE(fs::is_empty(dir)) << "a failed run must not leave a session or its staging folder";
+}
+
+TEST(Cli, TrueBtfWritesAnExrWithDirections) {
+  const auto dir = testing::MakeTempDir();
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("simulate --true-btf --material flat --theta-i 60 --phi-i 10 --theta-o 30 --phi-o 0 "
+                                "--size 64 --out " + (dir / "s.exr").string(), &out), 0) << out;
+  ImageInfo info;
+  auto im = ReadImage(dir / "s.exr", {}, &info);
+  ASSERT_TRUE(im.ok());
+  EXPECT_EQ(im->width(), 64);
+  EXPECT_FLOAT_EQ(std::get<float>(info.attributes.at("mesocap:theta_i_deg")), 60.0f);
+  EXPECT_NEAR(im->at(10, 10, 0), 0.5 / M_PI * 0.5, 0.005 * 0.5 / M_PI * 0.5);
+}
+
+TEST(Cli, ImportSkipsBadFilesListsThemAndExitsZero) {
+  const auto dir = testing::MakeTempDir();
+  const auto photos = dir / "photos";
+  fs::create_directories(photos);
+  Image im(320, 240, 3, 0.4f);
+  // Capture times run opposite to the names.
+  for (int k = 0; k < 3; ++k) {
+    ImageWriteOptions w;
+    w.attributes["Exif:DateTimeOriginal"] = "2026:03:01 10:00:0" + std::to_string(5 - k);
+    ASSERT_TRUE(WriteImage(photos / ("p" + std::to_string(k) + ".jpg"), im, w).ok());
+  }
+  fs::copy_file(photos / "p0.jpg", photos / "cut.jpg");
+  fs::resize_file(photos / "cut.jpg", fs::file_size(photos / "p0.jpg") / 2);
+  std::ofstream(photos / "notes.txt") << "hello";
+  std::ofstream(photos / "empty.jpg").close();
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("import " + photos.string() + " --out " + (dir / "s").string() + " --no-progress", &out), 0) << out;
+  for (const char* name : {"cut.jpg", "notes.txt", "empty.jpg"}) EXPECT_NE(out.find(name), std::string::npos) << out;
+  auto report = ReadJsonFile(dir / "s" / "import_report.json");
+  ASSERT_TRUE(report.ok());
+  const Json& imported = report->at("imported");
+  ASSERT_EQ(imported.size(), 3u);
+  EXPECT_NE(imported[0].at("source").get<std::string>().find("p2.jpg"), std::string::npos);
+  EXPECT_NE(imported[2].at("source").get<std::string>().find("p0.jpg"), std::string::npos);
+  EXPECT_EQ(report->at("skipped").size(), 3u);
+  // A second import into the same folder is refused.
+  EXPECT_EQ(testing::RunMesocap("import " + photos.string() + " --out " + (dir / "s").string() + " --no-progress", &out), 2);
+}
+
+}  // namespace
+}  // namespace mesocap
