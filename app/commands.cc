@@ -9,6 +9,7 @@ int Fail(const std::string& verb, const std::string& message, int code) {
   return code;
 }
 
-std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(), ImportCommand()}; }
+std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(),     ImportCommand(),          CaptureCommand(),
+          CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand()}; }
 
 }  // namespace mesocap::app

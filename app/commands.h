@@ -33,5 +33,9 @@ std::vector<Command> AllCommands();
 Command SimulateCommand();
 Command DemoCommand();
 Command ImportCommand();
+Command CaptureCommand();
+Command CamerasCommand();
+Command CalibrateCameraCommand();
+Command CalibrateCommand();
 
 }  // namespace mesocap::app

@@ -92,6 +92,8 @@ RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const 
   int max_id = 0;
   for (const auto& b : scene_.boards)
     for (const auto& t : b.tags) max_id = std::max(max_id, t.id);
+  for (const auto& c : scene_.grey_cards)
+    for (const auto& t : c.tags) max_id = std::max(max_id, t.id);
   for (int id = 0; id <= max_id; ++id) tag_bitmaps_.push_back(Tag36h11Bitmap(id));
   const int W = scene_.camera.width, H = scene_.camera.height;
   ray_grid_.resize(size_t(W + 1) * (H + 1));
@@ -198,6 +200,14 @@ bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& ligh
     const double s = IntersectSphere(p, d, scene_.spheres[i].center_m, scene_.spheres[i].radius_m);
     if (s > 0 && s < dist) return true;
   }
+  for (size_t i = 0; i < scene_.grey_cards.size(); ++i) {
+    if (self_kind == kCard && int(i) == self_index) continue;
+    const auto& c = scene_.grey_cards[i];
+    const Eigen::Vector3d n = c.R.col(2);
+    if ((n.dot(p - c.t) > 0) == (n.dot(light - c.t) > 0)) continue;
+    const double s = IntersectSquare(p, d, c.R, c.t, c.size_m / 2, c.size_m / 2);
+    if (s > 1e-6 && s < dist) return true;
+  }
   for (size_t b = 0; b < scene_.boards.size(); ++b) {
     if (self_kind == kBoard && int(b) == self_index) continue;
     const auto& board = scene_.boards[b];
@@ -210,8 +220,10 @@ bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& ligh
   return false;
 }
 
-float RigRenderer::BoardAlbedo(int b, double u, double v) const {
-  for (const RigTag& tag : scene_.boards[b].tags) {
+float RigRenderer::BoardAlbedo(int b, double u, double v) const { return TagAlbedo(scene_.boards[b].tags, u, v); }
+
+float RigRenderer::TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const {
+  for (const RigTag& tag : tags) {
     const TagBitmap& bm = tag_bitmaps_[tag.id];
     const double cell = tag.size_m / bm.border_cells;
     const double half = 0.5 * cell * bm.cells;
@@ -263,7 +275,9 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
       return lambert(scene_.TableNormalInCam(), float(scene_.table_albedo));
     case kCard: {
       const auto& c = scene_.grey_cards[s.index];
-      return lambert(c.R.col(2), float(c.albedo));
+      const Eigen::Vector3d q = c.R.transpose() * (p - c.t);
+      const bool grey = std::abs(q.x()) <= c.patch_m / 2 && std::abs(q.y()) <= c.patch_m / 2;
+      return lambert(c.R.col(2), grey ? float(c.albedo) : TagAlbedo(c.tags, q.x(), q.y()));
     }
     case kBoard: {
       const RigBoard& board = scene_.boards[s.index];

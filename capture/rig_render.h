@@ -57,6 +57,7 @@ class RigRenderer {
 
   Sample TracePrimary(const Eigen::Vector3d& ray) const;
   float BoardAlbedo(int board, double u, double v) const;
+  float TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const;  // white mount with tags
   Image RenderPatchRadiance(int board, const RigShot& shot) const;
   Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches) const;
   std::vector<Eigen::Vector2d> SubpixelOffsets() const;

@@ -22,16 +22,16 @@ Eigen::Matrix3d SmallRotation(std::mt19937_64& rng, double max_deg) {
 }
 
 // Four tags in the board's corners, upright in the board frame (x right, y up seen from +z).
-std::vector<RigTag> CornerTags(int first_id, double board_size_m) {
+std::vector<RigTag> CornerTags(int first_id, double board_size_m, double tag_size_m = kTagSize_m) {
   std::vector<RigTag> tags;
-  const double c = board_size_m / 2 - kTagMargin_m - kTagSize_m / 2;
+  const double c = board_size_m / 2 - kTagMargin_m - tag_size_m / 2;
   const Eigen::Vector2d centres[4] = {{-c, c}, {c, c}, {c, -c}, {-c, -c}};
   for (int k = 0; k < 4; ++k) {
     RigTag tag;
     tag.id = first_id + k;
-    tag.size_m = kTagSize_m;
+    tag.size_m = tag_size_m;
     tag.centre_m = centres[k];
-    const double h = kTagSize_m / 2;
+    const double h = tag_size_m / 2;
     tag.corners_m = {centres[k] + Eigen::Vector2d(-h, -h), centres[k] + Eigen::Vector2d(h, -h),
                      centres[k] + Eigen::Vector2d(h, h), centres[k] + Eigen::Vector2d(-h, h)};
     tags.push_back(tag);
@@ -132,6 +132,7 @@ StatusOr<RigScene> MakeRigScene(const RigOptions& options) {
         Eigen::AngleAxisd(DegToRad(4 * u11(rng)), Eigen::Vector3d::UnitX()).toRotationMatrix();
     card.R = s.cam_from_world_R * world_from_card;
     card.t = to_cam(Eigen::Vector3d((k ? 0.31 : -0.31) + 0.005 * u11(rng), 0.005 * u11(rng), 0.004));
+    card.tags = CornerTags(4 * int(s.boards.size()) + 4 * k, card.size_m, 0.018);
     s.grey_cards.push_back(card);
   }
 
@@ -226,8 +227,17 @@ Json TruthToJson(const RigScene& s) {
                             {"base_rgb", ToJson(sp.base_rgb)}, {"coat_f0", sp.coat_f0},
                             {"coat_roughness", sp.coat_roughness}});
   j["grey_cards"] = Json::array();
-  for (const auto& c : s.grey_cards)
-    j["grey_cards"].push_back({{"R", ToJson(c.R)}, {"t", ToJson(c.t)}, {"size_m", c.size_m}, {"albedo", c.albedo}});
+  for (const auto& c : s.grey_cards) {
+    Json tags = Json::array();
+    for (const auto& tag : c.tags) {
+      Json corners = Json::array();
+      for (const auto& corner : tag.corners_m) corners.push_back(ToJson(corner));
+      tags.push_back({{"id", tag.id}, {"family", "tag36h11"}, {"size_m", tag.size_m}, {"centre_m", ToJson(tag.centre_m)},
+                      {"corners_m", corners}});
+    }
+    j["grey_cards"].push_back({{"R", ToJson(c.R)}, {"t", ToJson(c.t)}, {"size_m", c.size_m}, {"patch_m", c.patch_m},
+                               {"albedo", c.albedo}, {"tags", tags}});
+  }
   j["flash"] = {{"model", "isotropic point light"},
                 {"power_note", "irradiance at 1 m facing the flash; E = power * cos / d^2"}};
   j["exposure"] = s.exposure;
@@ -244,6 +254,35 @@ Json TruthToJson(const RigScene& s) {
   j["sensor"] = {{"noise_shot", s.noise_shot}, {"noise_read", s.noise_read},
                  {"ambient_radiance_calib", s.ambient_radiance_calib}};
   return j;
+}
+
+RigLayout LayoutOf(const RigScene& s) {
+  RigLayout l;
+  for (const auto& b : s.boards) {
+    LayoutBoard lb;
+    lb.id = b.id;
+    lb.size_m = b.size_m;
+    lb.patch_m = b.patch_m;
+    lb.nominal_incidence_deg = b.id == 0 ? 0 : b.id <= 4 ? 30 : 60;
+    for (const auto& t : b.tags) lb.tags.push_back({t.id, t.size_m, t.corners_m});
+    l.boards.push_back(lb);
+  }
+  l.sphere_count = int(s.spheres.size());
+  l.sphere_radius_m = s.spheres.empty() ? 0 : s.spheres.front().radius_m;
+  for (size_t k = 0; k < s.grey_cards.size(); ++k) {
+    const RigGreyCard& c = s.grey_cards[k];
+    LayoutBoard lc;
+    lc.id = int(k);
+    lc.size_m = c.size_m;
+    lc.patch_m = c.patch_m;
+    for (const auto& t : c.tags) lc.tags.push_back({t.id, t.size_m, t.corners_m});
+    l.grey_cards.push_back(lc);
+  }
+  l.grey_card_albedo = s.grey_cards.empty() ? 0 : s.grey_cards.front().albedo;
+  l.checker_cols = s.checkerboard.cols;
+  l.checker_rows = s.checkerboard.rows;
+  l.checker_square_m = s.checkerboard.square_m;
+  return l;
 }
 
 StatusOr<RigScene> TruthFromJson(const Json& j) {

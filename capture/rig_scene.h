@@ -14,6 +14,7 @@
 
 #include "core/camera_model.h"
 #include "core/json.h"
+#include "core/rig_layout.h"
 #include "core/status.h"
 
 namespace mesocap {
@@ -58,11 +59,15 @@ struct RigSphere {
   double coat_f0 = 0.05, coat_roughness = 0.02;
 };
 
+// A grey card glued on a white mount with AprilTags in its corners, like a material board, so
+// calibration poses it with the same code (a bare grey square's tilt is ambiguous from its outline).
 struct RigGreyCard {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // X_cam = R * X_card + t; z = card normal
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  double size_m = 0.07;
+  double size_m = 0.10;   // the mount
+  double patch_m = 0.052;  // the grey card, centred on the mount
   double albedo = 0.18;
+  std::vector<RigTag> tags;
 };
 
 struct RigShot {
@@ -108,6 +113,8 @@ struct RigScene {
 StatusOr<RigScene> MakeRigScene(const RigOptions& options);
 
 Json TruthToJson(const RigScene& scene);
+// What a lab would know of this rig before calibrating: sizes and tag layouts, no poses.
+RigLayout LayoutOf(const RigScene& scene);
 StatusOr<RigScene> TruthFromJson(const Json& truth);
 
 }  // namespace mesocap

@@ -160,6 +160,7 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   report.per_shot_s = SecondsSince(t_shots) / report.shots_written;
 
   if (Status st = WriteJsonFile(staging / "truth.json", TruthToJson(scene)); !st.ok()) return fail(st);
+  if (Status st = WriteJsonFile(staging / "rig_layout.json", LayoutOf(scene).ToJson()); !st.ok()) return fail(st);
   report.out = out;
   report.total_s = SecondsSince(t0);
   if (Status st = WriteJsonFile(staging / "simulate_report.json", report.ToJson()); !st.ok()) return fail(st);

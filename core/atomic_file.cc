@@ -81,7 +81,19 @@ Status AppendLineDurably(const fs::path& path, std::string_view line) {
   const bool existed = fs::exists(path);
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (fd < 0) return Status::Error(path.string() + ": cannot open for append: " + ErrnoText());
-  std::string text(line);
+  std::string text;
+  // A crash mid-append leaves a last line without its newline: end it, so this line stays whole.
+  if (existed) {
+    char last = '\n';
+    const int rfd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (rfd >= 0) {
+      const off_t size = ::lseek(rfd, 0, SEEK_END);
+      if (size > 0 && ::pread(rfd, &last, 1, size - 1) != 1) last = '\n';
+      ::close(rfd);
+    }
+    if (last != '\n') text.push_back('\n');
+  }
+  text.append(line);
   text.push_back('\n');
   Status st = WriteAll(fd, text, path);
   if (st.ok() && ::fsync(fd) != 0) st = Status::Error(path.string() + ": fsync failed: " + ErrnoText());

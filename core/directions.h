@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace mesocap {
 

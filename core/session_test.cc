@@ -27,6 +27,15 @@ TEST(Session, JournalSurvivesATornLastLine) {
   EXPECT_EQ(reopened->torn_journal_lines(), 1);
   EXPECT_EQ(reopened->NextIndex("shot"), 4);
   EXPECT_EQ(reopened->manifest().at("source"), "test");
+  // The next record after the torn line survives whole.
+  ShotRecord r;
+  r.index = 4;
+  r.file = Session::ShotFileName("shot", 4, ".jpg");
+  ASSERT_TRUE(reopened->RecordShot(r).ok());
+  auto again = Session::Open(root);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->shots().size(), 4u);
+  EXPECT_EQ(again->torn_journal_lines(), 1);
 }
 
 TEST(Session, NextIndexSkipsFilesThatWereNeverJournaled) {

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git ca-certificates
   libopencv-dev libopencv-contrib-dev libceres-dev libeigen3-dev
-  libgphoto2-dev libexif-dev
+  libgphoto2-dev libexif-dev dpkg-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libapriltag-dev
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev

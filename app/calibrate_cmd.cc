@@ -1,0 +1,100 @@
+// mesocap calibrate SESSION: intrinsics (from the session's checkerboard shots or --camera),
+// board poses, balls, flash position and power per shot -> SESSION/calibration/.
+#include <cstdio>
+#include <memory>
+
+#include "app/commands.h"
+#include "calib/calibrate.h"
+#include "calib/intrinsics.h"
+#include "core/atomic_file.h"
+#include "core/provenance.h"
+#include "core/session.h"
+
+namespace mesocap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CalibrateArgs {
+  CalibrateOptions options;
+  fs::path camera_file, layout_file;
+  bool no_progress = false;
+};
+
+StatusOr<CameraModel> CameraFor(const CalibrateArgs& a, const RigLayout& layout, Json* intrinsics_report) {
+  if (!a.camera_file.empty()) {
+    auto j = ReadJsonFile(a.camera_file);
+    if (!j.ok()) return j.status();
+    try {
+      return CameraModel::FromJson(j->contains("camera") ? j->at("camera") : *j);
+    } catch (const std::exception& e) {
+      return Status::Error(a.camera_file.string() + ": not a camera file: " + e.what());
+    }
+  }
+  auto session = Session::Open(a.options.session);
+  if (!session.ok()) return session.status();
+  std::vector<fs::path> images;
+  for (const auto& r : session->ShotsOfKind("calib")) images.push_back(a.options.session / r.file);
+  if (images.empty())
+    return Status::Error(a.options.session.string() + ": no checkerboard shots (calib/) and no --camera file");
+  IntrinsicsOptions io;
+  io.cols = layout.checker_cols;
+  io.rows = layout.checker_rows;
+  io.square_m = layout.checker_square_m;
+  ProgressBar bar("intrinsics", !a.no_progress);
+  auto result = CalibrateIntrinsics(images, io, bar.AsCallback());
+  if (!result.ok()) return result.status();
+  *intrinsics_report = result->ToJson();
+  std::fprintf(stderr, "intrinsics: %s\n", result->Brief().c_str());
+  return result->camera;
+}
+
+int Run(CalibrateArgs& a) {
+  if (std::string why = a.options.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
+  if (a.layout_file.empty()) a.layout_file = a.options.session / "rig_layout.json";
+  auto layout_json = ReadJsonFile(a.layout_file);
+  if (!layout_json.ok()) return Fail("calibrate", layout_json.status().message() + " (give the rig's layout with --layout)");
+  auto layout = RigLayout::FromJson(*layout_json);
+  if (!layout.ok()) return Fail("calibrate", a.layout_file.string() + ": " + layout.status().message());
+  Json intrinsics_report = Json::object();
+  auto camera = CameraFor(a, *layout, &intrinsics_report);
+  if (!camera.ok()) return Fail("calibrate", camera.status().message());
+  ProgressBar bar("calibrate", !a.no_progress);
+  auto result = CalibrateSession(a.options, *layout, *camera, bar.AsCallback());
+  if (!result.ok()) return Fail("calibrate", result.status().message());
+  const fs::path out = a.options.session / "calibration";
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) return Fail("calibrate", out.string() + ": cannot create: " + ec.message());
+  Json rig = result->RigJson();
+  rig["provenance"] = MakeProvenance({{"session", a.options.session.string()}, {"pose_shots", a.options.pose_shots},
+                                      {"camera_file", a.camera_file.string()}, {"layout", a.layout_file.string()}});
+  Json report = result->ReportJson();
+  report["intrinsics"] = intrinsics_report;
+  if (Status st = WriteJsonFile(out / "rig.json", rig); !st.ok()) return Fail("calibrate", st.message());
+  if (Status st = WriteJsonFile(out / "report.json", report); !st.ok()) return Fail("calibrate", st.message());
+  std::printf("calibrate: %s -> %s\n", result->Brief().c_str(), (out / "rig.json").string().c_str());
+  for (const auto& r : result->rejected) std::printf("  rejected: %s\n", r.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+Command CalibrateCommand() {
+  auto args = std::make_shared<CalibrateArgs>();
+  Command c;
+  c.name = "calibrate";
+  c.setup = [args](CLI::App& app) {
+    CLI::App* sub = app.add_subcommand("calibrate", "Calibrate a session: board poses, balls, flash position and power per shot");
+    sub->add_option("session", args->options.session, "Session folder")->required();
+    sub->add_option("--camera", args->camera_file, "Intrinsics (camera.json from calibrate-camera); default: from the session's calib/ shots");
+    sub->add_option("--layout", args->layout_file, "Rig layout (default SESSION/rig_layout.json)");
+    sub->add_option("--pose-shots", args->options.pose_shots, "Shots searched for AprilTags")->capture_default_str();
+    sub->add_option("--threads", args->options.num_threads, "Threads (-1: all cores)")->capture_default_str();
+    sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");
+  };
+  c.run = [args]() { return Run(*args); };
+  return c;
+}
+
+}  // namespace mesocap::app

@@ -1,0 +1,184 @@
+#include "calib/calibrate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include "core/image_io.h"
+#include "core/parallel.h"
+#include "core/session.h"
+
+namespace mesocap {
+namespace fs = std::filesystem;
+
+std::string CalibrateOptions::Check() const {
+  if (session.empty()) return "a session folder is required";
+  if (pose_shots < 1) return "--pose-shots must be at least 1";
+  return "";
+}
+
+int CalibrationResult::usable_shots() const {
+  return int(std::count_if(shots.begin(), shots.end(), [](const ShotCalibration& s) { return s.light.ok; }));
+}
+
+Json CalibrationResult::RigJson() const {
+  Json j = {{"format", "mesocap-rig"}, {"format_version", 1},
+            {"frame", "camera (OpenCV: x right, y down, z forward), metres"}, {"camera", camera.ToJson()}};
+  j["boards"] = Json::array();
+  for (const auto& b : boards) j["boards"].push_back(b.ToJson());
+  j["spheres"] = Json::array();
+  for (const auto& s : spheres.spheres) j["spheres"].push_back(s.ToJson());
+  j["grey_cards"] = Json::array();
+  for (const auto& c : grey_cards) j["grey_cards"].push_back(c.ToJson());
+  j["shots"] = Json::array();
+  for (const auto& s : shots) {
+    Json js = {{"file", s.file}, {"ok", s.light.ok}};
+    if (s.light.ok) {
+      js["light_m"] = ToJson(s.light.light_m);
+      js["light_stddev_mm"] = 1000 * std::sqrt(s.light.covariance_m2.trace());
+    }
+    js["power"] = s.power;
+    js["power_x_exposure"] = s.power_x_exposure;
+    if (!s.flag.empty()) js["flag"] = s.flag;
+    j["shots"].push_back(js);
+  }
+  return j;
+}
+
+Json CalibrationResult::ReportJson() const {
+  Json shots_json = Json::array();
+  for (const auto& s : shots) {
+    Json cards_json = Json::array();
+    for (const auto& c : s.cards)
+      cards_json.push_back({{"usable", c.usable}, {"variation", c.variation}, {"power_x_exposure", c.power_x_exposure},
+                            {"why_not", c.why_not}});
+    shots_json.push_back({{"file", s.file}, {"light", s.light.ToJson()}, {"cards", cards_json}, {"flag", s.flag}});
+  }
+  return {{"seconds_total", seconds_total}, {"usable_shots", usable_shots()}, {"shots_total", shots.size()},
+          {"rejected", rejected}, {"rejected_blobs", spheres.rejected_blobs}, {"shots", shots_json}};
+}
+
+std::string CalibrationResult::Brief() const {
+  int boards_found = 0;
+  for (const auto& b : boards) boards_found += b.found;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%d/%zu boards posed, %zu balls, %zu grey cards, %d/%zu shots with a flash position, %.1f s",
+                boards_found, boards.size(), spheres.spheres.size(), grey_cards.size(), usable_shots(), shots.size(),
+                seconds_total);
+  return buf;
+}
+
+StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, const RigLayout& layout,
+                                             const CameraModel& camera, const ProgressFn& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
+  auto session = Session::Open(options.session);
+  if (!session.ok()) return session.status();
+  const std::vector<ShotRecord> records = session->ShotsOfKind("shot");
+  if (records.empty()) return Status::Error(options.session.string() + ": the session has no flash shots");
+  CalibrationResult result;
+  result.camera = camera;
+  const int n = int(records.size());
+
+  // Pass 1: decode every shot once for the per-pixel maximum; detect tags on a spread subset.
+  const int step = std::max(1, n / options.pose_shots);
+  std::vector<std::vector<TagDetection>> detections(n);
+  Image max_image, sum_image;
+  std::mutex mutex;
+  std::vector<std::string> unreadable(n);
+  std::atomic<int> done{0};
+  ParallelFor(0, n, [&](int s) {
+    auto im = ReadImage(options.session / records[s].file);
+    if (!im.ok()) {
+      unreadable[s] = im.status().message();
+      return;
+    }
+    if (s % step == 0) detections[s] = DetectTags(*im, options.tags);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (max_image.empty()) {
+        max_image = *im;
+        sum_image = *im;
+      } else if (max_image.size() == im->size()) {
+        for (size_t i = 0; i < im->size(); ++i) {
+          max_image.data()[i] = std::max(max_image.data()[i], im->data()[i]);
+          sum_image.data()[i] += im->data()[i];
+        }
+      }
+    }
+    ReportProgress(progress, ++done, 2 * n, records[s].file);
+  }, options.num_threads);
+  if (max_image.empty()) return Status::Error(options.session.string() + ": no flash shot could be read");
+  for (int s = 0; s < n; ++s)
+    if (!unreadable[s].empty()) result.rejected.push_back(unreadable[s]);
+
+  result.boards = EstimateBoardPoses(camera, layout.boards, detections, options.poses);
+  for (const auto& b : result.boards)
+    if (!b.found) result.rejected.push_back("board " + std::to_string(b.id) + ": " + b.why_not);
+  SphereOptions sphere_options;
+  sphere_options.radius_m = layout.sphere_radius_m;
+  sphere_options.expected_count = layout.sphere_count;
+  result.spheres = LocateSpheres(camera, max_image, sum_image, sphere_options);  // a sum is a scaled mean
+  if (int(result.spheres.spheres.size()) != layout.sphere_count)
+    result.rejected.push_back("found " + std::to_string(result.spheres.spheres.size()) + " of " +
+                              std::to_string(layout.sphere_count) + " balls");
+  // Grey cards sit on tagged mounts: posed exactly like the boards.
+  const std::vector<BoardPose> mounts = EstimateBoardPoses(camera, layout.grey_cards, detections, options.poses);
+  for (size_t k = 0; k < mounts.size(); ++k) {
+    if (!mounts[k].found) {
+      result.rejected.push_back("grey card " + std::to_string(k) + ": " + mounts[k].why_not);
+      continue;
+    }
+    result.grey_cards.push_back({mounts[k].R, mounts[k].t, layout.grey_cards[k].patch_m, layout.grey_card_albedo});
+  }
+  if (result.spheres.spheres.size() < 2)
+    return Status::Error(options.session.string() + ": fewer than 2 balls found; cannot locate the flash");
+
+  // Pass 2: per shot, the flash from the highlights and the grey cards' readings.
+  result.shots.resize(n);
+  ParallelFor(0, n, [&](int s) {
+    ShotCalibration& sc = result.shots[s];
+    sc.file = records[s].file;
+    if (!unreadable[s].empty()) {
+      sc.flag = "unreadable";
+      return;
+    }
+    auto im = ReadImage(options.session / records[s].file);
+    if (!im.ok()) {
+      sc.flag = im.status().message();
+      return;
+    }
+    sc.light = EstimateFlash(camera, result.spheres.spheres, *im, options.highlights);
+    if (!sc.light.ok) sc.flag = sc.light.flag;
+    else sc.cards = ReadGreyCards(camera, result.grey_cards, *im, sc.light.light_m);
+    ReportProgress(progress, ++done, 2 * n, records[s].file);
+  }, options.num_threads);
+
+  std::vector<std::vector<CardReading>> readings;
+  std::vector<int> index;
+  for (int s = 0; s < n; ++s)
+    if (result.shots[s].light.ok) {
+      readings.push_back(result.shots[s].cards);
+      index.push_back(s);
+    }
+  std::vector<std::string> power_flags;
+  const std::vector<double> power = CombineCardReadings(readings, &power_flags);
+  double mean = 0;
+  for (double p : power) mean += p;
+  mean = power.empty() ? 0 : mean / power.size();
+  for (size_t k = 0; k < index.size(); ++k) {
+    ShotCalibration& sc = result.shots[index[k]];
+    sc.power_x_exposure = power[k];
+    sc.power = mean > 0 ? power[k] / mean : 0;
+    if (!power_flags[k].empty()) sc.flag = power_flags[k];
+  }
+  for (const auto& sc : result.shots)
+    if (!sc.flag.empty()) result.rejected.push_back(sc.file + ": " + sc.flag);
+  result.seconds_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (result.usable_shots() == 0)
+    return Status::Error(options.session.string() + ": no shot has a usable flash position (highlights missing)");
+  return result;
+}
+
+}  // namespace mesocap

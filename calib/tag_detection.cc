@@ -1,0 +1,55 @@
+#include "calib/tag_detection.h"
+
+#include <apriltag/apriltag.h>
+#include <apriltag/tag36h11.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace mesocap {
+
+std::vector<TagDetection> DetectTags(const Image& im, const TagDetectOptions& options) {
+  // Linear luminance scaled so the bright end (not the mirror highlights) reaches 255: detecting
+  // on sRGB-encoded values moves blurred edges toward white by about 0.2 px.
+  const int W = im.width(), H = im.height(), C = im.channels();
+  std::vector<float> lum(size_t(W) * H);
+  for (size_t i = 0; i < lum.size(); ++i) {
+    const float* p = im.data() + i * C;
+    lum[i] = C >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
+  }
+  std::vector<float> sample;
+  for (size_t i = 0; i < lum.size(); i += 97) sample.push_back(lum[i]);
+  const size_t k = size_t(0.995 * (sample.size() - 1));
+  std::nth_element(sample.begin(), sample.begin() + k, sample.end());
+  const float scale = 255.0f / std::max(sample[k], 1e-6f);
+  std::vector<uint8_t> buf(lum.size());
+  for (size_t i = 0; i < lum.size(); ++i) buf[i] = uint8_t(std::min(255.0f, std::round(lum[i] * scale)));
+
+  // Debian's libapriltag exports no image_u8_create: the detector reads our buffer.
+  image_u8_t gray{W, H, W, buf.data()};
+  apriltag_family_t* family = tag36h11_create();
+  apriltag_detector_t* detector = apriltag_detector_create();
+  apriltag_detector_add_family(detector, family);
+  detector->quad_decimate = 1.0f;
+  detector->quad_sigma = options.quad_sigma;
+  detector->nthreads = 1;  // callers parallelise over images
+  zarray_t* found = apriltag_detector_detect(detector, &gray);
+  std::vector<TagDetection> out;
+  for (int i = 0; i < zarray_size(found); ++i) {
+    apriltag_detection_t* det;
+    zarray_get(found, i, &det);
+    if (det->decision_margin < options.min_decision_margin) continue;
+    TagDetection d;
+    d.id = det->id;
+    d.decision_margin = det->decision_margin;
+    for (int c = 0; c < 4; ++c) d.corners_px[c] = {det->p[c][0] - 0.5, det->p[c][1] - 0.5};
+    out.push_back(d);
+  }
+  apriltag_detections_destroy(found);
+  apriltag_detector_destroy(detector);
+  tag36h11_destroy(family);
+  std::sort(out.begin(), out.end(), [](const TagDetection& a, const TagDetection& b) { return a.id < b.id; });
+  return out;
+}
+
+}  // namespace mesocap

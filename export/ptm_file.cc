@@ -1,0 +1,328 @@
+#include "export/ptm_file.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "core/atomic_file.h"
+
+namespace mesocap {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMagic = "PTM_1.2";
+constexpr const char* kLrgbName = "PTM_FORMAT_LRGB";
+constexpr const char* kRgbName = "PTM_FORMAT_RGB";
+constexpr double kFileUnits = 255.0;  // file coefficient = 255 * Ptm coefficient
+constexpr int kMaxSide = 1 << 20;
+
+// Coefficient k of polynomial c (0 for LRGB) at pixel (x, y), in file units.
+inline double FileCoefficient(const Ptm& ptm, int x, int y, int c, int k) {
+  return kFileUnits * ptm.coefficients.at(x, y, c * kPtmCoefficients + k);
+}
+
+inline unsigned char QuantizeByte(double value_over_step_plus_bias) {
+  const double r = std::nearbyint(value_over_step_plus_bias);
+  return static_cast<unsigned char>(std::clamp(r, 0.0, 255.0));
+}
+
+std::string Quote(std::string_view text) {
+  std::string out = "'";
+  for (char c : text.substr(0, 40)) out += (c >= 32 && c < 127) ? c : '?';
+  if (text.size() > 40) out += "...";
+  return out + "'";
+}
+
+// Reads header tokens from the start of a file's bytes without touching the binary payload
+// beyond the header.
+class HeaderReader {
+ public:
+  explicit HeaderReader(std::string_view bytes) : bytes_(bytes) {}
+
+  // One line (up to '\n', a trailing '\r' and spaces removed); false at end of data.
+  bool Line(std::string* line) {
+    const size_t end = bytes_.find('\n', pos_);
+    if (end == std::string_view::npos || end - pos_ > 256) return false;
+    std::string_view text = bytes_.substr(pos_, end - pos_);
+    while (!text.empty() && (text.back() == '\r' || text.back() == ' ' || text.back() == '\t'))
+      text.remove_suffix(1);
+    *line = std::string(text);
+    pos_ = end + 1;
+    return true;
+  }
+
+  // The next whitespace-separated token (spaces, tabs, CR, LF); false at end of data.
+  bool Token(std::string* token) {
+    while (pos_ < bytes_.size() && IsSpace(bytes_[pos_])) ++pos_;
+    const size_t start = pos_;
+    while (pos_ < bytes_.size() && !IsSpace(bytes_[pos_]) && pos_ - start < 64) ++pos_;
+    if (pos_ == start) return false;
+    *token = std::string(bytes_.substr(start, pos_ - start));
+    return true;
+  }
+
+  // Skips spaces, tabs and CR up to and including the newline that ends the header.
+  bool EndOfHeader() {
+    while (pos_ < bytes_.size() &&
+           (bytes_[pos_] == ' ' || bytes_[pos_] == '\t' || bytes_[pos_] == '\r'))
+      ++pos_;
+    if (pos_ >= bytes_.size() || bytes_[pos_] != '\n') return false;
+    ++pos_;
+    return true;
+  }
+
+  size_t position() const { return pos_; }
+
+ private:
+  static bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+  std::string_view bytes_;
+  size_t pos_ = 0;
+};
+
+bool ParseInt(const std::string& token, long* value) {
+  errno = 0;
+  char* end = nullptr;
+  const long v = std::strtol(token.c_str(), &end, 10);
+  if (errno != 0 || end == token.c_str() || *end != '\0') return false;
+  *value = v;
+  return true;
+}
+
+bool ParseFloat(const std::string& token, float* value) {
+  errno = 0;
+  char* end = nullptr;
+  const float v = std::strtof(token.c_str(), &end);
+  if (errno != 0 || end == token.c_str() || *end != '\0' || !std::isfinite(v)) return false;
+  *value = v;
+  return true;
+}
+
+}  // namespace
+
+PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
+  MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
+  std::array<double, 6> lo, hi;
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
+  for (int y = 0; y < ptm.height(); ++y)
+    for (int x = 0; x < ptm.width(); ++x)
+      for (int c = 0; c < ptm.polynomials(); ++c)
+        for (int k = 0; k < 6; ++k) {
+          const double a = FileCoefficient(ptm, x, y, c, k);
+          lo[k] = std::min(lo[k], a);
+          hi[k] = std::max(hi[k], a);
+        }
+  PtmQuantization q;
+  for (int k = 0; k < 6; ++k) {
+    // Byte 0 decodes to -bias * scale and byte 255 to (255 - bias) * scale: find the bias whose
+    // smallest covering scale is smallest. Every integer bias is tried, so a range that is
+    // nearly all positive (or negative) still gets the finest step.
+    const double m = std::min(lo[k], 0.0), big = std::max(hi[k], 0.0);
+    double best_scale = std::numeric_limits<double>::infinity();
+    int best_bias = 0;
+    for (int b = 0; b <= 255; ++b) {
+      if (m < 0 && b == 0) continue;
+      if (big > 0 && b == 255) continue;
+      const double s = std::max(m < 0 ? -m / b : 0.0, big > 0 ? big / (255 - b) : 0.0);
+      if (s < best_scale) best_scale = s, best_bias = b;
+    }
+    if (!(best_scale > 0)) best_scale = 1.0;  // an all-zero coefficient: any scale will do
+    if (integer_scales) {
+      // The smallest whole-number scale with a bias that covers the range; the bias is put in
+      // the middle of the feasible ones.
+      for (double s = std::max(1.0, std::ceil(best_scale - 1e-9));; s += 1.0) {
+        const double b_min = std::max(0.0, std::ceil(-m / s - 1e-12));
+        const double b_max = 255.0 - std::max(0.0, std::ceil(big / s - 1e-12));
+        if (b_min <= b_max) {
+          q.scale[k] = float(s);
+          q.bias[k] = int(b_min + std::floor((b_max - b_min) / 2));
+          break;
+        }
+      }
+      continue;
+    }
+    // The scale is stored as a float and printed with 9 significant digits (which round-trip):
+    // round it up so the decoded range still covers [lo, hi].
+    float s = float(best_scale);
+    while (double(s) < best_scale) s = std::nextafter(s, std::numeric_limits<float>::infinity());
+    s = std::nextafter(s, std::numeric_limits<float>::infinity());
+    q.scale[k] = s;
+    q.bias[k] = best_bias;
+  }
+  return q;
+}
+
+Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions& options,
+                    PtmQuantization* quantization) {
+  if (!ptm.IsConsistent())
+    return Status::Error(path.string() +
+                         ": cannot write PTM: coefficient and colour images do not match "
+                         "the format");
+  const int w = ptm.width(), h = ptm.height();
+  for (size_t i = 0; i < ptm.coefficients.size(); ++i) {
+    if (!std::isfinite(ptm.coefficients.data()[i])) {
+      const size_t pixel = i / ptm.coefficients.channels();
+      return Status::Error(path.string() + ": cannot write PTM: non-finite coefficient at pixel (" +
+                           std::to_string(pixel % w) + ", " + std::to_string(pixel / w) + ")");
+    }
+  }
+  const PtmQuantization q = ChoosePtmQuantization(ptm, options.integer_scales);
+  const bool lrgb = ptm.format == PtmFormat::kLrgb;
+
+  std::string out;
+  {
+    std::ostringstream header;
+    header << kMagic << '\n' << (lrgb ? kLrgbName : kRgbName) << '\n' << w << '\n' << h << '\n';
+    char buf[64];
+    for (int k = 0; k < 6; ++k) {
+      std::snprintf(buf, sizeof buf, "%.9g", double(q.scale[k]));
+      header << buf << (k < 5 ? ' ' : '\n');
+    }
+    for (int k = 0; k < 6; ++k) header << q.bias[k] << (k < 5 ? ' ' : '\n');
+    out = header.str();
+  }
+  const size_t pixels = size_t(w) * h;
+  const size_t header_size = out.size();
+  out.resize(header_size + (lrgb ? pixels * 9 : pixels * 18));
+  unsigned char* dst = reinterpret_cast<unsigned char*>(out.data()) + header_size;
+  double inv_scale[6];
+  for (int k = 0; k < 6; ++k) inv_scale[k] = 1.0 / double(q.scale[k]);
+  for (int c = 0; c < ptm.polynomials(); ++c) {
+    for (int row = 0; row < h; ++row) {
+      const int y = h - 1 - row;  // bottom to top
+      for (int x = 0; x < w; ++x)
+        for (int k = 0; k < 6; ++k)
+          *dst++ = QuantizeByte(FileCoefficient(ptm, x, y, c, k) * inv_scale[k] + q.bias[k]);
+    }
+  }
+  if (lrgb) {
+    for (int row = 0; row < h; ++row) {
+      const int y = h - 1 - row;
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) *dst++ = QuantizeByte(kFileUnits * ptm.rgb.at(x, y, c));
+    }
+  }
+  MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
+    std::ofstream file(temp, std::ios::binary | std::ios::trunc);
+    if (!file) return Status::Error(path.string() + ": cannot create");
+    file.write(out.data(), std::streamsize(out.size()));
+    file.close();
+    if (!file) return Status::Error(path.string() + ": write failed");
+    return Status::Ok();
+  }));
+  if (quantization) *quantization = q;
+  return Status::Ok();
+}
+
+StatusOr<Ptm> ReadPtmFile(const fs::path& path, PtmQuantization* quantization) {
+  const std::string name = path.string();
+  std::string bytes;
+  {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return Status::Error(name + ": cannot open PTM file");
+    std::ostringstream ss;
+    ss << file.rdbuf();
+    if (file.bad()) return Status::Error(name + ": read failed");
+    bytes = ss.str();
+  }
+  HeaderReader reader(bytes);
+  std::string line;
+  if (!reader.Line(&line) || line != kMagic)
+    return Status::Error(name + ": not a PTM 1.2 file: the first line must be PTM_1.2" +
+                         (bytes.empty() ? std::string(" (the file is empty)")
+                                        : ", found " + Quote(bytes.substr(0, bytes.find('\n')))));
+  if (!reader.Line(&line)) return Status::Error(name + ": truncated PTM header: no format line");
+  PtmFormat format;
+  if (line == kLrgbName)
+    format = PtmFormat::kLrgb;
+  else if (line == kRgbName)
+    format = PtmFormat::kRgb;
+  else if (line.rfind("PTM_FORMAT_", 0) == 0)
+    return Status::Error(name + ": unsupported PTM format " + Quote(line) +
+                         " (only PTM_FORMAT_LRGB and PTM_FORMAT_RGB are read)");
+  else
+    return Status::Error(name + ": malformed PTM header: " + Quote(line) +
+                         " is not a PTM format name");
+
+  std::string token;
+  long size[2];
+  const char* size_names[2] = {"width", "height"};
+  for (int i = 0; i < 2; ++i) {
+    if (!reader.Token(&token))
+      return Status::Error(name + ": truncated PTM header: no " + size_names[i]);
+    if (!ParseInt(token, &size[i]) || size[i] <= 0 || size[i] > kMaxSide)
+      return Status::Error(name + ": malformed PTM header: " + size_names[i] + " " + Quote(token) +
+                           " is not an integer in [1, " + std::to_string(kMaxSide) + "]");
+  }
+  PtmQuantization q;
+  for (int k = 0; k < 6; ++k) {
+    if (!reader.Token(&token))
+      return Status::Error(name + ": truncated PTM header: " + std::to_string(k) + " of 6 scales");
+    if (!ParseFloat(token, &q.scale[k]))
+      return Status::Error(name + ": malformed PTM header: scale " + std::to_string(k) + " " +
+                           Quote(token) + " is not a finite number");
+  }
+  for (int k = 0; k < 6; ++k) {
+    long bias;
+    if (!reader.Token(&token))
+      return Status::Error(name + ": truncated PTM header: " + std::to_string(k) + " of 6 biases");
+    if (!ParseInt(token, &bias) || bias < -65536 || bias > 65536)
+      return Status::Error(name + ": malformed PTM header: bias " + std::to_string(k) + " " +
+                           Quote(token) + " is not an integer");
+    q.bias[k] = int(bias);
+  }
+  if (!reader.EndOfHeader())
+    return Status::Error(name +
+                         ": malformed PTM header: the line of biases must end with a newline");
+
+  const int w = int(size[0]), h = int(size[1]);
+  const size_t pixels = size_t(w) * size_t(h);
+  const bool lrgb = format == PtmFormat::kLrgb;
+  const size_t expected = lrgb ? pixels * 9 : pixels * 18;
+  const size_t found = bytes.size() - reader.position();
+  if (found < expected)
+    return Status::Error(name + ": truncated PTM file: a " + std::to_string(w) + "x" +
+                         std::to_string(h) + " " + (lrgb ? kLrgbName : kRgbName) + " needs " +
+                         std::to_string(expected) + " bytes after the header, found " +
+                         std::to_string(found));
+  if (found > expected)
+    return Status::Error(name + ": malformed PTM file: " + std::to_string(found - expected) +
+                         " unexpected bytes after the " + std::to_string(expected) +
+                         " bytes of pixel data");
+
+  Ptm ptm;
+  ptm.format = format;
+  ptm.coefficients = Image(w, h, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
+  if (lrgb) ptm.rgb = Image(w, h, 3);
+  const unsigned char* src =
+      reinterpret_cast<const unsigned char*>(bytes.data()) + reader.position();
+  float step[6];
+  for (int k = 0; k < 6; ++k) step[k] = float(double(q.scale[k]) / kFileUnits);
+  for (int c = 0; c < ptm.polynomials(); ++c) {
+    for (int row = 0; row < h; ++row) {
+      const int y = h - 1 - row;
+      for (int x = 0; x < w; ++x) {
+        float* a = ptm.coefficients.pixel(x, y) + c * kPtmCoefficients;
+        for (int k = 0; k < 6; ++k) a[k] = float(int(*src++) - q.bias[k]) * step[k];
+      }
+    }
+  }
+  if (lrgb) {
+    for (int row = 0; row < h; ++row) {
+      float* rgb = ptm.rgb.row(h - 1 - row);
+      for (int i = 0; i < w * 3; ++i) rgb[i] = float(*src++) / float(kFileUnits);
+    }
+  }
+  if (quantization) *quantization = q;
+  return ptm;
+}
+
+}  // namespace mesocap

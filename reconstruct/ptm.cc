@@ -1,0 +1,460 @@
+#include "reconstruct/ptm.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "core/directions.h"
+#include "core/parallel.h"
+
+namespace mesocap {
+
+std::string PtmFormatToString(PtmFormat format) {
+  switch (format) {
+    case PtmFormat::kLrgb:
+      return "lrgb";
+    case PtmFormat::kRgb:
+      return "rgb";
+  }
+  return "unknown";
+}
+
+bool StringToPtmFormat(const std::string& name, PtmFormat* format) {
+  std::string lower = name;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == "lrgb")
+    *format = PtmFormat::kLrgb;
+  else if (lower == "rgb")
+    *format = PtmFormat::kRgb;
+  else
+    return false;
+  return true;
+}
+
+bool Ptm::IsConsistent() const {
+  if (coefficients.empty()) return false;
+  if (format == PtmFormat::kLrgb) {
+    return coefficients.channels() == kPtmCoefficients && rgb.channels() == 3 &&
+           rgb.width() == coefficients.width() && rgb.height() == coefficients.height();
+  }
+  return coefficients.channels() == 3 * kPtmCoefficients && rgb.empty();
+}
+
+bool PtmFitOptions::Check() const {
+  return min_light_separation_deg >= 0 && min_light_separation_deg < 90 &&
+         min_reciprocal_condition > 0 && min_reciprocal_condition < 1 && black_level >= 0 &&
+         (num_threads == -1 || num_threads >= 1);
+}
+
+std::string PtmFitReport::Brief() const {
+  char residual[64] = "not computed";
+  if (rms_residual >= 0) std::snprintf(residual, sizeof residual, "%.5f", rms_residual);
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "PTM fit: %dx%d px, %d lights, light-matrix condition %.3g, rms residual %s, "
+                "%.3f s",
+                width, height, num_lights, light_matrix_condition, residual, fit_seconds);
+  return buf;
+}
+
+Eigen::Matrix<double, 1, 6> PtmBasis(const Eigen::Vector3d& light_dir) {
+  const Eigen::Vector3d d = light_dir.normalized();
+  const double u = d.x(), v = d.y();
+  Eigen::Matrix<double, 1, 6> b;
+  b << u * u, v * v, u * v, u, v, 1.0;
+  return b;
+}
+
+namespace {
+
+std::string VecText(const Eigen::Vector3d& d) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "(%g, %g, %g)", d.x(), d.y(), d.z());
+  return buf;
+}
+
+Eigen::MatrixXd LightMatrix(const std::vector<Eigen::Vector3d>& light_dirs) {
+  Eigen::MatrixXd a(light_dirs.size(), kPtmCoefficients);
+  for (size_t i = 0; i < light_dirs.size(); ++i) a.row(i) = PtmBasis(light_dirs[i]);
+  return a;
+}
+
+inline double EvalPoly(const double a[6], double u, double v) {
+  return a[0] * u * u + a[1] * v * v + a[2] * u * v + a[3] * u + a[4] * v + a[5];
+}
+
+}  // namespace
+
+Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
+                         const PtmFitOptions& options, double* condition) {
+  const int n = int(light_dirs.size());
+  if (n < kPtmCoefficients)
+    return Status::Error(
+        "a PTM fit needs at least 6 light directions (6 coefficients per pixel), got " +
+        std::to_string(n));
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d& d = light_dirs[i];
+    if (!d.allFinite() || d.norm() < 1e-12)
+      return Status::Error("light " + std::to_string(i + 1) + " of " + std::to_string(n) +
+                           ": direction " + VecText(d) + " is not a valid direction");
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      const double angle = AngleBetweenDeg(light_dirs[i], light_dirs[j]);
+      if (angle < options.min_light_separation_deg) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "lights %d and %d of %d are duplicates: %s and %s are %.3g deg apart "
+                      "(minimum separation %.3g deg)",
+                      i + 1, j + 1, n, VecText(light_dirs[i]).c_str(),
+                      VecText(light_dirs[j]).c_str(), angle, options.min_light_separation_deg);
+        return Status::Error(buf);
+      }
+    }
+  }
+  // Collinear in the (lu, lv) plane: the affine part [lu, lv, 1] already loses rank.
+  Eigen::MatrixXd affine(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = light_dirs[i].normalized();
+    affine.row(i) << d.x(), d.y(), 1.0;
+  }
+  const Eigen::VectorXd sa = Eigen::JacobiSVD<Eigen::MatrixXd>(affine).singularValues();
+  if (sa(2) < 1e-9 * sa(0))
+    return Status::Error(
+        "all " + std::to_string(n) +
+        " light directions are collinear in the (lu, lv) plane (e.g. all in one "
+        "vertical plane): a biquadratic PTM cannot be fitted; add lights off that line");
+  const Eigen::MatrixXd a = LightMatrix(light_dirs);
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(a).singularValues();
+  const double rcond = s(s.size() - 1) / s(0);
+  if (!(rcond >= options.min_reciprocal_condition)) {
+    int rank = 0;
+    for (int k = 0; k < s.size(); ++k) rank += s(k) > 1e-9 * s(0);
+    char buf[512];
+    std::snprintf(
+        buf, sizeof buf,
+        "the %d light directions are degenerate for a biquadratic PTM: the light matrix "
+        "[lu^2, lv^2, lu*lv, lu, lv, 1] has numerical rank %d of 6 (reciprocal condition "
+        "%.3g < %.3g); the lights lie on (or near) one conic of the (lu, lv) plane, e.g. "
+        "all at one elevation, where lu^2 + lv^2 is constant. Add lights at other elevations",
+        n, rank, rcond, options.min_reciprocal_condition);
+    return Status::Error(buf);
+  }
+  if (condition) *condition = 1.0 / rcond;
+  return Status::Ok();
+}
+
+StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
+                     const std::vector<Eigen::Vector3d>& light_dirs, const PtmFitOptions& options,
+                     PtmFitReport* report) {
+  MESOCAP_CHECK(options.Check(), "invalid PtmFitOptions");
+  const auto start = std::chrono::steady_clock::now();
+  if (images.size() != light_dirs.size())
+    return Status::Error("PTM fit: " + std::to_string(images.size()) + " images but " +
+                         std::to_string(light_dirs.size()) +
+                         " light directions; they must pair up");
+  double condition = 0;
+  MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options, &condition));
+  const int n = int(images.size());
+  const int width = images[0].width(), height = images[0].height(), channels = images[0].channels();
+  if (images[0].empty()) return Status::Error("PTM fit: image 1 is empty");
+  if (channels != 1 && channels != 3 && channels != 4)
+    return Status::Error("PTM fit: images must have 1, 3 or 4 channels, image 1 has " +
+                         std::to_string(channels));
+  for (int i = 1; i < n; ++i) {
+    const Image& im = images[i];
+    if (im.width() != width || im.height() != height || im.channels() != channels) {
+      return Status::Error(
+          "PTM fit: image " + std::to_string(i + 1) + " is " + std::to_string(im.width()) + "x" +
+          std::to_string(im.height()) + "x" + std::to_string(im.channels()) + " but image 1 is " +
+          std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels) +
+          ": all images must have the same size and channel count");
+    }
+  }
+
+  // One shared solve: the pseudo-inverse of the light matrix maps observations to coefficients.
+  const Eigen::MatrixXd a = LightMatrix(light_dirs);
+  const Eigen::MatrixXd pinv =
+      a.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(n, n));  // 6 x n
+  const Eigen::MatrixXf pinv_f = pinv.cast<float>();
+  const Eigen::MatrixXf a_f = a.cast<float>();
+
+  Ptm ptm;
+  ptm.format = options.format;
+  const bool lrgb = options.format == PtmFormat::kLrgb;
+  ptm.coefficients = Image(width, height, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
+  if (lrgb) ptm.rgb = Image(width, height, 3);
+  std::vector<double> row_sse(height, 0.0);
+
+  ParallelFor(
+      0, height,
+      [&](int y) {
+        // The row of every image as 3 interleaved floats per pixel (grey replicated, alpha
+        // dropped).
+        const int m = width * 3;
+        // Scratch buffers live per thread: allocating them per row costs more than the fit.
+        thread_local std::vector<std::vector<float>> converted;
+        thread_local std::vector<const float*> obs;
+        thread_local std::vector<float> coef, fitted, lum, ymax, inv;
+        thread_local std::vector<const float*> lum_rows;
+        thread_local std::vector<double> num, den;
+        obs.resize(n);
+        if (channels == 3) {
+          for (int i = 0; i < n; ++i) obs[i] = images[i].row(y);
+        } else {
+          converted.resize(n);
+          for (auto& buffer : converted) buffer.resize(m);
+          for (int i = 0; i < n; ++i) {
+            const float* src = images[i].row(y);
+            float* dst = converted[i].data();
+            for (int x = 0; x < width; ++x)
+              for (int c = 0; c < 3; ++c)
+                dst[x * 3 + c] = src[size_t(x) * channels + (channels == 1 ? 0 : c)];
+            obs[i] = dst;
+          }
+        }
+        float* coef_row = ptm.coefficients.row(y);
+        double sse = 0;
+        // coef[k * len + j] = sum_i pinv(k, i) * values_i[j]: contiguous multiply-adds that
+        // vectorise.
+        auto solve = [&](const std::vector<const float*>& values, int len,
+                         std::vector<float>* out) {
+          out->assign(size_t(kPtmCoefficients) * len, 0.0f);
+          for (int i = 0; i < n; ++i) {
+            const float* v = values[i];
+            for (int k = 0; k < kPtmCoefficients; ++k) {
+              const float p = pinv_f(k, i);
+              float* ck = out->data() + size_t(k) * len;
+              for (int j = 0; j < len; ++j) ck[j] += p * v[j];
+            }
+          }
+        };
+        // fitted[j] = sum_k a(i, k) * coef[k * len + j]: the fit evaluated at light i.
+        auto evaluate = [&](const std::vector<float>& in, int i, int len, std::vector<float>* out) {
+          out->assign(len, 0.0f);
+          float* f = out->data();
+          for (int k = 0; k < kPtmCoefficients; ++k) {
+            const float a = a_f(i, k);
+            const float* ck = in.data() + size_t(k) * len;
+            for (int j = 0; j < len; ++j) f[j] += a * ck[j];
+          }
+        };
+        if (!lrgb) {
+          solve(obs, m, &coef);
+          for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+              for (int k = 0; k < kPtmCoefficients; ++k)
+                coef_row[size_t(x) * 18 + c * 6 + k] = coef[size_t(k) * m + x * 3 + c];
+          for (int i = 0; i < n && options.compute_residual; ++i) {
+            evaluate(coef, i, m, &fitted);
+            float light_sse = 0;
+            for (int j = 0; j < m; ++j)
+              light_sse += (fitted[j] - obs[i][j]) * (fitted[j] - obs[i][j]);
+            sse += light_sse;
+          }
+        } else {
+          // Luminance per light, normalised per pixel by its brightest observation.
+          lum.resize(size_t(n) * width);
+          ymax.assign(width, 0.0f);
+          inv.resize(width);
+          for (int i = 0; i < n; ++i) {
+            const float* o = obs[i];
+            float* l = lum.data() + size_t(i) * width;
+            for (int x = 0; x < width; ++x) {
+              l[x] = kPtmLumaWeights[0] * o[x * 3] + kPtmLumaWeights[1] * o[x * 3 + 1] +
+                     kPtmLumaWeights[2] * o[x * 3 + 2];
+              ymax[x] = std::max(ymax[x], l[x]);
+            }
+          }
+          for (int x = 0; x < width; ++x)
+            inv[x] = ymax[x] > options.black_level ? 1.0f / ymax[x] : 0.0f;
+          lum_rows.resize(n);
+          for (int i = 0; i < n; ++i) {
+            float* l = lum.data() + size_t(i) * width;
+            for (int x = 0; x < width; ++x) l[x] *= inv[x];
+            lum_rows[i] = l;
+          }
+          solve(lum_rows, width, &coef);
+          // The colour that best matches the observations given the fitted luminance:
+          // rgb_c = sum_i L_i obs_ic / sum_i L_i^2.
+          num.assign(size_t(width) * 3, 0.0);
+          den.assign(width, 0.0);
+          for (int i = 0; i < n; ++i) {
+            evaluate(coef, i, width, &fitted);
+            const float* o = obs[i];
+            for (int x = 0; x < width; ++x) {
+              const double f = fitted[x];
+              den[x] += f * f;
+              for (int c = 0; c < 3; ++c) num[x * 3 + c] += f * o[x * 3 + c];
+            }
+          }
+          float* rgb_row = ptm.rgb.row(y);
+          for (int x = 0; x < width; ++x) {
+            float rgb[3] = {0, 0, 0};
+            float gain = 0;  // the factor applied to the fitted polynomial
+            if (inv[x] > 0 && den[x] > 1e-20) {
+              for (int c = 0; c < 3; ++c) rgb[c] = float(std::max(0.0, num[x * 3 + c] / den[x]));
+              // Keep the colour representable in 8 bits: move any excess into the polynomial.
+              const float peak = std::max({rgb[0], rgb[1], rgb[2]});
+              gain = 1.0f;
+              if (peak > 1.0f) {
+                for (float& v : rgb) v /= peak;
+                gain = peak;
+              }
+            }
+            for (int k = 0; k < kPtmCoefficients; ++k) {
+              float& ck = coef[size_t(k) * width + x];
+              ck *= gain;
+              coef_row[size_t(x) * 6 + k] = ck;
+            }
+            for (int c = 0; c < 3; ++c) rgb_row[x * 3 + c] = rgb[c];
+          }
+          for (int i = 0; i < n && options.compute_residual; ++i) {
+            evaluate(coef, i, width, &fitted);
+            const float* o = obs[i];
+            float light_sse = 0;
+            for (int x = 0; x < width; ++x)
+              for (int c = 0; c < 3; ++c) {
+                const float r = fitted[x] * rgb_row[x * 3 + c] - o[x * 3 + c];
+                light_sse += r * r;
+              }
+            sse += light_sse;
+          }
+        }
+        row_sse[y] = sse;
+      },
+      options.num_threads);
+
+  if (report) {
+    double sse = 0;
+    for (double v : row_sse) sse += v;  // in row order: independent of the thread count
+    report->num_lights = n;
+    report->width = width;
+    report->height = height;
+    report->light_matrix_condition = condition;
+    report->rms_residual =
+        options.compute_residual ? std::sqrt(sse / (double(width) * height * n * 3)) : -1.0;
+    report->fit_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return ptm;
+}
+
+Image RelightPtm(const Ptm& ptm, const Eigen::Vector3d& light_dir, bool clamp, int num_threads) {
+  MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
+  MESOCAP_CHECK(light_dir.allFinite() && light_dir.norm() > 0, "invalid light direction");
+  const Eigen::Matrix<double, 1, 6> bd = PtmBasis(light_dir);
+  float b[6];
+  for (int k = 0; k < 6; ++k) b[k] = float(bd(k));
+  const int width = ptm.width();
+  Image out(width, ptm.height(), 3);
+  const bool lrgb = ptm.format == PtmFormat::kLrgb;
+  ParallelFor(
+      0, ptm.height(),
+      [&](int y) {
+        const float* coef = ptm.coefficients.row(y);
+        float* dst = out.row(y);
+        for (int x = 0; x < width; ++x) {
+          float value[3];
+          if (lrgb) {
+            const float* a = coef + size_t(x) * 6;
+            const float l =
+                b[0] * a[0] + b[1] * a[1] + b[2] * a[2] + b[3] * a[3] + b[4] * a[4] + b[5] * a[5];
+            const float* rgb = ptm.rgb.pixel(x, y);
+            for (int c = 0; c < 3; ++c) value[c] = l * rgb[c];
+          } else {
+            for (int c = 0; c < 3; ++c) {
+              const float* a = coef + size_t(x) * 18 + c * 6;
+              value[c] =
+                  b[0] * a[0] + b[1] * a[1] + b[2] * a[2] + b[3] * a[3] + b[4] * a[4] + b[5] * a[5];
+            }
+          }
+          for (int c = 0; c < 3; ++c)
+            dst[x * 3 + c] = clamp ? std::clamp(value[c], 0.0f, 1.0f) : value[c];
+        }
+      },
+      num_threads);
+  return out;
+}
+
+Eigen::Vector3d PtmMaximumDirection(const double a[6]) {
+  double scale = 0;
+  for (int k = 0; k < 5; ++k) scale = std::max(scale, std::abs(a[k]));
+  if (!(scale > 1e-12 * std::max(1.0, std::abs(a[5]))))
+    return {0, 0, 1};  // flat: no preferred direction
+  // Interior maximum where the quadratic is concave (Hessian [[2a0, a2], [a2, 2a1]] negative
+  // definite) and its stationary point lies inside the unit disk.
+  const double det = 4 * a[0] * a[1] - a[2] * a[2];
+  if (a[0] < 0 && det > 1e-12 * scale * scale) {
+    const double u = (a[2] * a[4] - 2 * a[1] * a[3]) / det;
+    const double v = (a[2] * a[3] - 2 * a[0] * a[4]) / det;
+    if (u * u + v * v <= 1.0) return {u, v, std::sqrt(std::max(0.0, 1.0 - u * u - v * v))};
+  }
+  // Otherwise the maximum over the closed disk is on its boundary, the circle u^2 + v^2 = 1:
+  // coarse sampling, then golden-section refinement around the best sample.
+  constexpr int kSamples = 360;
+  const double step = 2 * std::numbers::pi / kSamples;
+  int best = 0;
+  double best_value = -1e300;
+  for (int s = 0; s < kSamples; ++s) {
+    const double t = s * step;
+    const double f = EvalPoly(a, std::cos(t), std::sin(t));
+    if (f > best_value) best_value = f, best = s;
+  }
+  double lo = (best - 1) * step, hi = (best + 1) * step;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int it = 0; it < 60; ++it) {
+    const double t1 = hi - g * (hi - lo), t2 = lo + g * (hi - lo);
+    if (EvalPoly(a, std::cos(t1), std::sin(t1)) >= EvalPoly(a, std::cos(t2), std::sin(t2)))
+      hi = t2;
+    else
+      lo = t1;
+  }
+  const double t = 0.5 * (lo + hi);
+  return {std::cos(t), std::sin(t), 0.0};
+}
+
+PtmNormalsAlbedo PtmNormalsAndAlbedo(const Ptm& ptm, int num_threads) {
+  MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
+  const int width = ptm.width();
+  PtmNormalsAlbedo out{Image(width, ptm.height(), 3), Image(width, ptm.height(), 3)};
+  const bool lrgb = ptm.format == PtmFormat::kLrgb;
+  ParallelFor(
+      0, ptm.height(),
+      [&](int y) {
+        for (int x = 0; x < width; ++x) {
+          const float* coef = ptm.coefficients.pixel(x, y);
+          double lum[6];
+          if (lrgb) {
+            for (int k = 0; k < 6; ++k) lum[k] = coef[k];
+          } else {
+            for (int k = 0; k < 6; ++k)
+              lum[k] = kPtmLumaWeights[0] * coef[k] + kPtmLumaWeights[1] * coef[6 + k] +
+                       kPtmLumaWeights[2] * coef[12 + k];
+          }
+          const Eigen::Vector3d n = PtmMaximumDirection(lum);
+          float* normal = out.normals.pixel(x, y);
+          for (int c = 0; c < 3; ++c) normal[c] = float(n(c));
+          float* albedo = out.albedo.pixel(x, y);
+          if (lrgb) {
+            const double l = EvalPoly(lum, n.x(), n.y());
+            const float* rgb = ptm.rgb.pixel(x, y);
+            for (int c = 0; c < 3; ++c) albedo[c] = float(std::max(0.0, l * rgb[c]));
+          } else {
+            for (int c = 0; c < 3; ++c) {
+              double a[6];
+              for (int k = 0; k < 6; ++k) a[k] = coef[c * 6 + k];
+              albedo[c] = float(std::max(0.0, EvalPoly(a, n.x(), n.y())));
+            }
+          }
+        }
+      },
+      num_threads);
+  return out;
+}
+
+}  // namespace mesocap

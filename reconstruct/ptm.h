@@ -1,0 +1,120 @@
+// Polynomial texture maps (Malzbender, Gelb & Wolters 2001): per pixel, a biquadratic in the
+// projected light direction (lu, lv),
+//   L(lu, lv) = a0 lu^2 + a1 lv^2 + a2 lu lv + a3 lu + a4 lv + a5,
+// fitted by least squares to photographs taken under known light directions.
+//
+// Two models, named as in HP's .ptm format:
+//   LRGB  one luminance polynomial per pixel times a per-pixel colour: c(l) = L(l) * rgb.
+//         L is normalised per pixel (L is about 1 at the brightest measured light), so the
+//         colour carries the magnitude and the polynomial the shape of the variation.
+//   RGB   one polynomial per colour channel: c_k(l) = L_k(l).
+//
+// Light directions are in the surface frame with z the normal, x toward the image's right and y
+// toward its top (the RTI and .lp convention, with (lu, lv) = (x, y) of the unit direction). A
+// frame with y down the image (OpenCV camera axes) must have y negated, or viewers such as
+// RTIViewer show the light mirrored top to bottom.
+//
+// Values are in the units of the input images (whatever encoding the caller read them in; RTI
+// viewers expect display-encoded values, i.e. images read without linearisation).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "core/status.h"
+
+namespace mesocap {
+
+enum class PtmFormat { kLrgb, kRgb };
+std::string PtmFormatToString(PtmFormat format);  // "lrgb", "rgb"
+bool StringToPtmFormat(const std::string& name, PtmFormat* format);
+
+inline constexpr int kPtmCoefficients = 6;
+
+// Luminance weights used by the LRGB model and by normals of the RGB model (ITU-R BT.601 luma,
+// the Y of the YCbCr colour space JPEG files are stored in).
+inline constexpr float kPtmLumaWeights[3] = {0.299f, 0.587f, 0.114f};
+
+struct Ptm {
+  PtmFormat format = PtmFormat::kLrgb;
+  // LRGB: 6 channels, a0..a5 of the dimensionless luminance polynomial.
+  // RGB: 18 channels, a0..a5 of the red polynomial, then green, then blue.
+  Image coefficients;
+  // LRGB only: 3 channels, the colour the luminance multiplies. Empty for RGB.
+  Image rgb;
+
+  int width() const { return coefficients.width(); }
+  int height() const { return coefficients.height(); }
+  // Number of polynomials per pixel: 1 (LRGB) or 3 (RGB).
+  int polynomials() const { return format == PtmFormat::kLrgb ? 1 : 3; }
+  // True when the image sizes and channel counts agree with `format`.
+  bool IsConsistent() const;
+};
+
+struct PtmFitOptions {
+  PtmFormat format = PtmFormat::kLrgb;
+  // Two lights closer than this (angle between directions) count as duplicates: an error.
+  double min_light_separation_deg = 0.5;
+  // The light matrix (one row [lu^2, lv^2, lu lv, lu, lv, 1] per light) must have
+  // sigma_min / sigma_max at least this, or the light set is rejected as degenerate.
+  double min_reciprocal_condition = 1e-6;
+  // Below this, a pixel counts as black in the LRGB model (its polynomial and colour are zero).
+  float black_level = 1e-6f;
+  // Evaluate the fit at every light to report the RMS residual; costs about as much as the
+  // fit itself, so a caller that only wants the coefficients fast may turn it off.
+  bool compute_residual = true;
+  int num_threads = -1;  // -1: all cores
+
+  bool Check() const;
+};
+
+struct PtmFitReport {
+  int num_lights = 0;
+  int width = 0, height = 0;
+  double light_matrix_condition = 0;  // sigma_max / sigma_min of the light matrix
+  double rms_residual =
+      -1;  // over all pixels, channels and lights, in input units; -1: not computed
+  double fit_seconds = 0;
+
+  std::string Brief() const;
+};
+
+// The 6 basis values [lu^2, lv^2, lu lv, lu, lv, 1] for a light direction (any length > 0;
+// (lu, lv) are the x and y of the normalised direction).
+Eigen::Matrix<double, 1, 6> PtmBasis(const Eigen::Vector3d& light_dir);
+
+// Checks a light set can be fitted: at least 6 lights, all finite and non-zero, no duplicates,
+// not collinear in (lu, lv), and a full-rank light matrix (e.g. not all at one elevation,
+// where lu^2 + lv^2 is constant). The message says which lights are at fault. On success
+// *condition (if given) receives sigma_max / sigma_min.
+Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
+                         const PtmFitOptions& options, double* condition = nullptr);
+
+// Fits a PTM to `images[i]` photographed under `light_dirs[i]` (surface frame, z = normal),
+// one shared least-squares solve for all pixels. Images must all have the same size and channel
+// count; 1 channel (grey, replicated to RGB), 3, or 4 (alpha ignored).
+StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
+                     const std::vector<Eigen::Vector3d>& light_dirs,
+                     const PtmFitOptions& options = {}, PtmFitReport* report = nullptr);
+
+// Evaluates the PTM for one light direction: a 3-channel image, clamped to [0, 1] as the RTI
+// viewers do (set clamp = false to get the raw polynomial values).
+Image RelightPtm(const Ptm& ptm, const Eigen::Vector3d& light_dir, bool clamp = true,
+                 int num_threads = -1);
+
+struct PtmNormalsAlbedo {
+  Image normals;  // 3 channels, unit vectors in the surface frame (z = up)
+  Image albedo;   // 3 channels: the colour at the light direction of the luminance maximum
+};
+
+// Surface normals from the maximum of the luminance polynomial over the unit disk of (lu, lv)
+// (Malzbender 2001, eq. 16 where the maximum is interior), and an albedo estimate: the colour
+// the PTM predicts when lit along that normal (for a Lambertian surface, rho * (n . n) = rho).
+PtmNormalsAlbedo PtmNormalsAndAlbedo(const Ptm& ptm, int num_threads = -1);
+
+// Light direction (unit, z >= 0) at which the polynomial a0..a5 peaks over the unit disk.
+Eigen::Vector3d PtmMaximumDirection(const double a[6]);
+
+}  // namespace mesocap
