@@ -49,8 +49,8 @@ Command CaptureCommand() {
     CLI::App* sub = app.add_subcommand("capture", "Tethered capture from a camera (libgphoto2) into a session");
     CaptureOptions& o = args->options;
     sub->add_option("--out", o.out, "Session folder: new (must not exist or be empty), or existing with --resume");
-    sub->add_option("--camera", args->camera_model, "Camera model as `mesocap cameras` lists it (default: the one detected)");
-    sub->add_option("--port", args->port, "Port as `mesocap cameras` lists it, e.g. usb:001,004");
+    sub->add_option("--camera", args->camera_model, "Camera model as `mesocap cameras` lists it (default: the one detected); `virtual`: the virtual rig; `fake`: serve a folder of photos (--port FOLDER)");
+    sub->add_option("--port", args->port, "Port as `mesocap cameras` lists it, e.g. usb:001,004; with --camera virtual: virtual:seed=S,material=M,width=W,height=H,shots=N,calib-shots=C,format=F");
     args->shots_option = sub->add_option("--shots", o.shots, "Pictures to take (remote mode: 0, its default, = until Ctrl-C)")
                              ->capture_default_str();
     sub->add_option("--interval", o.interval_s, "Seconds from one shot's start to the next (interval mode)")

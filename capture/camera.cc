@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "capture/fake_camera.h"
+#include "capture/virtual_camera.h"
 #include "capture/gphoto2_camera.h"
 
 namespace mesocap {
@@ -38,9 +39,11 @@ StatusOr<std::unique_ptr<Camera>> CreateCamera(const std::string& model, const s
     std::sort(options.photos.begin(), options.photos.end());
     return std::unique_ptr<Camera>(std::make_unique<FakeCamera>(std::move(options)));
   }
-  if (model == "virtual")
-    return Status::Error("--camera virtual (the virtual rig as a camera) is not available yet; "
-                         "use `mesocap simulate` to render a virtual session");
+  if (model == "virtual") {
+    auto camera = VirtualCamera::Open(port);
+    if (!camera.ok()) return camera.status();
+    return std::unique_ptr<Camera>(std::move(*camera));
+  }
   auto camera = Gphoto2Camera::Open(model, port);
   if (!camera.ok()) return camera.status();
   return std::unique_ptr<Camera>(std::move(*camera));

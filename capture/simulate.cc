@@ -20,15 +20,17 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+}  // namespace
+
 // The virtual camera's clock: deterministic, one shot every 6 seconds.
-std::string VirtualTime(int k, bool exif) {
+std::string VirtualClockTime(int k, bool exif) {
   const int seconds = 6 * k, hh = 12 + seconds / 3600, mm = (seconds / 60) % 60, ss = seconds % 60;
   char buf[32];
   std::snprintf(buf, sizeof buf, exif ? "2026:01:01 %02d:%02d:%02d" : "2026-01-01T%02d:%02d:%02dZ", hh, mm, ss);
   return buf;
 }
 
-ImageWriteOptions WriteOptionsFor(const std::string& format, bool flash, int k) {
+ImageWriteOptions VirtualShotWriteOptions(const std::string& format, bool flash, int k) {
   ImageWriteOptions o;
   o.format = format == "jpg" ? PixelFormat::kUint8Srgb : format == "png" ? PixelFormat::kUint16Linear : PixelFormat::kFloat;
   o.attributes["Make"] = std::string("mesocap");
@@ -37,10 +39,12 @@ ImageWriteOptions WriteOptionsFor(const std::string& format, bool flash, int k) 
   o.attributes["FNumber"] = 8.0f;
   o.attributes["Exif:PhotographicSensitivity"] = 100;
   o.attributes["Exif:Flash"] = flash ? 1 : 0;  // EXIF: bit 0 = flash fired
-  o.attributes["DateTime"] = VirtualTime(k, true);
-  o.attributes["Exif:DateTimeOriginal"] = VirtualTime(k, true);
+  o.attributes["DateTime"] = VirtualClockTime(k, true);
+  o.attributes["Exif:DateTimeOriginal"] = VirtualClockTime(k, true);
   return o;
 }
+
+namespace {
 
 std::string WithExtension(const std::string& file, const std::string& ext) {
   return fs::path(file).replace_extension(ext).string();
@@ -127,12 +131,12 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   auto write_shot = [&](Image image, const std::string& file, const std::string& kind, int index, int clock,
                         bool flash, uint64_t stream) -> Status {
     renderer.ApplySensor(&image, stream);
-    MESOCAP_RETURN_IF_ERROR(WriteImage(staging / file, image, WriteOptionsFor(options.image_format, flash, clock)));
+    MESOCAP_RETURN_IF_ERROR(WriteImage(staging / file, image, VirtualShotWriteOptions(options.image_format, flash, clock)));
     ShotRecord record;
     record.index = index;
     record.kind = kind;
     record.file = file;
-    record.time_utc = VirtualTime(clock, false);
+    record.time_utc = VirtualClockTime(clock, false);
     record.settings = {{"iso", 100}, {"shutterspeed", "1/125"}, {"f-number", "f/8"}, {"flash", flash}};
     record.exif = {{"ExposureTime", 1.0 / 125}, {"FNumber", 8.0}, {"ISO", 100}, {"Flash", flash ? 1 : 0}};
     return session->RecordShot(record);

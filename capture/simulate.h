@@ -7,6 +7,7 @@
 
 #include "capture/rig_render.h"
 #include "capture/rig_scene.h"
+#include "core/image_io.h"
 #include "core/json.h"
 #include "core/progress.h"
 #include "core/status.h"
@@ -34,6 +35,12 @@ struct SimulateReport {
 // Renders into a hidden staging folder beside `out` and renames it into place only when every
 // file is written, so an interrupted or failed run never leaves a session that looks complete.
 StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const ProgressFn& progress = nullptr);
+
+// How a virtual shot is written: pixel format for `format` and the EXIF a camera would add.
+// `clock` numbers the shot on the virtual camera's clock (one shot every 6 s), so the bytes never
+// depend on the wall clock.
+ImageWriteOptions VirtualShotWriteOptions(const std::string& format, bool flash, int clock);
+std::string VirtualClockTime(int clock, bool exif_format);
 
 // Extension for an image format name ("jpg" -> ".jpg"); empty when unknown.
 std::string ExtensionForFormat(const std::string& format);

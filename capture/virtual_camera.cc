@@ -1,0 +1,186 @@
+#include "capture/virtual_camera.h"
+
+#include <unistd.h>
+
+#include <sstream>
+
+#include "capture/simulate.h"
+#include "core/image_io.h"
+
+namespace mesocap {
+namespace fs = std::filesystem;
+
+namespace {
+
+ConfigEntry Radio(const std::string& name, const std::string& label, const std::string& value,
+                  std::vector<std::string> choices, bool read_only = false) {
+  return {name, label, "radio", value, std::move(choices), read_only};
+}
+
+}  // namespace
+
+StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& port) {
+  std::unique_ptr<VirtualCamera> cam(new VirtualCamera());
+  cam->port_ = port.empty() ? "virtual" : port;
+  RigOptions o;
+  const std::string prefix = "virtual:";
+  if (port.rfind(prefix, 0) == 0) {
+    std::stringstream ss(port.substr(prefix.size()));
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      const auto eq = item.find('=');
+      if (eq == std::string::npos) return Status::Error("virtual camera port: expected key=value, got '" + item + "'");
+      const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+      try {
+        if (key == "seed") o.seed = std::stoull(value);
+        else if (key == "material") o.material = value;
+        else if (key == "width") o.width = std::stoi(value);
+        else if (key == "height") o.height = std::stoi(value);
+        else if (key == "shots") o.shots = std::stoi(value);
+        else if (key == "calib-shots") o.calib_shots = std::stoi(value);
+        else if (key == "format") cam->format_ = value;
+        else
+          return Status::Error("virtual camera port: unknown key '" + key +
+                               "' (seed, material, width, height, shots, calib-shots, format)");
+      } catch (const std::exception&) {
+        return Status::Error("virtual camera port: bad value for " + key + ": '" + value + "'");
+      }
+    }
+  } else if (!port.empty() && port != "virtual") {
+    return Status::Error("virtual camera port must be 'virtual' or 'virtual:key=value,...', not '" + port + "'");
+  }
+  if (ExtensionForFormat(cam->format_).empty()) return Status::Error("virtual camera: format must be jpg, png or exr");
+  auto scene = MakeRigScene(o);
+  if (!scene.ok()) return scene.status();
+  auto material = Material::Create(o.material);
+  if (!material.ok()) return material.status();
+  cam->scene_ = std::make_unique<RigScene>(std::move(*scene));
+  cam->material_ = std::make_unique<Material>(std::move(*material));
+  cam->config_ = {Radio("subject", "What the next shot shows", "flash", {"flash", "checkerboard"}),
+                  Radio("iso", "ISO Speed", "100", {"100"}, true),
+                  Radio("shutterspeed", "Shutter Speed", "1/125", {"1/125"}, true),
+                  Radio("f-number", "F-Number", "f/8", {"f/8"}, true),
+                  Radio("flashmode", "Flash Mode", "on", {"on"}, true),
+                  Radio("imageformat", "Image Format", cam->format_, {cam->format_}, true)};
+  cam->card_ = fs::temp_directory_path() / ("mesocap-virtual-card-" + std::to_string(::getpid()) + "-" +
+                                            std::to_string(reinterpret_cast<uintptr_t>(cam.get())));
+  std::error_code ec;
+  fs::create_directories(cam->card_ / "DCIM" / "100VIRT", ec);
+  if (ec) return Status::Error(cam->card_.string() + ": cannot create the virtual card: " + ec.message());
+  return cam;
+}
+
+VirtualCamera::~VirtualCamera() { Close(); }
+
+void VirtualCamera::Close() {
+  if (closed_) return;
+  closed_ = true;
+  std::error_code ec;
+  fs::remove_all(card_, ec);
+}
+
+CameraStatus VirtualCamera::ListConfig(std::vector<ConfigEntry>* entries) {
+  if (closed_) return CameraStatus::Error(CameraError::kGone, "virtual camera: closed");
+  *entries = config_;
+  return CameraStatus::Ok();
+}
+
+CameraStatus VirtualCamera::GetConfig(const std::string& name, ConfigEntry* entry) {
+  std::string names;
+  for (const auto& e : config_) {
+    if (e.name == name) {
+      *entry = e;
+      return CameraStatus::Ok();
+    }
+    names += (names.empty() ? "" : ", ") + e.name;
+  }
+  return CameraStatus::Error(CameraError::kBadSetting, "virtual camera: no setting '" + name + "' (settings: " + names + ")");
+}
+
+CameraStatus VirtualCamera::SetConfig(const std::string& name, const std::string& value) {
+  ConfigEntry entry;
+  if (CameraStatus st = GetConfig(name, &entry); !st.ok()) return st;
+  if (std::find(entry.choices.begin(), entry.choices.end(), value) == entry.choices.end()) {
+    std::string choices;
+    for (const auto& c : entry.choices) choices += (choices.empty() ? "" : ", ") + c;
+    return CameraStatus::Error(CameraError::kBadSetting,
+                               "virtual camera: '" + value + "' is not a value of " + name + " (choices: " + choices + ")");
+  }
+  for (auto& e : config_)
+    if (e.name == name) e.value = value;
+  return CameraStatus::Ok();
+}
+
+CameraStatus VirtualCamera::Render(CameraFilePath* on_card) {
+  if (closed_) return CameraStatus::Error(CameraError::kGone, "virtual camera: closed");
+  ConfigEntry subject;
+  GetConfig("subject", &subject);
+  const bool flash = subject.value == "flash";
+  const int index = flash ? next_flash_ : next_calib_;
+  const int available = int(flash ? scene_->shots.size() : scene_->calib_shots.size());
+  if (index >= available)
+    return CameraStatus::Error(CameraError::kCardFull, "virtual camera: the rig has only " + std::to_string(available) +
+                                                           (flash ? " flash" : " checkerboard") +
+                                                           " shots (raise shots= or calib-shots= in the port)");
+  if (!renderer_) {
+    renderer_ = std::make_unique<RigRenderer>(*scene_, *material_);
+    renderer_->Prepare();
+  }
+  // The same streams and clock as `mesocap simulate`: checkerboard shots first on its clock.
+  Image image = flash ? renderer_->RenderShotLinear(index) : renderer_->RenderCalibLinear(index);
+  renderer_->ApplySensor(&image, flash ? uint64_t(index) : 1'000'000 + uint64_t(index));
+  const int clock = flash ? int(scene_->calib_shots.size()) + index : index;
+  char name[64];
+  std::snprintf(name, sizeof name, "%s_%04d%s", flash ? "shot" : "calib", index + 1, ExtensionForFormat(format_).c_str());
+  const fs::path file = card_ / "DCIM" / "100VIRT" / name;
+  if (Status st = WriteImage(file, image, VirtualShotWriteOptions(format_, flash, clock)); !st.ok())
+    return CameraStatus::Error(CameraError::kIo, "virtual camera: " + st.message());
+  (flash ? next_flash_ : next_calib_)++;
+  *on_card = {"/DCIM/100VIRT", name};
+  return CameraStatus::Ok();
+}
+
+CameraStatus VirtualCamera::Capture(CameraFilePath* on_card) { return Render(on_card); }
+
+CameraStatus VirtualCamera::TriggerCapture() {
+  CameraFilePath path;
+  if (CameraStatus st = Render(&path); !st.ok()) return st;
+  events_.push_back(path);
+  return CameraStatus::Ok();
+}
+
+CameraStatus VirtualCamera::WaitForFileAdded(double timeout_s, CameraFilePath* added, bool* got) {
+  if (closed_) return CameraStatus::Error(CameraError::kGone, "virtual camera: closed");
+  *got = !events_.empty();
+  if (*got) {
+    *added = events_.front();
+    events_.pop_front();
+  } else if (timeout_s > 0) {
+    ::usleep(useconds_t(std::min(timeout_s, 0.2) * 1e6));  // no photographer: nothing arrives
+  }
+  return CameraStatus::Ok();
+}
+
+CameraStatus VirtualCamera::Download(const CameraFilePath& on_card, const fs::path& dest, int64_t* bytes,
+                                     int64_t* expected_bytes) {
+  if (closed_) return CameraStatus::Error(CameraError::kGone, "virtual camera: closed");
+  const fs::path src = card_ / on_card.ToString().substr(1);
+  std::error_code ec;
+  fs::copy_file(src, dest, fs::copy_options::overwrite_existing, ec);
+  if (ec) {
+    const bool full = ec == std::errc::no_space_on_device;
+    return CameraStatus::Error(full ? CameraError::kDiskFull : CameraError::kIo,
+                               dest.string() + ": download of " + on_card.ToString() + " failed: " + ec.message());
+  }
+  *bytes = int64_t(fs::file_size(dest, ec));
+  *expected_bytes = int64_t(fs::file_size(src, ec));
+  return CameraStatus::Ok();
+}
+
+CameraStatus VirtualCamera::DeleteFile(const CameraFilePath& on_card) {
+  std::error_code ec;
+  fs::remove(card_ / on_card.ToString().substr(1), ec);
+  return CameraStatus::Ok();
+}
+
+}  // namespace mesocap

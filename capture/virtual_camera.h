@@ -1,0 +1,53 @@
+// The virtual rig as a third back-end of capture/camera.h: `mesocap capture --camera virtual`
+// renders each picture the moment the shutter fires, so a capture run through it yields the
+// same session (bytes included) as `mesocap simulate` with the same options.
+// Port: "virtual" or "virtual:seed=S,material=M,width=W,height=H,shots=N,calib-shots=C,format=F".
+#pragma once
+
+#include <deque>
+#include <filesystem>
+#include <memory>
+
+#include "capture/camera.h"
+#include "capture/rig_material.h"
+#include "capture/rig_render.h"
+#include "capture/rig_scene.h"
+
+namespace mesocap {
+
+class VirtualCamera : public Camera {
+ public:
+  // Parses the port's options; renders nothing yet.
+  static StatusOr<std::unique_ptr<VirtualCamera>> Open(const std::string& port);
+  ~VirtualCamera() override;
+
+  CameraInfo info() const override { return {"mesocap virtual rig", port_}; }
+  CameraStatus ListConfig(std::vector<ConfigEntry>* entries) override;
+  CameraStatus GetConfig(const std::string& name, ConfigEntry* entry) override;
+  CameraStatus SetConfig(const std::string& name, const std::string& value) override;
+  CameraStatus Capture(CameraFilePath* on_card) override;
+  CameraStatus TriggerCapture() override;
+  CameraStatus WaitForFileAdded(double timeout_s, CameraFilePath* added, bool* got) override;
+  CameraStatus Download(const CameraFilePath& on_card, const std::filesystem::path& dest, int64_t* bytes,
+                        int64_t* expected_bytes) override;
+  CameraStatus DeleteFile(const CameraFilePath& on_card) override;
+  void Close() override;
+
+  const RigScene& scene() const { return *scene_; }
+
+ private:
+  VirtualCamera() = default;
+  CameraStatus Render(CameraFilePath* on_card);
+
+  std::string port_, format_ = "jpg";
+  std::unique_ptr<RigScene> scene_;
+  std::unique_ptr<Material> material_;
+  std::unique_ptr<RigRenderer> renderer_;  // prepared at the first capture
+  std::vector<ConfigEntry> config_;
+  std::filesystem::path card_;  // a temp folder standing in for the memory card
+  int next_flash_ = 0, next_calib_ = 0;
+  std::deque<CameraFilePath> events_;
+  bool closed_ = false;
+};
+
+}  // namespace mesocap
