@@ -10,6 +10,6 @@ int Fail(const std::string& verb, const std::string& message, int code) {
 }
 
 std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(),     ImportCommand(),          CaptureCommand(),
-          CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand()}; }
+          CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand(), FitPtmCommand(), RelightCommand()}; }
 
 }  // namespace mesocap::app

@@ -37,5 +37,7 @@ Command CaptureCommand();
 Command CamerasCommand();
 Command CalibrateCameraCommand();
 Command CalibrateCommand();
+Command FitPtmCommand();
+Command RelightCommand();
 
 }  // namespace mesocap::app

@@ -1,0 +1,101 @@
+// mesocap relight: evaluate a .ptm (export/ptm_file.h) for one light direction and write the image.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "app/commands.h"
+#include "core/image_io.h"
+#include "export/ptm_file.h"
+#include "reconstruct/ptm.h"
+
+namespace mesocap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RelightArgs {
+  std::string ptm;
+  std::string light;
+  std::string out;
+  int bits = 8;
+  int threads = -1;
+};
+
+bool ParseLight(const std::string& text, Eigen::Vector3d* light) {
+  std::string s = text;
+  for (char& ch : s)
+    if (ch == ',') ch = ' ';
+  std::istringstream in(s);
+  double x, y, z;
+  if (!(in >> x >> y >> z)) return false;
+  std::string rest;
+  if (in >> rest) return false;
+  *light = {x, y, z};
+  return std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && light->norm() > 0 && z >= 0;
+}
+
+int Run(const RelightArgs& args) {
+  const std::string verb = "relight";
+  Eigen::Vector3d light;
+  if (!ParseLight(args.light, &light))
+    return Fail(verb, "--light must be x,y,z with z >= 0 and not all zero, not '" + args.light + "'", kExitUsage);
+  if (args.bits != 8 && args.bits != 16) return Fail(verb, "--bits must be 8 or 16", kExitUsage);
+  const fs::path out = args.out;
+  std::string ext = out.extension().string();
+  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext != ".png" && ext != ".tif" && ext != ".tiff" && ext != ".jpg" && ext != ".jpeg")
+    return Fail(verb, "--out must be a .png, .tif or .jpg file: " + args.out, kExitUsage);
+  if (args.bits == 16 && (ext == ".jpg" || ext == ".jpeg"))
+    return Fail(verb, "--bits 16 needs a .png or .tif output", kExitUsage);
+
+  auto ptm = ReadPtmFile(args.ptm);
+  if (!ptm.ok()) return Fail(verb, ptm.status().message());
+  Image image = RelightPtm(*ptm, light, /*clamp=*/true, args.threads);
+
+  // The PTM holds stored (display-encoded) values; the file must hold those same values.
+  // 8-bit output is sRGB-encoded from linear by WriteImage, so decode first: the written byte is
+  // then round(255 * value). 16-bit output holds linear values, i.e. the values unchanged.
+  ImageWriteOptions write;
+  if (args.bits == 8) {
+    write.format = PixelFormat::kUint8Srgb;
+    for (size_t k = 0; k < image.size(); ++k) image.data()[k] = SrgbToLinear(image.data()[k]);
+  } else {
+    write.format = PixelFormat::kUint16Linear;
+  }
+  if (Status s = WriteImage(out, image, write); !s.ok()) return Fail(verb, s.message());
+  const Eigen::Vector3d d = light.normalized();
+  std::printf("%s: %dx%d relit from (%.4f, %.4f, %.4f), %d-bit\n", out.string().c_str(), image.width(),
+              image.height(), d.x(), d.y(), d.z(), args.bits);
+  return kExitOk;
+}
+
+}  // namespace
+
+Command RelightCommand() {
+  auto args = std::make_shared<RelightArgs>();
+  Command c;
+  c.name = "relight";
+  c.setup = [args](CLI::App& app) {
+    CLI::App* sub = app.add_subcommand(
+        "relight",
+        "Relight a .ptm for one light direction. The output holds the PTM's values as stored, "
+        "clamped to [0, 1] as RTI viewers show them: an 8-bit file's bytes are round(255 * value) "
+        "(no sRGB encoding is added; a PTM fitted from photos is already display-encoded), a 16-bit "
+        "file's samples round(65535 * value)");
+    sub->add_option("ptm", args->ptm, "PTM_1.2 file (LRGB or RGB)")->required();
+    sub->add_option("--light", args->light,
+                    "Light direction x,y,z in the surface frame (x right, y up the image, z toward the camera); "
+                    "write --light=-0.5,0,1 when x is negative")
+        ->required();
+    sub->add_option("--out", args->out, "Output image (.png, .tif, .jpg)")->required();
+    sub->add_option("--bits", args->bits, "Bits per sample of the output: 8 or 16 (PNG/TIFF)")->capture_default_str();
+    sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
+  };
+  c.run = [args]() { return Run(*args); };
+  return c;
+}
+
+}  // namespace mesocap::app
