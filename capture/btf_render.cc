@@ -80,11 +80,18 @@ Image RenderTrueBtfSlice(const Material& m, const TrueBtfRequest& r, int num_thr
   const Eigen::Vector3d wo = DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);
   Image out(r.size, r.size, 3);
   ParallelFor(0, r.size, [&](int j) {
+    const int n = std::max(1, r.samples_per_axis);
+    const double texel_m = r.patch_m / r.size;
     for (int i = 0; i < r.size; ++i) {
-      const Eigen::Vector2d xy = TexelCentre(i, j, r.size, r.patch_m) + r.offset_m;
-      const MaterialHit hit = TraceFromViewer(m, xy.x(), xy.y(), wo);
+      const Eigen::Vector2d centre = TexelCentre(i, j, r.size, r.patch_m) + r.offset_m;
       Eigen::Vector3f L = Eigen::Vector3f::Zero();
-      if (!SelfShadowed(m, hit.point, wi)) L = ReflectedRadiance(m, hit, wi, wo);
+      for (int sy = 0; sy < n; ++sy)
+        for (int sx = 0; sx < n; ++sx) {
+          const Eigen::Vector2d xy = centre + texel_m * Eigen::Vector2d((sx + 0.5) / n - 0.5, (sy + 0.5) / n - 0.5);
+          const MaterialHit hit = TraceFromViewer(m, xy.x(), xy.y(), wo);
+          if (!SelfShadowed(m, hit.point, wi)) L += ReflectedRadiance(m, hit, wi, wo);
+        }
+      L /= float(n * n);
       float* px = out.pixel(i, j);
       px[0] = L.x();
       px[1] = L.y();

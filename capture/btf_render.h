@@ -35,12 +35,16 @@ struct TrueBtfRequest {
   int size = 512;               // texels per side
   double patch_m = 0.064;       // physical side of the square patch (the rig's boards)
   Eigen::Vector2d offset_m{0, 0};  // where the patch centre sits in the material
+  // Stratified samples per texel axis: 1 point-samples the texel centre; more average the
+  // texel's footprint as a camera pixel does (no aliasing of fine mesostructure).
+  int samples_per_axis = 1;
 };
 
 // One true BTF slice: orthographic view from (theta_o, phi_o), directional light from
 // (theta_i, phi_i) with unit perpendicular irradiance, linear RGB radiance on the texel grid
 // of a resampled slice (docs/formats.md: texel (i, j) centre at x = -P/2 + (i+0.5)P/N,
-// y = P/2 - (j+0.5)P/N, so rows run from +y down to -y).
+// y = P/2 - (j+0.5)P/N, so rows run from +y down to -y). With samples_per_axis > 1 each texel is
+// the mean over a regular grid of points inside its square.
 Image RenderTrueBtfSlice(const Material& material, const TrueBtfRequest& request, int num_threads = -1);
 
 // Patch-frame coordinate of a texel centre (see RenderTrueBtfSlice).

@@ -1,0 +1,223 @@
+#include "reconstruct/btf_evaluation.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "core/directions.h"
+#include "core/parallel.h"
+
+namespace mesocap {
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+double RmsDifference(const Image& a, const Image& b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.size(); ++i) sum += double(a.data()[i] - b.data()[i]) * (a.data()[i] - b.data()[i]);
+  return std::sqrt(sum / double(a.size()));
+}
+
+std::vector<double> ChannelMeans(const Image& image) {
+  std::vector<double> mean(image.channels(), 0.0);
+  for (size_t i = 0; i < image.pixel_count(); ++i)
+    for (int c = 0; c < image.channels(); ++c) mean[c] += image.data()[i * image.channels() + c];
+  for (double& m : mean) m /= double(image.pixel_count());
+  return mean;
+}
+
+bool NearAny(const Eigen::Vector3d& d, const std::vector<Eigen::Vector3d>& set, double tol_deg) {
+  return std::any_of(set.begin(), set.end(), [&](const Eigen::Vector3d& s) { return AngleBetweenDeg(d, s) < tol_deg; });
+}
+
+Json PairJson(const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+  const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
+  return {{"theta_i_deg", i.x()}, {"phi_i_deg", i.y()}, {"theta_o_deg", o.x()}, {"phi_o_deg", o.y()}};
+}
+
+}  // namespace
+
+std::string BtfMethodToString(BtfMethod method) {
+  switch (method) {
+    case BtfMethod::kStatistical: return "statistical";
+    case BtfMethod::kTopView: return "top_view";
+    case BtfMethod::kBrdfModulated: return "brdf_modulated";
+  }
+  return "unknown";
+}
+
+bool BtfEvaluationOptions::Check() const { return btf.Check() && held_out_tolerance_deg >= 0 && max_pairs != 0; }
+
+std::vector<Eigen::Vector3d> RigViewDirections() {
+  std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ()};
+  for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90.0 * k));
+  for (int k = 0; k < 8; ++k) views.push_back(DirectionFromAnglesDeg(60, 45.0 * k));
+  return views;
+}
+
+std::array<Image, kBtfMethods> ReconstructAllMethods(const StatisticalBtf& btf, const Eigen::Vector3d& light,
+                                                     const Eigen::Vector3d& view, const Image& truth) {
+  std::array<Image, kBtfMethods> out;
+  out[int(BtfMethod::kStatistical)] = btf.Reconstruct(light, view);
+  out[int(BtfMethod::kTopView)] = btf.BaseTexture(light);
+  // One texture (top view, top light) scaled per channel to the pair's true average BRDF.
+  Image modulated = btf.BaseTexture(Eigen::Vector3d::UnitZ());
+  const std::vector<double> want = ChannelMeans(truth), have = ChannelMeans(modulated);
+  for (size_t i = 0; i < modulated.pixel_count(); ++i)
+    for (int c = 0; c < modulated.channels(); ++c)
+      modulated.data()[i * modulated.channels() + c] *= have[c] > 0 ? float(want[c] / have[c]) : 0.0f;
+  out[int(BtfMethod::kBrdfModulated)] = std::move(modulated);
+  return out;
+}
+
+double BtfEvaluation::FractionBeatingBoth(bool bands) const {
+  if (pairs.empty()) return 0;
+  int wins = 0;
+  for (const PairScore& p : pairs) {
+    const auto& w = bands ? p.wasserstein_bands : p.wasserstein_pixels;
+    wins += w[0] < w[1] && w[0] < w[2];
+  }
+  return double(wins) / double(pairs.size());
+}
+
+std::array<double, kBtfMethods> BtfEvaluation::Median(std::array<double, kBtfMethods> PairScore::*score) const {
+  std::array<double, kBtfMethods> median{};
+  for (int m = 0; m < kBtfMethods; ++m) {
+    std::vector<double> v;
+    for (const PairScore& p : pairs) v.push_back((p.*score)[m]);
+    if (v.empty()) continue;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    median[m] = v[v.size() / 2];
+  }
+  return median;
+}
+
+Json BtfEvaluation::ToJson() const {
+  Json summary;
+  for (int m = 0; m < kBtfMethods; ++m) {
+    const std::string name = BtfMethodToString(BtfMethod(m));
+    summary[name] = {{"median_rmse", Median(&PairScore::rmse)[m]},
+                     {"median_wasserstein_pixels", Median(&PairScore::wasserstein_pixels)[m]},
+                     {"median_wasserstein_bands", Median(&PairScore::wasserstein_bands)[m]}};
+  }
+  Json j = {{"held_out_pairs", pairs.size()},
+            {"input_slices", input_slices},
+            {"fraction_beating_both_wasserstein_pixels", FractionBeatingBoth(false)},
+            {"fraction_beating_both_wasserstein_bands", FractionBeatingBoth(true)},
+            {"methods", summary},
+            {"seconds_inputs", seconds_inputs},
+            {"seconds_statistics", seconds_statistics},
+            {"seconds_scoring", seconds_scoring},
+            {"reconstruct_ms_per_slice", reconstruct_ms_per_slice}};
+  Json list = Json::array();
+  for (const PairScore& p : pairs) {
+    Json e = PairJson(p.light, p.view);
+    for (int m = 0; m < kBtfMethods; ++m)
+      e[BtfMethodToString(BtfMethod(m))] = {{"rmse", p.rmse[m]}, {"w_pixels", p.wasserstein_pixels[m]},
+                                            {"w_bands", p.wasserstein_bands[m]}};
+    list.push_back(e);
+  }
+  j["pairs"] = list;
+  return j;
+}
+
+std::string BtfEvaluation::Brief() const {
+  std::ostringstream s;
+  const auto w = Median(&PairScore::wasserstein_pixels);
+  s << pairs.size() << " held-out pairs; statistical beats both baselines on pixel Wasserstein in "
+    << 100.0 * FractionBeatingBoth(false) << "% (subbands " << 100.0 * FractionBeatingBoth(true)
+    << "%); median W1 statistical " << w[0] << ", top view " << w[1] << ", BRDF-modulated " << w[2];
+  return s.str();
+}
+
+StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options_in,
+                                               const ProgressFn& progress, std::optional<StatisticalBtf>* model) {
+  if (!options_in.Check()) return Status::Error("invalid evaluation options");
+  BtfEvaluationOptions options = options_in;
+  if (options.input_views.empty()) options.input_views = RigViewDirections();
+  if (options.input_lights.empty()) options.input_lights = BonnDirections();
+  if (options.target_views.empty()) options.target_views = BonnDirections();
+  if (options.target_lights.empty()) options.target_lights = BonnDirections();
+  const int num_threads = options.btf.num_threads;
+  BtfEvaluation eval;
+
+  // 1. The measured data: every input view under every input light.
+  auto start = std::chrono::steady_clock::now();
+  const int views = int(options.input_views.size()), lights = int(options.input_lights.size());
+  std::vector<std::vector<Image>> slices(views, std::vector<Image>(lights));
+  std::atomic<int> done = 0;
+  std::atomic<bool> cancelled = false;
+  ParallelFor(0, views * lights, [&](int k) {
+    if (cancelled) return;
+    slices[k / lights][k % lights] = truth(options.input_lights[k % lights], options.input_views[k / lights]);
+    if (!ReportProgress(progress, ++done, views * lights, "render inputs")) cancelled = true;
+  }, num_threads);
+  if (cancelled) return Status::Error("cancelled");
+  eval.input_slices = views * lights;
+  eval.seconds_inputs = Seconds(start);
+
+  // 2. Statistics of every input slice; the top view's slices are the base textures.
+  start = std::chrono::steady_clock::now();
+  std::vector<MeasuredView> measured;
+  int top = 0;
+  for (int v = 0; v < views; ++v) {
+    measured.push_back(MeasureView(options.input_views[v], options.input_lights, slices[v], options.btf));
+    if (options.input_views[v].normalized().z() > options.input_views[top].normalized().z()) top = v;
+  }
+  auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights, std::move(measured), options.btf);
+  if (!btf.ok()) return btf.status();
+  slices.clear();
+  eval.seconds_statistics = Seconds(start);
+
+  // 3. Held-out pairs: target views that are not input views, under every target light.
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> held_out;
+  for (const auto& view : options.target_views)
+    if (!NearAny(view, options.input_views, options.held_out_tolerance_deg))
+      for (const auto& light : options.target_lights) held_out.push_back({light, view});
+  if (held_out.empty()) return Status::Error("no held-out pairs: every target view is an input view");
+  if (options.max_pairs > 0 && int(held_out.size()) > options.max_pairs) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> subset;
+    for (int k = 0; k < options.max_pairs; ++k) subset.push_back(held_out[size_t(k) * held_out.size() / options.max_pairs]);
+    held_out = std::move(subset);
+  }
+
+  start = std::chrono::steady_clock::now();
+  eval.pairs.resize(held_out.size());
+  std::atomic<long long> reconstruct_ns = 0;
+  done = 0;
+  ParallelFor(0, int(held_out.size()), [&](int k) {
+    if (cancelled) return;
+    const auto& [light, view] = held_out[k];
+    const Image truth_slice = truth(light, view);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::array<Image, kBtfMethods> result = ReconstructAllMethods(*btf, light, view, truth_slice);
+    reconstruct_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+    const SliceStatistics truth_stats = ComputeSliceStatistics(truth_slice, options.btf.statistics);
+    PairScore& score = eval.pairs[k];
+    score.light = light, score.view = view;
+    for (int m = 0; m < kBtfMethods; ++m) {
+      score.rmse[m] = RmsDifference(result[m], truth_slice);
+      const SliceStatistics stats = ComputeSliceStatistics(result[m], options.btf.statistics);
+      double wp = 0, wb = 0;
+      for (int c = 0; c < stats.channels; ++c) {
+        wp += WassersteinDistance(stats.pixels[c], truth_stats.pixels[c]) / stats.channels;
+        for (int b = 0; b < stats.band_count; ++b)
+          wb += WassersteinDistance(stats.band(c, b), truth_stats.band(c, b)) / (stats.channels * stats.band_count);
+      }
+      score.wasserstein_pixels[m] = wp;
+      score.wasserstein_bands[m] = wb;
+    }
+    if (!ReportProgress(progress, ++done, int(held_out.size()), "score held-out pairs")) cancelled = true;
+  }, num_threads);
+  if (cancelled) return Status::Error("cancelled");
+  eval.seconds_scoring = Seconds(start);
+  eval.reconstruct_ms_per_slice = 1e-6 * double(reconstruct_ns) / double(held_out.size());
+  if (model) *model = std::move(*btf);
+  return eval;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,77 @@
+// The validation of Ngan & Durand section 4 on any source of true slices: keep the rig's 13
+// views (top, 4 at 30 deg, 8 at 60 deg) under all input lights, reconstruct every held-out
+// (light, view) pair of a target grid, and score it against the truth next to the paper's two
+// baselines: the top-view slice alone, and one top-view texture (lit from the top) scaled to
+// the true average BRDF of the pair.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/image.h"
+#include "core/json.h"
+#include "core/progress.h"
+#include "core/status.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace mesocap {
+
+// Renders the true slice for a (light, view) pair, patch frame, unit directions.
+using TrueSliceFn = std::function<Image(const Eigen::Vector3d& light, const Eigen::Vector3d& view)>;
+
+enum class BtfMethod { kStatistical = 0, kTopView = 1, kBrdfModulated = 2 };
+inline constexpr int kBtfMethods = 3;
+std::string BtfMethodToString(BtfMethod method);  // "statistical", "top_view", "brdf_modulated"
+
+struct BtfEvaluationOptions {
+  StatisticalBtfOptions btf;
+  std::vector<Eigen::Vector3d> input_views;    // empty: RigViewDirections()
+  std::vector<Eigen::Vector3d> input_lights;   // empty: BonnDirections()
+  std::vector<Eigen::Vector3d> target_views;   // empty: BonnDirections()
+  std::vector<Eigen::Vector3d> target_lights;  // empty: BonnDirections()
+  // A target view within this angle of an input view is not held out.
+  double held_out_tolerance_deg = 0.5;
+  // Score at most this many held-out pairs, evenly spread over the list (-1: all).
+  int max_pairs = -1;
+  bool Check() const;
+};
+
+struct PairScore {
+  Eigen::Vector3d light, view;
+  // Per method (BtfMethod order), averaged over colour channels.
+  std::array<double, kBtfMethods> rmse{}, wasserstein_pixels{}, wasserstein_bands{};
+};
+
+struct BtfEvaluation {
+  std::vector<PairScore> pairs;
+  int input_slices = 0;
+  double seconds_inputs = 0, seconds_statistics = 0, seconds_scoring = 0;
+  double reconstruct_ms_per_slice = 0;  // thread time per reconstructed slice
+  // Share of pairs where the statistical reconstruction beats both baselines.
+  double FractionBeatingBoth(bool bands) const;
+  // Median of a score over pairs, per method.
+  std::array<double, kBtfMethods> Median(std::array<double, kBtfMethods> PairScore::*score) const;
+  Json ToJson() const;
+  std::string Brief() const;
+};
+
+// The rig's 13 views in the patch frame: top, 4 at 30 deg (phi 0, 90, 180, 270), 8 at 60 deg
+// (phi every 45 deg).
+std::vector<Eigen::Vector3d> RigViewDirections();
+
+// Renders the inputs, builds the statistical BTF, scores the held-out pairs. `model`, when
+// given, receives the reconstruction (for pictures).
+StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options,
+                                               const ProgressFn& progress = nullptr, std::optional<StatisticalBtf>* model = nullptr);
+
+// The three methods' slices for one pair: statistical, top view, BRDF-modulated (the last needs
+// the truth's mean).
+std::array<Image, kBtfMethods> ReconstructAllMethods(const StatisticalBtf& btf, const Eigen::Vector3d& light,
+                                                     const Eigen::Vector3d& view, const Image& truth);
+
+}  // namespace mesocap

@@ -1,0 +1,147 @@
+#include "reconstruct/slice_set.h"
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <mutex>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/json.h"
+#include "core/parallel.h"
+
+namespace mesocap {
+namespace {
+
+struct IndexedSlice {
+  std::filesystem::path file;
+  int board = 0;
+  Eigen::Vector3d light, view;
+};
+
+Image ResampleSquare(const Image& image, int size) {
+  if (size <= 0 || (image.width() == size && image.height() == size)) return image;
+  cv::Mat out;
+  cv::resize(image.AsMat(), out, cv::Size(size, size), 0, 0, size < image.width() ? cv::INTER_AREA : cv::INTER_LINEAR);
+  return Image::FromMat(out);
+}
+
+bool IsPowerOfTwo(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+}  // namespace
+
+bool SliceSetOptions::Check() const { return btf.Check() && (size == 0 || IsPowerOfTwo(size)) && duplicate_light_deg >= 0; }
+
+StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
+                                            SliceSetReport* report, const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!options.Check()) return Status::Error("invalid slice-set options (size must be a power of two)");
+  auto index = ReadJsonFile(index_json);
+  if (!index.ok()) return index.status();
+  const Json& list = index->is_object() && index->contains("slices") ? (*index)["slices"] : *index;
+  if (!list.is_array()) return Status::Error(index_json.string() + ": expected a list of slices (or {\"slices\": [...]})");
+  SliceSetReport local;
+  SliceSetReport& rep = report ? *report : local;
+
+  // Group by board; drop near-duplicate lights within a board.
+  std::map<int, std::vector<IndexedSlice>> boards;
+  for (size_t k = 0; k < list.size(); ++k) {
+    const Json& e = list[k];
+    try {
+      IndexedSlice s;
+      s.file = index_json.parent_path() / e.at("file").get<std::string>();
+      s.board = e.at("board").get<int>();
+      s.light = DirectionFromAnglesDeg(e.at("theta_i_deg").get<double>(), e.at("phi_i_deg").get<double>());
+      s.view = DirectionFromAnglesDeg(e.at("theta_o_deg").get<double>(), e.at("phi_o_deg").get<double>());
+      auto& kept = boards[s.board];
+      bool duplicate = false;
+      for (const auto& other : kept) duplicate |= AngleBetweenDeg(other.light, s.light) < options.duplicate_light_deg;
+      if (duplicate) {
+        rep.skipped.push_back(s.file.filename().string() + ": light within " + std::to_string(options.duplicate_light_deg) +
+                              " deg of another slice of board " + std::to_string(s.board));
+        continue;
+      }
+      kept.push_back(s);
+    } catch (const std::exception& ex) {
+      return Status::Error(index_json.string() + ": slice entry " + std::to_string(k) + " is malformed: " + ex.what());
+    }
+  }
+  if (boards.empty()) return Status::Error(index_json.string() + ": no slices");
+
+  // Each board's view: the mean of its slices' view directions; the top board sees most head-on.
+  std::vector<int> board_ids;
+  std::vector<Eigen::Vector3d> views;
+  for (const auto& [id, slices] : boards) {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (const auto& s : slices) v += s.view;
+    board_ids.push_back(id);
+    views.push_back(v.normalized());
+  }
+  int top = 0;
+  for (size_t b = 1; b < views.size(); ++b)
+    if (views[b].z() > views[top].z()) top = int(b);
+  rep.top_board = board_ids[top];
+
+  // Statistics of every slice, streamed; the top board's slices are also kept.
+  std::vector<const IndexedSlice*> all;
+  std::vector<int> view_of;
+  for (size_t b = 0; b < board_ids.size(); ++b)
+    for (const auto& s : boards[board_ids[b]]) all.push_back(&s), view_of.push_back(int(b));
+  std::vector<SliceStatistics> stats(all.size());
+  std::vector<Image> images(all.size());
+  std::vector<std::string> errors(all.size());
+  std::atomic<int> done = 0;
+  std::atomic<bool> cancelled = false;
+  ParallelFor(0, int(all.size()), [&](int k) {
+    if (cancelled) return;
+    auto image = ReadImage(all[k]->file);
+    if (!image.ok()) {
+      errors[k] = image.status().message();
+    } else {
+      Image slice = ResampleSquare(*image, options.size);
+      if (!IsPowerOfTwo(slice.width()) || slice.width() != slice.height()) {
+        errors[k] = "slice is " + std::to_string(slice.width()) + "x" + std::to_string(slice.height()) +
+                    ", not a power-of-two square (use --size)";
+      } else {
+        stats[k] = ComputeSliceStatistics(slice, options.btf.statistics);
+        if (view_of[k] == top) images[k] = std::move(slice);
+      }
+    }
+    if (!ReportProgress(progress, ++done, int(all.size()), "slice statistics")) cancelled = true;
+  }, options.btf.num_threads);
+  if (cancelled) return Status::Error("cancelled");
+
+  std::vector<MeasuredView> measured(board_ids.size());
+  std::vector<Image> top_slices;
+  std::vector<Eigen::Vector3d> top_lights;
+  for (size_t k = 0; k < all.size(); ++k) {
+    if (!errors[k].empty()) {
+      rep.skipped.push_back(all[k]->file.filename().string() + ": " + errors[k]);
+      continue;
+    }
+    MeasuredView& v = measured[view_of[k]];
+    v.view = views[view_of[k]];
+    v.lights.push_back(all[k]->light);
+    v.statistics.push_back(std::move(stats[k]));
+    if (view_of[k] == top) top_slices.push_back(std::move(images[k])), top_lights.push_back(all[k]->light);
+    ++rep.slices_used;
+  }
+  std::vector<MeasuredView> usable;
+  for (size_t b = 0; b < measured.size(); ++b) {
+    if (measured[b].lights.size() < 3) {
+      rep.skipped.push_back("board " + std::to_string(board_ids[b]) + ": fewer than 3 usable slices, view not used");
+      continue;
+    }
+    usable.push_back(std::move(measured[b]));
+  }
+  rep.views = int(usable.size());
+  rep.top_lights = int(top_lights.size());
+  auto btf = StatisticalBtf::Create(std::move(top_slices), std::move(top_lights), std::move(usable), options.btf);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!btf.ok()) return Status::Error(index_json.string() + ": " + btf.status().message());
+  return btf;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,40 @@
+// A measured slice set on disk (SESSION/slices/index.json from `mesocap calibrate`, see
+// docs/formats.md) turned into the statistical BTF's inputs: one view per board, the top board's
+// slices kept as base textures, every other slice reduced to its statistics as it streams by
+// (memory holds one slice per thread plus the top view).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/progress.h"
+#include "core/status.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace mesocap {
+
+struct SliceSetOptions {
+  StatisticalBtfOptions btf;
+  // Slices are area-resampled to this many texels a side (power of two; 0 keeps their size,
+  // which must then be a power of two).
+  int size = 0;
+  // A light within this angle of one already kept for the same view is a near-duplicate and
+  // skipped (Delaunay needs distinct points).
+  double duplicate_light_deg = 0.5;
+  bool Check() const;
+};
+
+struct SliceSetReport {
+  int slices_used = 0, views = 0, top_lights = 0;
+  int top_board = -1;
+  std::vector<std::string> skipped;  // "file: reason"
+  double seconds = 0;
+};
+
+// Reads the index, groups slices by board, computes statistics on all cores.
+StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
+                                            SliceSetReport* report, const ProgressFn& progress = nullptr);
+
+}  // namespace mesocap

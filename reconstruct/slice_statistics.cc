@@ -1,0 +1,73 @@
+#include "reconstruct/slice_statistics.h"
+
+#include "core/status.h"
+
+namespace mesocap {
+
+bool SliceStatisticsOptions::Check() const { return pyramid.Check() && quantiles >= 2; }
+
+std::vector<float> ChannelPlane(const Image& image, int channel) {
+  std::vector<float> plane(image.pixel_count());
+  const float* src = image.data() + channel;
+  const int stride = image.channels();
+  for (size_t i = 0; i < plane.size(); ++i) plane[i] = src[i * stride];
+  return plane;
+}
+
+void SetChannelPlane(Image* image, int channel, std::span<const float> plane) {
+  MESOCAP_CHECK(plane.size() == image->pixel_count(), "plane size");
+  float* dst = image->data() + channel;
+  const int stride = image->channels();
+  for (size_t i = 0; i < plane.size(); ++i) dst[i * stride] = plane[i];
+}
+
+SliceStatistics ComputeSliceStatistics(const Image& slice, const SliceStatisticsOptions& options) {
+  SliceStatistics stats;
+  stats.channels = slice.channels();
+  for (int c = 0; c < slice.channels(); ++c) {
+    const std::vector<float> plane = ChannelPlane(slice, c);
+    stats.pixels.push_back(InverseCdfOf(plane, options.quantiles));
+    const SteerablePyramid pyramid = BuildSteerablePyramid(plane.data(), slice.width(), slice.height(), options.pyramid);
+    stats.band_count = pyramid.band_count();
+    for (const PyramidBand& band : pyramid.bands) stats.bands.push_back(InverseCdfOf(band.values, options.quantiles));
+  }
+  return stats;
+}
+
+SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights) {
+  MESOCAP_CHECK(!stats.empty() && stats.size() == weights.size(), "one weight per statistics");
+  SliceStatistics out;
+  out.channels = stats[0]->channels;
+  out.band_count = stats[0]->band_count;
+  std::vector<const InverseCdf*> column(stats.size());
+  auto blend_field = [&](auto member, size_t count, std::vector<InverseCdf>* dst) {
+    for (size_t k = 0; k < count; ++k) {
+      for (size_t s = 0; s < stats.size(); ++s) {
+        MESOCAP_CHECK(stats[s]->channels == out.channels && stats[s]->band_count == out.band_count,
+                      "statistics of slices with different sizes or channels");
+        column[s] = &(stats[s]->*member)[k];
+      }
+      dst->push_back(BlendInverseCdfs(column, weights));
+    }
+  };
+  blend_field(&SliceStatistics::pixels, stats[0]->pixels.size(), &out.pixels);
+  blend_field(&SliceStatistics::bands, stats[0]->bands.size(), &out.bands);
+  return out;
+}
+
+Image MatchSliceStatistics(const Image& base, const SliceStatistics& target, const SliceStatisticsOptions& options) {
+  MESOCAP_CHECK(base.channels() == target.channels, "channel count of base and target statistics");
+  Image out(base.width(), base.height(), base.channels());
+  for (int c = 0; c < base.channels(); ++c) {
+    const std::vector<float> plane = ChannelPlane(base, c);
+    SteerablePyramid pyramid = BuildSteerablePyramid(plane.data(), base.width(), base.height(), options.pyramid);
+    MESOCAP_CHECK(pyramid.band_count() == target.band_count, "pyramid of the base differs from the statistics'");
+    for (int b = 0; b < pyramid.band_count(); ++b) MatchToInverseCdf(pyramid.bands[b].values, target.band(c, b));
+    std::vector<float> matched = CollapseSteerablePyramid(pyramid);
+    MatchToInverseCdf(matched, target.pixels[c]);
+    SetChannelPlane(&out, c, matched);
+  }
+  return out;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,47 @@
+// The alignment-insensitive statistics Ngan & Durand keep of every measured BTF slice (section
+// 3.1): per colour channel, the pixel histogram and the histogram of every steerable-pyramid
+// subband (4 orientations, all scales), each stored as an inverse CDF so that statistics of
+// neighbouring directions can be blended and extrapolated (section 3.2).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/image.h"
+#include "reconstruct/quantiles.h"
+#include "reconstruct/steerable_pyramid.h"
+
+namespace mesocap {
+
+struct SliceStatisticsOptions {
+  SteerablePyramidOptions pyramid;
+  int quantiles = kDefaultQuantiles;
+  bool Check() const;
+};
+
+struct SliceStatistics {
+  int channels = 0;
+  int band_count = 0;                // pyramid bands per channel (high-pass .. low-pass)
+  std::vector<InverseCdf> pixels;    // [channel]
+  std::vector<InverseCdf> bands;     // [channel * band_count + band]
+
+  const InverseCdf& band(int channel, int b) const { return bands[size_t(channel) * band_count + b]; }
+  bool empty() const { return pixels.empty(); }
+};
+
+// Statistics of one slice (any size the pyramid accepts).
+SliceStatistics ComputeSliceStatistics(const Image& slice, const SliceStatisticsOptions& options = {});
+
+// Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
+SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
+
+// The transfer of section 3.2: decompose `base`, match every subband to `target`'s, collapse,
+// then match the pixel histogram. `base` and the slices `target` was measured on must share a
+// size (pyramid bands must correspond).
+Image MatchSliceStatistics(const Image& base, const SliceStatistics& target, const SliceStatisticsOptions& options = {});
+
+// The channel planes of an interleaved image, and back.
+std::vector<float> ChannelPlane(const Image& image, int channel);
+void SetChannelPlane(Image* image, int channel, std::span<const float> plane);
+
+}  // namespace mesocap

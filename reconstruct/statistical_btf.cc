@@ -1,0 +1,106 @@
+#include "reconstruct/statistical_btf.h"
+
+#include <atomic>
+#include <sstream>
+
+#include "core/directions.h"
+#include "core/parallel.h"
+
+namespace mesocap {
+
+bool StatisticalBtfOptions::Check() const { return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0; }
+
+MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::Vector3d>& lights,
+                         const std::vector<Image>& slices, const StatisticalBtfOptions& options,
+                         const ProgressFn& progress) {
+  MESOCAP_CHECK(lights.size() == slices.size(), "one light per slice");
+  MeasuredView measured{view.normalized(), lights, std::vector<SliceStatistics>(slices.size())};
+  std::atomic<int> done = 0;
+  ParallelFor(0, int(slices.size()), [&](int k) {
+    measured.statistics[k] = ComputeSliceStatistics(slices[k], options.statistics);
+    ReportProgress(progress, ++done, int(slices.size()), "statistics");
+  }, options.num_threads);
+  return measured;
+}
+
+StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, std::vector<Eigen::Vector3d> top_lights,
+                                                std::vector<MeasuredView> views, const StatisticalBtfOptions& options) {
+  if (!options.Check()) return Status::Error("invalid statistical BTF options");
+  if (top_slices.size() != top_lights.size() || top_slices.empty())
+    return Status::Error("need top-view slices, one light direction each (got " + std::to_string(top_slices.size()) +
+                         " slices, " + std::to_string(top_lights.size()) + " lights)");
+  for (size_t k = 1; k < top_slices.size(); ++k)
+    if (top_slices[k].width() != top_slices[0].width() || top_slices[k].height() != top_slices[0].height() ||
+        top_slices[k].channels() != top_slices[0].channels())
+      return Status::Error("top-view slice " + std::to_string(k) + " differs in size from slice 0");
+  auto top = LightInterpolator::Create(top_lights, options.min_light_separation_deg);
+  if (!top.ok()) return Status::Error("top view: " + top.status().message());
+  if (views.empty()) return Status::Error("no measured views");
+  std::vector<Eigen::Vector3d> view_dirs;
+  for (const MeasuredView& v : views) view_dirs.push_back(v.view);
+  auto rings = ViewInterpolator::Create(view_dirs, options.ring_gap_deg, options.max_view_extrapolation);
+  if (!rings.ok()) return rings.status();
+
+  StatisticalBtf btf(std::move(*top), std::move(*rings));
+  btf.options_ = options;
+  for (size_t v = 0; v < views.size(); ++v) {
+    std::ostringstream where;
+    const Eigen::Vector2d a = AnglesDegFromDirection(views[v].view);
+    where << "view " << v << " (theta " << a.x() << ", phi " << a.y() << " deg): ";
+    auto lights = LightInterpolator::Create(views[v].lights, options.min_light_separation_deg);
+    if (!lights.ok()) return Status::Error(where.str() + lights.status().message());
+    for (const SliceStatistics& s : views[v].statistics)
+      if (s.band_count != views[0].statistics.front().band_count || s.channels != top_slices[0].channels())
+        return Status::Error(where.str() + "statistics of slices with a different size or channel count than the top view's");
+    btf.view_lights_.push_back(std::move(*lights));
+  }
+  btf.views_ = std::move(views);
+  btf.top_slices_ = std::move(top_slices);
+  return btf;
+}
+
+Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
+  const Image& first = top_slices_.front();
+  Image base(first.width(), first.height(), first.channels());
+  for (const WeightedIndex& w : top_lights_.Weights(light)) {
+    const float weight = float(w.weight);
+    const float* src = top_slices_[w.index].data();
+    float* dst = base.data();
+    for (size_t i = 0; i < base.size(); ++i) dst[i] += weight * src[i];
+  }
+  return base;
+}
+
+SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
+  std::vector<const SliceStatistics*> stats;
+  std::vector<double> weights;
+  for (const WeightedIndex& v : view_rings_.Weights(view))
+    for (const WeightedIndex& l : view_lights_[v.index].Weights(light)) {
+      stats.push_back(&views_[v.index].statistics[l.index]);
+      weights.push_back(v.weight * l.weight);
+    }
+  return BlendSliceStatistics(stats, weights);
+}
+
+Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
+  const Image base = BaseTexture(light);
+  const SliceStatistics target = TargetStatistics(light, view);
+  if (options_.match_subbands) return MatchSliceStatistics(base, target, options_.statistics);
+  Image out = base;
+  for (int c = 0; c < out.channels(); ++c) {
+    std::vector<float> plane = ChannelPlane(out, c);
+    MatchToInverseCdf(plane, target.pixels[c]);
+    SetChannelPlane(&out, c, plane);
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> BonnDirections() {
+  const int thetas[] = {0, 15, 30, 45, 60, 75}, counts[] = {1, 6, 12, 18, 20, 24};
+  std::vector<Eigen::Vector3d> dirs;
+  for (int r = 0; r < 6; ++r)
+    for (int k = 0; k < counts[r]; ++k) dirs.push_back(DirectionFromAnglesDeg(thetas[r], 360.0 * k / counts[r]));
+  return dirs;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,80 @@
+// The statistical BTF reconstruction of Ngan & Durand (2006), section 3.2: a slice at any
+// (light, view) pair is the light-interpolated top-view texture (the base: aligned, with the
+// right shadows) whose subband and pixel histograms are matched to statistics interpolated
+// from the measured views (views by incidence rings, lights per view by Delaunay triangles),
+// blended as inverse CDFs.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/image.h"
+#include "core/progress.h"
+#include "core/status.h"
+#include "reconstruct/direction_interpolation.h"
+#include "reconstruct/slice_statistics.h"
+
+namespace mesocap {
+
+struct StatisticalBtfOptions {
+  SliceStatisticsOptions statistics;
+  double ring_gap_deg = 10.0;         // incidences further apart than this start a new view ring
+  // How far beyond the outermost view ring statistics are extrapolated, in ring spacings
+  // (see ViewInterpolator::Create).
+  double max_view_extrapolation = 1e9;
+  double min_light_separation_deg = 0.25;
+  bool match_subbands = true;         // false: pixel histogram only (Dana & Nayar 1999)
+  int num_threads = -1;
+  bool Check() const;
+};
+
+// One measured view: its direction and the statistics of its slices, one per light.
+// Directions are unit vectors in the patch frame (z = normal).
+struct MeasuredView {
+  Eigen::Vector3d view = Eigen::Vector3d::UnitZ();
+  std::vector<Eigen::Vector3d> lights;
+  std::vector<SliceStatistics> statistics;
+};
+
+// Statistics of every slice of a view, computed on all cores.
+MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::Vector3d>& lights,
+                         const std::vector<Image>& slices, const StatisticalBtfOptions& options,
+                         const ProgressFn& progress = nullptr);
+
+class StatisticalBtf {
+ public:
+  // `top_slices` (aligned, same size) lit from `top_lights`, seen from the top; `views` every
+  // measured view with its statistics (the top view among them). Fails with a message on too
+  // few, duplicate or collinear lights, slices of different sizes, or no views.
+  static StatusOr<StatisticalBtf> Create(std::vector<Image> top_slices, std::vector<Eigen::Vector3d> top_lights,
+                                         std::vector<MeasuredView> views, const StatisticalBtfOptions& options = {});
+
+  // The barycentric blend of top-view slices around `light` (also the paper's "top view only"
+  // baseline).
+  Image BaseTexture(const Eigen::Vector3d& light) const;
+  // Inverse-CDF blend of the measured statistics around (light, view); weights may be negative
+  // when the view lies outside the measured rings.
+  SliceStatistics TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
+  // The reconstructed slice. Thread-safe.
+  Image Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
+
+  int width() const { return top_slices_.front().width(); }
+  int height() const { return top_slices_.front().height(); }
+  const std::vector<MeasuredView>& views() const { return views_; }
+
+ private:
+  StatisticalBtfOptions options_;
+  std::vector<Image> top_slices_;
+  LightInterpolator top_lights_;
+  std::vector<MeasuredView> views_;
+  std::vector<LightInterpolator> view_lights_;
+  ViewInterpolator view_rings_;
+  StatisticalBtf(LightInterpolator top, ViewInterpolator rings) : top_lights_(std::move(top)), view_rings_(std::move(rings)) {}
+};
+
+// The Bonn BTF database's 81 directions: theta 0, 15, 30, 45, 60, 75 deg with 1, 6, 12, 18,
+// 20, 24 evenly spaced azimuths (phi = 360 k / n).
+std::vector<Eigen::Vector3d> BonnDirections();
+
+}  // namespace mesocap
