@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
+#include <type_traits>
 
 #include "core/directions.h"
 #include "core/parallel.h"
@@ -148,25 +150,97 @@ Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
   return Status::Ok();
 }
 
-StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
-                     const std::vector<Eigen::Vector3d>& light_dirs, const PtmFitOptions& options,
-                     PtmFitReport* report) {
-  MESOCAP_CHECK(options.Check(), "invalid PtmFitOptions");
-  const auto start = std::chrono::steady_clock::now();
-  if (images.size() != light_dirs.size())
-    return Status::Error("PTM fit: " + std::to_string(images.size()) + " images but " +
-                         std::to_string(light_dirs.size()) +
-                         " light directions; they must pair up");
-  double condition = 0;
-  MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options, &condition));
+namespace {
+
+// The fit runs over one block of one row at a time: the observations of a block for all lights
+// (n x 3 x kBlockPixels floats, 27 KB for 36 lights) stay in cache, the inputs are read once and
+// converted to float only there, so 8-bit inputs never exist as float images.
+constexpr int kBlockPixels = 64;
+// Values per register-blocked chunk of the multiply-add kernels: 6 accumulators of kLane
+// floats each (GCC/Clang vector extension: two SSE registers each on baseline x86-64, one with
+// AVX), so the loops over lights run from registers.
+constexpr int kLane = 8;
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"  // Lane is passed only between inlined helpers
+typedef float Lane __attribute__((vector_size(kLane * sizeof(float))));
+
+inline Lane LoadLane(const float* p) {
+  Lane v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void StoreLane(float* p, const Lane& v) { std::memcpy(p, &v, sizeof v); }
+
+// The kernels are also compiled for AVX2 + FMA (x86-64-v3), picked at load time where the CPU
+// has it: 8-wide fused multiply-adds instead of 4-wide multiplies and adds on baseline x86-64.
+#if defined(__x86_64__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define MESOCAP_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#endif
+#endif
+#ifndef MESOCAP_SIMD_CLONES
+#define MESOCAP_SIMD_CLONES
+#endif
+
+int RoundUpToLane(int len) { return (len + kLane - 1) / kLane * kLane; }
+
+// out[k * stride + j] = sum_i p[k * n + i] * obs[i * stride + j] for j < stride (a multiple of
+// kLane): the least-squares coefficients of every value, with p = pinv(A) row-major 6 x n. The
+// sum runs over the lights in order, so the result does not depend on blocks or threads.
+MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const float* p, float* out) {
+  for (int j0 = 0; j0 < stride; j0 += kLane) {
+    Lane acc[kPtmCoefficients] = {};
+    for (int i = 0; i < n; ++i) {
+      const Lane v = LoadLane(obs + size_t(i) * stride + j0);
+      for (int k = 0; k < kPtmCoefficients; ++k) acc[k] += p[k * n + i] * v;
+    }
+    for (int k = 0; k < kPtmCoefficients; ++k) StoreLane(out + size_t(k) * stride + j0, acc[k]);
+  }
+}
+
+// fitted[j] = sum_k a_row[k] * coef[k * stride + j]: the fit evaluated at one light.
+MESOCAP_SIMD_CLONES void EvaluateBlock(const float* coef, const float* a_row, int stride, float* fitted) {
+  for (int j0 = 0; j0 < stride; j0 += kLane) {
+    Lane f = {};
+    for (int k = 0; k < kPtmCoefficients; ++k)
+      f += a_row[k] * LoadLane(coef + size_t(k) * stride + j0);
+    StoreLane(fitted + j0, f);
+  }
+}
+
+// Sum over lights and values of (fit - observation)^2, with a row-major n x 6.
+MESOCAP_SIMD_CLONES double ResidualBlock(const float* obs, int n, int stride, const float* a, const float* coef) {
+  double total = 0;
+  for (int j0 = 0; j0 < stride; j0 += kLane) {
+    Lane c[kPtmCoefficients];
+    for (int k = 0; k < kPtmCoefficients; ++k) c[k] = LoadLane(coef + size_t(k) * stride + j0);
+    Lane s = {};
+    for (int i = 0; i < n; ++i) {
+      const float* ai = a + i * kPtmCoefficients;
+      Lane f = {};
+      for (int k = 0; k < kPtmCoefficients; ++k) f += ai[k] * c[k];
+      const Lane r = f - LoadLane(obs + size_t(i) * stride + j0);
+      s += r * r;
+    }
+    for (int l = 0; l < kLane; ++l) total += s[l];
+  }
+  return total;
+}
+
+#pragma GCC diagnostic pop
+
+// Size and channel checks shared by the float and 8-bit entry points.
+template <typename ImageT>
+Status CheckPtmImages(const std::vector<ImageT>& images) {
   const int n = int(images.size());
-  const int width = images[0].width(), height = images[0].height(), channels = images[0].channels();
+  const int width = images[0].width(), height = images[0].height(),
+            channels = images[0].channels();
   if (images[0].empty()) return Status::Error("PTM fit: image 1 is empty");
   if (channels != 1 && channels != 3 && channels != 4)
     return Status::Error("PTM fit: images must have 1, 3 or 4 channels, image 1 has " +
                          std::to_string(channels));
   for (int i = 1; i < n; ++i) {
-    const Image& im = images[i];
+    const ImageT& im = images[i];
     if (im.width() != width || im.height() != height || im.channels() != channels) {
       return Status::Error(
           "PTM fit: image " + std::to_string(i + 1) + " is " + std::to_string(im.width()) + "x" +
@@ -175,13 +249,40 @@ StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
           ": all images must have the same size and channel count");
     }
   }
+  return Status::Ok();
+}
+
+// The fit for images of element type T (float, or uint8 scaled by `scale` as it is read).
+template <typename ImageT>
+StatusOr<Ptm> FitPtmImpl(const std::vector<ImageT>& images, float scale,
+                         const std::vector<Eigen::Vector3d>& light_dirs,
+                         const PtmFitOptions& options, PtmFitReport* report) {
+  using T = std::remove_cv_t<std::remove_pointer_t<decltype(images[0].data())>>;
+  MESOCAP_CHECK(options.Check(), "invalid PtmFitOptions");
+  const auto start = std::chrono::steady_clock::now();
+  if (images.size() != light_dirs.size())
+    return Status::Error("PTM fit: " + std::to_string(images.size()) + " images but " +
+                         std::to_string(light_dirs.size()) +
+                         " light directions; they must pair up");
+  double condition = 0;
+  MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options, &condition));
+  MESOCAP_RETURN_IF_ERROR(CheckPtmImages(images));
+  const int n = int(images.size());
+  const int width = images[0].width(), height = images[0].height(),
+            channels = images[0].channels();
 
   // One shared solve: the pseudo-inverse of the light matrix maps observations to coefficients.
   const Eigen::MatrixXd a = LightMatrix(light_dirs);
   const Eigen::MatrixXd pinv =
       a.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(n, n));  // 6 x n
-  const Eigen::MatrixXf pinv_f = pinv.cast<float>();
-  const Eigen::MatrixXf a_f = a.cast<float>();
+  std::vector<float> p(size_t(kPtmCoefficients) * n), a_f(size_t(n) * kPtmCoefficients);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < kPtmCoefficients; ++k) {
+      p[k * n + i] = float(pinv(k, i));
+      a_f[i * kPtmCoefficients + k] = float(a(i, k));
+    }
+  std::vector<const T*> data(n);
+  for (int i = 0; i < n; ++i) data[i] = images[i].data();
 
   Ptm ptm;
   ptm.format = options.format;
@@ -193,107 +294,86 @@ StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
   ParallelFor(
       0, height,
       [&](int y) {
-        // The row of every image as 3 interleaved floats per pixel (grey replicated, alpha
-        // dropped).
-        const int m = width * 3;
         // Scratch buffers live per thread: allocating them per row costs more than the fit.
-        thread_local std::vector<std::vector<float>> converted;
-        thread_local std::vector<const float*> obs;
-        thread_local std::vector<float> coef, fitted, lum, ymax, inv;
-        thread_local std::vector<const float*> lum_rows;
+        thread_local std::vector<float> obs, coef, lum, fitted, ymax, inv;
         thread_local std::vector<double> num, den;
-        obs.resize(n);
-        if (channels == 3) {
-          for (int i = 0; i < n; ++i) obs[i] = images[i].row(y);
-        } else {
-          converted.resize(n);
-          for (auto& buffer : converted) buffer.resize(m);
-          for (int i = 0; i < n; ++i) {
-            const float* src = images[i].row(y);
-            float* dst = converted[i].data();
-            for (int x = 0; x < width; ++x)
-              for (int c = 0; c < 3; ++c)
-                dst[x * 3 + c] = src[size_t(x) * channels + (channels == 1 ? 0 : c)];
-            obs[i] = dst;
-          }
-        }
         float* coef_row = ptm.coefficients.row(y);
+        float* rgb_row = lrgb ? ptm.rgb.row(y) : nullptr;
         double sse = 0;
-        // coef[k * len + j] = sum_i pinv(k, i) * values_i[j]: contiguous multiply-adds that
-        // vectorise.
-        auto solve = [&](const std::vector<const float*>& values, int len,
-                         std::vector<float>* out) {
-          out->assign(size_t(kPtmCoefficients) * len, 0.0f);
+        for (int x0 = 0; x0 < width; x0 += kBlockPixels) {
+          const int bw = std::min(kBlockPixels, width - x0);
+          // The block's observations as float, 3 interleaved values per pixel (grey replicated,
+          // alpha dropped), one zero-padded run of `stride` values per light.
+          const int len = 3 * bw, stride = RoundUpToLane(len);
+          obs.resize(size_t(n) * stride);
           for (int i = 0; i < n; ++i) {
-            const float* v = values[i];
-            for (int k = 0; k < kPtmCoefficients; ++k) {
-              const float p = pinv_f(k, i);
-              float* ck = out->data() + size_t(k) * len;
-              for (int j = 0; j < len; ++j) ck[j] += p * v[j];
+            const T* src = data[i] + (size_t(y) * width + x0) * channels;
+            float* dst = obs.data() + size_t(i) * stride;
+            // The inputs are n separate streams, too many for the hardware prefetcher: ask for
+            // the next block of this image while converting this one.
+            if (x0 + kBlockPixels < width) {
+              const char* next = reinterpret_cast<const char*>(src + size_t(bw) * channels);
+              const size_t bytes = size_t(std::min(kBlockPixels, width - x0 - kBlockPixels)) *
+                                   channels * sizeof(T);
+              for (size_t b = 0; b < bytes; b += 64) __builtin_prefetch(next + b);
             }
+            if (channels == 3) {
+              for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
+            } else {
+              for (int x = 0; x < bw; ++x)
+                for (int c = 0; c < 3; ++c)
+                  dst[x * 3 + c] = float(src[size_t(x) * channels + (channels == 1 ? 0 : c)]) * scale;
+            }
+            for (int j = len; j < stride; ++j) dst[j] = 0.0f;
           }
-        };
-        // fitted[j] = sum_k a(i, k) * coef[k * len + j]: the fit evaluated at light i.
-        auto evaluate = [&](const std::vector<float>& in, int i, int len, std::vector<float>* out) {
-          out->assign(len, 0.0f);
-          float* f = out->data();
-          for (int k = 0; k < kPtmCoefficients; ++k) {
-            const float a = a_f(i, k);
-            const float* ck = in.data() + size_t(k) * len;
-            for (int j = 0; j < len; ++j) f[j] += a * ck[j];
+          if (!lrgb) {
+            coef.resize(size_t(kPtmCoefficients) * stride);
+            SolveBlock(obs.data(), n, stride, p.data(), coef.data());
+            for (int x = 0; x < bw; ++x)
+              for (int c = 0; c < 3; ++c)
+                for (int k = 0; k < kPtmCoefficients; ++k)
+                  coef_row[size_t(x0 + x) * 18 + c * 6 + k] = coef[size_t(k) * stride + x * 3 + c];
+            if (options.compute_residual)
+              sse += ResidualBlock(obs.data(), n, stride, a_f.data(), coef.data());
+            continue;
           }
-        };
-        if (!lrgb) {
-          solve(obs, m, &coef);
-          for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 3; ++c)
-              for (int k = 0; k < kPtmCoefficients; ++k)
-                coef_row[size_t(x) * 18 + c * 6 + k] = coef[size_t(k) * m + x * 3 + c];
-          for (int i = 0; i < n && options.compute_residual; ++i) {
-            evaluate(coef, i, m, &fitted);
-            float light_sse = 0;
-            for (int j = 0; j < m; ++j)
-              light_sse += (fitted[j] - obs[i][j]) * (fitted[j] - obs[i][j]);
-            sse += light_sse;
-          }
-        } else {
-          // Luminance per light, normalised per pixel by its brightest observation.
-          lum.resize(size_t(n) * width);
-          ymax.assign(width, 0.0f);
-          inv.resize(width);
+          // LRGB: luminance per light, normalised per pixel by its brightest observation.
+          const int lstride = RoundUpToLane(bw);
+          lum.assign(size_t(n) * lstride, 0.0f);
+          ymax.assign(lstride, 0.0f);
+          inv.assign(lstride, 0.0f);
           for (int i = 0; i < n; ++i) {
-            const float* o = obs[i];
-            float* l = lum.data() + size_t(i) * width;
-            for (int x = 0; x < width; ++x) {
+            const float* o = obs.data() + size_t(i) * stride;
+            float* l = lum.data() + size_t(i) * lstride;
+            for (int x = 0; x < bw; ++x) {
               l[x] = kPtmLumaWeights[0] * o[x * 3] + kPtmLumaWeights[1] * o[x * 3 + 1] +
                      kPtmLumaWeights[2] * o[x * 3 + 2];
               ymax[x] = std::max(ymax[x], l[x]);
             }
           }
-          for (int x = 0; x < width; ++x)
+          for (int x = 0; x < bw; ++x)
             inv[x] = ymax[x] > options.black_level ? 1.0f / ymax[x] : 0.0f;
-          lum_rows.resize(n);
           for (int i = 0; i < n; ++i) {
-            float* l = lum.data() + size_t(i) * width;
-            for (int x = 0; x < width; ++x) l[x] *= inv[x];
-            lum_rows[i] = l;
+            float* l = lum.data() + size_t(i) * lstride;
+            for (int x = 0; x < bw; ++x) l[x] *= inv[x];
           }
-          solve(lum_rows, width, &coef);
+          coef.resize(size_t(kPtmCoefficients) * lstride);
+          SolveBlock(lum.data(), n, lstride, p.data(), coef.data());
           // The colour that best matches the observations given the fitted luminance:
           // rgb_c = sum_i L_i obs_ic / sum_i L_i^2.
-          num.assign(size_t(width) * 3, 0.0);
-          den.assign(width, 0.0);
+          num.assign(size_t(bw) * 3, 0.0);
+          den.assign(bw, 0.0);
+          fitted.resize(lstride);
           for (int i = 0; i < n; ++i) {
-            evaluate(coef, i, width, &fitted);
-            const float* o = obs[i];
-            for (int x = 0; x < width; ++x) {
+            EvaluateBlock(coef.data(), a_f.data() + i * kPtmCoefficients, lstride, fitted.data());
+            const float* o = obs.data() + size_t(i) * stride;
+            for (int x = 0; x < bw; ++x) {
               const double f = fitted[x];
               den[x] += f * f;
               for (int c = 0; c < 3; ++c) num[x * 3 + c] += f * o[x * 3 + c];
             }
           }
-          float* rgb_row = ptm.rgb.row(y);
-          for (int x = 0; x < width; ++x) {
+          for (int x = 0; x < bw; ++x) {
             float rgb[3] = {0, 0, 0};
             float gain = 0;  // the factor applied to the fitted polynomial
             if (inv[x] > 0 && den[x] > 1e-20) {
@@ -307,19 +387,20 @@ StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
               }
             }
             for (int k = 0; k < kPtmCoefficients; ++k) {
-              float& ck = coef[size_t(k) * width + x];
+              float& ck = coef[size_t(k) * lstride + x];
               ck *= gain;
-              coef_row[size_t(x) * 6 + k] = ck;
+              coef_row[size_t(x0 + x) * 6 + k] = ck;
             }
-            for (int c = 0; c < 3; ++c) rgb_row[x * 3 + c] = rgb[c];
+            for (int c = 0; c < 3; ++c) rgb_row[size_t(x0 + x) * 3 + c] = rgb[c];
           }
           for (int i = 0; i < n && options.compute_residual; ++i) {
-            evaluate(coef, i, width, &fitted);
-            const float* o = obs[i];
+            EvaluateBlock(coef.data(), a_f.data() + i * kPtmCoefficients, lstride, fitted.data());
+            const float* o = obs.data() + size_t(i) * stride;
+            const float* rgb = rgb_row + size_t(x0) * 3;
             float light_sse = 0;
-            for (int x = 0; x < width; ++x)
+            for (int x = 0; x < bw; ++x)
               for (int c = 0; c < 3; ++c) {
-                const float r = fitted[x] * rgb_row[x * 3 + c] - o[x * 3 + c];
+                const float r = fitted[x] * rgb[x * 3 + c] - o[x * 3 + c];
                 light_sse += r * r;
               }
             sse += light_sse;
@@ -342,6 +423,20 @@ StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return ptm;
+}
+
+}  // namespace
+
+StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
+                     const std::vector<Eigen::Vector3d>& light_dirs, const PtmFitOptions& options,
+                     PtmFitReport* report) {
+  return FitPtmImpl(images, 1.0f, light_dirs, options, report);
+}
+
+StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
+                     const std::vector<Eigen::Vector3d>& light_dirs, const PtmFitOptions& options,
+                     PtmFitReport* report) {
+  return FitPtmImpl(images, kU8ToUnit, light_dirs, options, report);
 }
 
 Image RelightPtm(const Ptm& ptm, const Eigen::Vector3d& light_dir, bool clamp, int num_threads) {

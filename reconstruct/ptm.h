@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/image_u8_io.h"
 #include "core/status.h"
 
 namespace mesocap {
@@ -93,9 +94,19 @@ Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
                          const PtmFitOptions& options, double* condition = nullptr);
 
 // Fits a PTM to `images[i]` photographed under `light_dirs[i]` (surface frame, z = normal),
-// one shared least-squares solve for all pixels. Images must all have the same size and channel
+// one shared least-squares solve for all pixels: coefficients = pinv(A) * observations with A
+// the n x 6 light matrix, applied block by block over the rows on all cores. Images must all have the same size and channel
 // count; 1 channel (grey, replicated to RGB), 3, or 4 (alpha ignored).
 StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
+                     const std::vector<Eigen::Vector3d>& light_dirs,
+                     const PtmFitOptions& options = {}, PtmFitReport* report = nullptr);
+
+// The same fit on 8-bit images as stored (core/image_u8_io.h): a value v counts as
+// v * kU8ToUnit, as ReadImage(path, {.linearize = false}) reads it, so the result agrees with the
+// float overload on ImageU8ToFloat(images) to float round-off (same kernel). The inputs stay
+// 8-bit: the fit streams over row blocks, converting only the block in hand to float, so memory
+// is the inputs (n x pixels x channels bytes) plus the output.
+StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
                      const std::vector<Eigen::Vector3d>& light_dirs,
                      const PtmFitOptions& options = {}, PtmFitReport* report = nullptr);
 

@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>  // core/directions.h uses cross() without including it
+#include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
 
 #include "core/directions.h"
+#include "core/image_u8_io.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -193,6 +196,108 @@ TEST(Ptm, LrgbColourStaysWithinEightBitsAndResidualMatchesRelighting) {
   EXPECT_EQ(fast_report.rms_residual, -1);
   EXPECT_NE(fast_report.Brief().find("rms residual not computed"), std::string::npos);
   EXPECT_NE(report.Brief().find("19 lights"), std::string::npos) << report.Brief();
+}
+
+// 8-bit photos of a smooth lit surface with a per-pixel colour and some sensor noise: values
+// across the whole 0..255 range, including clipped ones.
+std::vector<ImageU8> EightBitImages(std::mt19937& rng, const std::vector<Eigen::Vector3d>& lights,
+                                    int w, int h, int channels) {
+  std::uniform_real_distribution<double> coef(-0.3, 0.3), colour(0.1, 1.2), noise(-3, 3);
+  std::vector<std::array<double, 6>> poly(size_t(w) * h);
+  std::vector<std::array<double, 4>> rgb(size_t(w) * h);
+  for (size_t p = 0; p < poly.size(); ++p) {
+    for (int k = 0; k < 5; ++k) poly[p][k] = coef(rng);
+    poly[p][5] = 0.6;
+    for (double& c : rgb[p]) c = colour(rng);
+  }
+  std::vector<ImageU8> images;
+  for (const auto& l : lights) {
+    ImageU8 im(w, h, channels);
+    for (size_t p = 0; p < poly.size(); ++p)
+      for (int c = 0; c < channels; ++c) {
+        const double v = 255 * Eval(poly[p].data(), l) * rgb[p][c] + noise(rng);
+        im.data()[p * channels + c] = uint8_t(std::clamp(std::lround(v), 0L, 255L));
+      }
+    images.push_back(std::move(im));
+  }
+  return images;
+}
+
+void ExpectImagesNear(const Image& a, const Image& b, float tolerance, const char* what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  float worst = 0;
+  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a.data()[i] - b.data()[i]));
+  EXPECT_LE(worst, tolerance) << what;
+}
+
+TEST(Ptm, EightBitFitAgreesWithFloatFitOfTheSameValues) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  const auto lights = RandomLights(rng, 17);
+  // 150 px: two whole blocks of the streaming fit and a partial one.
+  const int w = 150, h = 6;
+  for (int channels : {3, 1, 4}) {
+    const std::vector<ImageU8> u8 = EightBitImages(rng, lights, w, h, channels);
+    std::vector<Image> as_float;
+    for (const ImageU8& im : u8) as_float.push_back(ImageU8ToFloat(im));
+    for (PtmFormat format : {PtmFormat::kRgb, PtmFormat::kLrgb}) {
+      PtmFitOptions options;
+      options.format = format;
+      PtmFitReport r8, rf;
+      const StatusOr<Ptm> p8 = FitPtm(u8, lights, options, &r8);
+      const StatusOr<Ptm> pf = FitPtm(as_float, lights, options, &rf);
+      ASSERT_TRUE(p8.ok() && pf.ok()) << p8.status().message() << pf.status().message();
+      ASSERT_TRUE(p8->IsConsistent());
+      // Same values, same kernel: equal up to float round-off.
+      ExpectImagesNear(p8->coefficients, pf->coefficients, 1e-6f, "coefficients");
+      if (format == PtmFormat::kLrgb) ExpectImagesNear(p8->rgb, pf->rgb, 1e-6f, "rgb");
+      EXPECT_NEAR(r8.rms_residual, rf.rms_residual, 1e-6 * rf.rms_residual);
+      EXPECT_GT(r8.rms_residual, 0.5 / 255);  // the noise is there
+      EXPECT_EQ(r8.width, w);
+      EXPECT_EQ(r8.num_lights, 17);
+      // Independent of the thread count.
+      PtmFitOptions one = options;
+      one.num_threads = 1;
+      const StatusOr<Ptm> single = FitPtm(u8, lights, one);
+      ASSERT_TRUE(single.ok());
+      EXPECT_TRUE(single->coefficients == p8->coefficients);
+      EXPECT_TRUE(single->rgb == p8->rgb);
+    }
+    // The RGB coefficients are the least-squares solution, checked in double precision.
+    PtmFitOptions rgb_options;
+    rgb_options.format = PtmFormat::kRgb;
+    const StatusOr<Ptm> p8 = FitPtm(u8, lights, rgb_options);
+    ASSERT_TRUE(p8.ok());
+    Eigen::MatrixXd a(lights.size(), 6);
+    for (size_t i = 0; i < lights.size(); ++i) a.row(i) = PtmBasis(lights[i]);
+    for (int x : {0, 63, 64, 149}) {
+      const int y = x % h;
+      for (int c = 0; c < 3; ++c) {
+        Eigen::VectorXd b(lights.size());
+        for (size_t i = 0; i < lights.size(); ++i)
+          b(i) = u8[i].at(x, y, channels == 1 ? 0 : c) / 255.0;
+        const Eigen::VectorXd truth = a.colPivHouseholderQr().solve(b);
+        for (int k = 0; k < 6; ++k)
+          EXPECT_NEAR(p8->coefficients.at(x, y, c * 6 + k), truth(k), 2e-5)
+              << x << "," << y << " channel " << c << " a" << k;
+      }
+    }
+  }
+}
+
+TEST(Ptm, EightBitFitChecksItsInputs) {
+  const auto lights = DomeLights();
+  std::vector<ImageU8> images(lights.size(), ImageU8(4, 3, 3));
+  images[4] = ImageU8(5, 3, 3);
+  const StatusOr<Ptm> mismatched = FitPtm(images, lights);
+  ASSERT_FALSE(mismatched.ok());
+  EXPECT_NE(mismatched.status().message().find("image 5 is 5x3x3 but image 1 is 4x3x3"),
+            std::string::npos)
+      << mismatched.status().message();
+  images.pop_back();
+  const StatusOr<Ptm> unpaired = FitPtm(images, lights);
+  ASSERT_FALSE(unpaired.ok());
+  EXPECT_NE(unpaired.status().message().find("18 images but 19 light directions"),
+            std::string::npos);
 }
 
 TEST(Ptm, FormatNamesRoundTrip) {

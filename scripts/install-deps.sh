@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git ca-certificates
   libopencv-dev libopencv-contrib-dev libceres-dev libeigen3-dev
   libgphoto2-dev libexif-dev dpkg-dev
-  libopenimageio-dev openimageio-tools libopenexr-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libjpeg62-turbo-dev
   libapriltag-dev
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

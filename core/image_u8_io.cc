@@ -1,0 +1,204 @@
+#include "core/image_u8_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <csetjmp>
+#include <cstdlib>
+#include <new>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+
+// jpeglib.h needs size_t and FILE declared first.
+#include <jpeglib.h>
+
+namespace mesocap {
+namespace fs = std::filesystem;
+namespace oiio = OIIO;
+
+namespace {
+
+uint8_t* AllocatePixels(size_t bytes) {
+#ifdef __linux__
+  constexpr size_t kHugePage = size_t(2) << 20;
+  if (bytes >= kHugePage) {
+    const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    if (void* p = std::aligned_alloc(kHugePage, rounded)) {
+      madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure only costs speed
+      return static_cast<uint8_t*>(p);
+    }
+  }
+#endif
+  void* p = std::malloc(std::max<size_t>(bytes, 1));
+  if (!p) throw std::bad_alloc();
+  return static_cast<uint8_t*>(p);
+}
+
+}  // namespace
+
+void ImageU8::Free::operator()(uint8_t* p) const { std::free(p); }
+
+ImageU8::ImageU8(int width, int height, int channels)
+    : width_(width), height_(height), channels_(channels) {
+  MESOCAP_CHECK(width > 0 && height > 0 && channels > 0, "ImageU8 needs a positive size");
+  data_.reset(AllocatePixels(size()));  // not zeroed
+}
+
+ImageU8::ImageU8(const ImageU8& other)
+    : width_(other.width_), height_(other.height_), channels_(other.channels_) {
+  if (other.data_) {
+    data_.reset(AllocatePixels(size()));
+    std::memcpy(data_.get(), other.data_.get(), size());
+  }
+}
+
+ImageU8& ImageU8::operator=(const ImageU8& other) {
+  if (this != &other) *this = ImageU8(other);
+  return *this;
+}
+
+bool ImageU8::operator==(const ImageU8& other) const {
+  if (width_ != other.width_ || height_ != other.height_ || channels_ != other.channels_)
+    return false;
+  return size() == 0 || std::memcmp(data(), other.data(), size()) == 0;
+}
+
+Image ImageU8ToFloat(const ImageU8& image) {
+  if (image.empty()) return Image();
+  Image out(image.width(), image.height(), image.channels());
+  const uint8_t* src = image.data();
+  float* dst = out.data();
+  for (size_t i = 0; i < image.size(); ++i) dst[i] = float(src[i]) * kU8ToUnit;
+  return out;
+}
+
+namespace {
+
+// libjpeg reports errors through callbacks: keep the message and jump back to the decoder.
+struct JpegErrorManager {
+  jpeg_error_mgr base;
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+};
+
+[[noreturn]] void JpegErrorExit(j_common_ptr cinfo) {
+  auto* err = reinterpret_cast<JpegErrorManager*>(cinfo->err);
+  (*cinfo->err->format_message)(cinfo, err->message);
+  std::longjmp(err->jump, 1);
+}
+
+// Warnings (level -1) mean corrupt data that libjpeg papers over, e.g. a truncated file padded
+// with grey: fail as OpenImageIO-based ReadImage does. Trace messages (level >= 0) are ignored.
+void JpegEmitMessage(j_common_ptr cinfo, int level) {
+  if (level < 0) JpegErrorExit(cinfo);
+}
+
+enum class JpegResult { kOk, kError, kUnsupported };
+
+// Decodes a JPEG held in memory into *out. Kept free of objects with destructors between
+// setjmp and the calls that may longjmp; *out and *error belong to the caller.
+JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, ImageU8* out,
+                      std::string* error) {
+  jpeg_decompress_struct cinfo;
+  JpegErrorManager err;
+  cinfo.err = jpeg_std_error(&err.base);
+  err.base.error_exit = JpegErrorExit;
+  err.base.emit_message = JpegEmitMessage;
+  err.message[0] = '\0';
+  if (setjmp(err.jump)) {
+    jpeg_destroy_decompress(&cinfo);
+    *error = err.message;
+    return JpegResult::kError;
+  }
+  jpeg_create_decompress(&cinfo);
+  jpeg_mem_src(&cinfo, bytes, static_cast<unsigned long>(size));
+  jpeg_read_header(&cinfo, TRUE);
+  if (cinfo.data_precision != 8 || (cinfo.jpeg_color_space != JCS_GRAYSCALE &&
+                                    cinfo.jpeg_color_space != JCS_YCbCr &&
+                                    cinfo.jpeg_color_space != JCS_RGB)) {
+    jpeg_destroy_decompress(&cinfo);  // CMYK/YCCK or 12-bit: leave it to OpenImageIO
+    return JpegResult::kUnsupported;
+  }
+  const bool grey = cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
+  cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
+  cinfo.dct_method = JDCT_ISLOW;  // accurate (and SIMD in libjpeg-turbo); not JDCT_IFAST
+  jpeg_start_decompress(&cinfo);
+  *out = ImageU8(int(cinfo.output_width), int(cinfo.output_height), cinfo.output_components);
+  JSAMPROW rows[16];
+  while (cinfo.output_scanline < cinfo.output_height) {
+    const int first = int(cinfo.output_scanline);
+    const int count = std::min<int>(16, int(cinfo.output_height) - first);
+    for (int r = 0; r < count; ++r) rows[r] = out->row(first + r);
+    jpeg_read_scanlines(&cinfo, rows, JDIMENSION(count));
+  }
+  jpeg_finish_decompress(&cinfo);
+  jpeg_destroy_decompress(&cinfo);
+  return JpegResult::kOk;
+}
+
+StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
+  auto in = oiio::ImageInput::open(path.string());
+  if (!in) {
+    std::string why = oiio::geterror();
+    if (why.empty()) why = "not a readable image";
+    return Status::Error(path.string() + ": " + why);
+  }
+  const oiio::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    return Status::Error(path.string() + ": image has no pixels");
+  int bits = int(spec.format.size()) * 8;
+  if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0) bits = bps;
+  if (spec.format != oiio::TypeDesc::UINT8 || bits != 8)
+    return Status::Error(path.string() + ": not an 8-bit image (" + std::to_string(bits) +
+                         " bits per sample); read it as float instead");
+  const int channels = std::min(spec.nchannels, max_channels);
+  ImageU8 image(spec.width, spec.height, channels);
+  const bool ok = in->read_image(0, 0, 0, channels, oiio::TypeDesc::UINT8, image.data());
+  std::string err = in->geterror();
+  in->close();
+  if (!ok || !err.empty()) {
+    if (err.empty()) err = "could not decode pixels";
+    return Status::Error(path.string() + ": " + err);
+  }
+  return image;
+}
+
+}  // namespace
+
+StatusOr<ImageU8> ReadImageU8(const fs::path& path, int max_channels) {
+  MESOCAP_CHECK(max_channels >= 1, "max_channels must be at least 1");
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
+  const auto file_size = fs::file_size(path, ec);
+  if (ec) return Status::Error(path.string() + ": " + ec.message());
+  if (file_size == 0) return Status::Error(path.string() + ": empty file");
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return Status::Error(path.string() + ": cannot open: " + std::strerror(errno));
+  std::unique_ptr<uint8_t[]> bytes(new uint8_t[file_size]);
+  const size_t got = std::fread(bytes.get(), 1, file_size, file);
+  std::fclose(file);
+  if (got != file_size) return Status::Error(path.string() + ": read error");
+
+  const bool is_jpeg = file_size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+  if (is_jpeg) {
+    ImageU8 image;
+    std::string error;
+    switch (DecodeJpeg(bytes.get(), file_size, max_channels, &image, &error)) {
+      case JpegResult::kOk:
+        return image;
+      case JpegResult::kError:
+        return Status::Error(path.string() + ": " + (error.empty() ? "corrupt JPEG" : error));
+      case JpegResult::kUnsupported:
+        break;
+    }
+  }
+  bytes.reset();
+  return ReadWithOiio(path, max_channels);
+}
+
+}  // namespace mesocap

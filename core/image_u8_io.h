@@ -1,0 +1,71 @@
+// 8-bit images as stored (no linearisation, no float conversion): the fast read path for
+// pipelines that work on many 8-bit photos at once (an RTI folder is 36 x 3 MP; as floats that
+// is 1.3 GB, as bytes 324 MB). JPEG is decoded with libjpeg(-turbo) straight to interleaved
+// bytes (accurate integer IDCT, the same decoder settings OpenImageIO uses, so values match
+// ReadImage(..., {.linearize = false}) * 255 within one level); other 8-bit formats go through
+// OpenImageIO. Files that are not 8-bit are an error: read them with ReadImage (core/image_io.h).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "core/image.h"
+#include "core/status.h"
+
+namespace mesocap {
+
+// The scale from an 8-bit code to the [0, 1] float value every 8-bit consumer uses (a float
+// path fed with ImageU8ToFloat(image) sees exactly the values a u8 path computes with).
+inline constexpr float kU8ToUnit = 1.0f / 255.0f;
+
+// uint8, N interleaved channels, row-major, contiguous. Pixels are left uninitialised on
+// construction (decoders overwrite every byte; zeroing 9 MB per photo costs measurable time),
+// and large images ask Linux for transparent huge pages (one page fault per 2 MB, not 512).
+class ImageU8 {
+ public:
+  ImageU8() = default;
+  ImageU8(int width, int height, int channels);
+  ImageU8(const ImageU8& other);
+  ImageU8& operator=(const ImageU8& other);
+  ImageU8(ImageU8&&) noexcept = default;
+  ImageU8& operator=(ImageU8&&) noexcept = default;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+  bool empty() const { return data_ == nullptr; }
+  size_t pixel_count() const { return size_t(width_) * size_t(height_); }
+  size_t size() const { return pixel_count() * size_t(channels_); }
+
+  uint8_t* data() { return data_.get(); }
+  const uint8_t* data() const { return data_.get(); }
+  uint8_t* row(int y) { return data_.get() + size_t(y) * width_ * channels_; }
+  const uint8_t* row(int y) const { return data_.get() + size_t(y) * width_ * channels_; }
+  uint8_t* pixel(int x, int y) { return row(y) + size_t(x) * channels_; }
+  const uint8_t* pixel(int x, int y) const { return row(y) + size_t(x) * channels_; }
+  uint8_t& at(int x, int y, int c = 0) { return pixel(x, y)[c]; }
+  uint8_t at(int x, int y, int c = 0) const { return pixel(x, y)[c]; }
+
+  bool operator==(const ImageU8& other) const;
+
+ private:
+  struct Free {
+    void operator()(uint8_t* p) const;
+  };
+  int width_ = 0, height_ = 0, channels_ = 0;
+  std::unique_ptr<uint8_t[], Free> data_;
+};
+
+// Reads an 8-bit image (JPEG, 8-bit PNG/TIFF/...) as stored, keeping at most `max_channels`
+// channels (a colour JPEG read with max_channels 1 or 2 is converted to grey). Errors name the
+// file and what was wrong: missing, empty, truncated or corrupt data (libjpeg warnings count as
+// errors, as in ReadImage), not 8-bit.
+StatusOr<ImageU8> ReadImageU8(const std::filesystem::path& path, int max_channels = 4);
+
+// Values v * kU8ToUnit in a float image of the same shape.
+Image ImageU8ToFloat(const ImageU8& image);
+
+}  // namespace mesocap

@@ -1,0 +1,127 @@
+#include "core/image_u8_io.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+
+#include "core/image_io.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+
+// Texture with edges and noise, so the JPEG has non-trivial AC coefficients and chroma.
+Image Textured(int w, int h, int c, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> noise(-0.1f, 0.1f);
+  Image im(w, h, c);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < c; ++k) {
+        const float v = 0.5f + 0.3f * std::sin(0.21f * x + 1.3f * k) * std::cos(0.17f * y) +
+                        ((x / 9 + y / 7 + k) % 2 ? 0.1f : -0.1f) + noise(rng);
+        im.at(x, y, k) = std::clamp(v, 0.0f, 1.0f);
+      }
+  return im;
+}
+
+// Largest |u8 - 255 * float| between the fast reader and OpenImageIO's float decode.
+int MaxLevelDifference(const ImageU8& u8, const Image& f) {
+  EXPECT_EQ(u8.width(), f.width());
+  EXPECT_EQ(u8.height(), f.height());
+  EXPECT_EQ(u8.channels(), f.channels());
+  int worst = 0;
+  for (size_t i = 0; i < u8.size() && i < f.size(); ++i)
+    worst = std::max(worst, int(std::lround(std::abs(u8.data()[i] - 255.0f * f.data()[i]))));
+  return worst;
+}
+
+TEST(ImageU8IO, JpegMatchesOpenImageIODecodeWithinOneLevel) {
+  const auto dir = testing::MakeTempDir();
+  const uint32_t seed = testing::SeedFromTestName();
+  // Odd sizes exercise partial MCUs; 3 channels are stored as subsampled YCbCr, 1 as grey.
+  for (int channels : {3, 1}) {
+    const auto path = dir / (channels == 3 ? "t3.jpg" : "t1.jpg");
+    ImageWriteOptions jpeg;
+    jpeg.jpeg_quality = 90;
+    ASSERT_TRUE(WriteImage(path, Textured(77, 45, channels, seed), jpeg).ok());
+    auto fast = ReadImageU8(path);
+    ASSERT_TRUE(fast.ok()) << fast.status().message();
+    auto oiio = ReadImage(path, {.linearize = false});
+    ASSERT_TRUE(oiio.ok()) << oiio.status().message();
+    EXPECT_LE(MaxLevelDifference(*fast, *oiio), 1) << channels << " channels";
+    EXPECT_TRUE(ImageU8ToFloat(*fast).width() == 77);
+  }
+  // A colour JPEG read with max_channels 1 comes out grey.
+  auto grey = ReadImageU8(dir / "t3.jpg", 1);
+  ASSERT_TRUE(grey.ok()) << grey.status().message();
+  EXPECT_EQ(grey->channels(), 1);
+}
+
+TEST(ImageU8IO, OtherEightBitFormatsGoThroughOpenImageIO) {
+  const auto dir = testing::MakeTempDir();
+  const Image im = Textured(31, 17, 4, testing::SeedFromTestName());
+  ImageWriteOptions png8, png16;
+  png8.format = PixelFormat::kUint8Srgb;
+  png16.format = PixelFormat::kUint16Linear;
+  ASSERT_TRUE(WriteImage(dir / "a.png", im, png8).ok());
+  auto fast = ReadImageU8(dir / "a.png", 3);
+  ASSERT_TRUE(fast.ok()) << fast.status().message();
+  EXPECT_EQ(fast->channels(), 3);
+  auto oiio = ReadImage(dir / "a.png", {.linearize = false, .max_channels = 3});
+  ASSERT_TRUE(oiio.ok());
+  EXPECT_EQ(MaxLevelDifference(*fast, *oiio), 0);
+  // 16-bit files are not silently quantised.
+  ASSERT_TRUE(WriteImage(dir / "b.png", im, png16).ok());
+  auto wide = ReadImageU8(dir / "b.png");
+  ASSERT_FALSE(wide.ok());
+  EXPECT_NE(wide.status().message().find("b.png"), std::string::npos);
+  EXPECT_NE(wide.status().message().find("not an 8-bit image"), std::string::npos)
+      << wide.status().message();
+}
+
+TEST(ImageU8IO, TruncatedEmptyAndTextFilesAreErrorsNamingTheFile) {
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "good.jpg", Textured(200, 160, 3, 7)).ok());
+  const auto size = std::filesystem::file_size(dir / "good.jpg");
+  for (double keep : {0.5, 0.95}) {
+    const std::string name = keep < 0.9 ? "cut50.jpg" : "cut95.jpg";
+    std::filesystem::copy_file(dir / "good.jpg", dir / name);
+    std::filesystem::resize_file(dir / name, std::uintmax_t(size * keep));
+  }
+  // Only the header: fails before any pixel is decoded.
+  std::filesystem::copy_file(dir / "good.jpg", dir / "header.jpg");
+  std::filesystem::resize_file(dir / "header.jpg", 40);
+  std::ofstream(dir / "empty.jpg").close();
+  std::ofstream(dir / "notes.jpg") << "not an image at all\n";
+  {
+    std::ofstream junk(dir / "junk.jpg", std::ios::binary);  // JPEG magic, then garbage
+    junk << "\xFF\xD8\xFF\xE0" << std::string(500, '\x5A');
+  }
+  ASSERT_TRUE(ReadImageU8(dir / "good.jpg").ok());
+  for (const char* name :
+       {"cut50.jpg", "cut95.jpg", "header.jpg", "empty.jpg", "notes.jpg", "junk.jpg", "missing.jpg"}) {
+    auto r = ReadImageU8(dir / name);
+    ASSERT_FALSE(r.ok()) << name;
+    EXPECT_NE(r.status().message().find(name), std::string::npos) << r.status().message();
+  }
+}
+
+TEST(ImageU8IO, CopyAndCompare) {
+  ImageU8 a(3, 2, 3);
+  for (size_t i = 0; i < a.size(); ++i) a.data()[i] = uint8_t(i * 11);
+  ImageU8 b = a;
+  EXPECT_TRUE(a == b);
+  b.at(2, 1, 2) = 1;
+  EXPECT_FALSE(a == b);
+  const Image f = ImageU8ToFloat(a);
+  EXPECT_EQ(f.at(1, 0, 0), float(a.at(1, 0, 0)) * kU8ToUnit);
+  EXPECT_FLOAT_EQ(f.at(2, 1, 2), float(a.at(2, 1, 2)) / 255.0f);
+}
+
+}  // namespace
+}  // namespace mesocap
