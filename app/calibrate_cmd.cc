@@ -1,11 +1,14 @@
 // mesocap calibrate SESSION: intrinsics (from the session's checkerboard shots or --camera),
-// board poses, balls, flash position and power per shot -> SESSION/calibration/.
+// board poses, balls, flash position and power per shot -> SESSION/calibration/; then every
+// lit board patch of every usable shot resampled into a BTF slice -> SESSION/slices/.
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include "app/commands.h"
 #include "calib/calibrate.h"
 #include "calib/intrinsics.h"
+#include "calib/resample.h"
 #include "core/atomic_file.h"
 #include "core/provenance.h"
 #include "core/session.h"
@@ -17,6 +20,8 @@ namespace fs = std::filesystem;
 
 struct CalibrateArgs {
   CalibrateOptions options;
+  ResampleOptions resample;
+  bool no_resample = false, no_brdf_smoothing = false;
   fs::path camera_file, layout_file;
   bool no_progress = false;
 };
@@ -51,6 +56,9 @@ StatusOr<CameraModel> CameraFor(const CalibrateArgs& a, const RigLayout& layout,
 
 int Run(CalibrateArgs& a) {
   if (std::string why = a.options.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
+  a.resample.brdf_smoothing = !a.no_brdf_smoothing;
+  a.resample.num_threads = a.options.num_threads;
+  if (std::string why = a.resample.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
   if (a.layout_file.empty()) a.layout_file = a.options.session / "rig_layout.json";
   auto layout_json = ReadJsonFile(a.layout_file);
   if (!layout_json.ok()) return Fail("calibrate", layout_json.status().message() + " (give the rig's layout with --layout)");
@@ -75,6 +83,15 @@ int Run(CalibrateArgs& a) {
   if (Status st = WriteJsonFile(out / "report.json", report); !st.ok()) return Fail("calibrate", st.message());
   std::printf("calibrate: %s -> %s\n", result->Brief().c_str(), (out / "rig.json").string().c_str());
   for (const auto& r : result->rejected) std::printf("  rejected: %s\n", r.c_str());
+  if (a.no_resample) return kExitOk;
+  ProgressBar rbar("resample", !a.no_progress);
+  auto slices = ResampleSession(a.resample, a.options.session, *layout, *result, rbar.AsCallback());
+  if (!slices.ok()) return Fail("calibrate", slices.status().message());
+  std::printf("resample: %s -> %s\n", slices->Brief().c_str(),
+              (a.options.session / "slices" / "index.json").string().c_str());
+  std::map<std::string, int> skipped_by_reason;  // the full list is in index.json
+  for (const auto& s : slices->skipped) ++skipped_by_reason[s.reason.substr(0, std::min(s.reason.find(" ("), s.reason.find(" by ")))];
+  for (const auto& [reason, count] : skipped_by_reason) std::printf("  skipped %d: %s\n", count, reason.c_str());
   return kExitOk;
 }
 
@@ -91,6 +108,12 @@ Command CalibrateCommand() {
     sub->add_option("--layout", args->layout_file, "Rig layout (default SESSION/rig_layout.json)");
     sub->add_option("--pose-shots", args->options.pose_shots, "Shots searched for AprilTags")->capture_default_str();
     sub->add_option("--threads", args->options.num_threads, "Threads (-1: all cores)")->capture_default_str();
+    sub->add_option("--slice-size", args->resample.slice_size, "Texels per side of each resampled BTF slice")->capture_default_str();
+    sub->add_flag("--no-resample", args->no_resample, "Calibrate only; do not write SESSION/slices/");
+    sub->add_flag("--no-brdf-smoothing", args->no_brdf_smoothing,
+                  "Do not rescale slices to the smoothed per-view average BRDF (absorbs flash-power error)");
+    sub->add_option("--brdf-smoothing-deg", args->resample.brdf_smoothing_deg,
+                    "Gaussian width over light directions of the BRDF smoothing")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");
   };
   c.run = [args]() { return Run(*args); };

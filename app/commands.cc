@@ -10,6 +10,7 @@ int Fail(const std::string& verb, const std::string& message, int code) {
 }
 
 std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(),     ImportCommand(),          CaptureCommand(),
-          CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand(), FitPtmCommand(), RelightCommand()}; }
+          CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand(), FitPtmCommand(), RelightCommand(),
+          ReconstructCommand(), EvaluateCommand(), LightsCommand()}; }
 
 }  // namespace mesocap::app

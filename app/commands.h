@@ -39,5 +39,8 @@ Command CalibrateCameraCommand();
 Command CalibrateCommand();
 Command FitPtmCommand();
 Command RelightCommand();
+Command ReconstructCommand();
+Command EvaluateCommand();
+Command LightsCommand();
 
 }  // namespace mesocap::app
