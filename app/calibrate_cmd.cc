@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 
+#include "app/board_lights.h"
 #include "app/commands.h"
 #include "calib/calibrate.h"
 #include "calib/intrinsics.h"
@@ -89,6 +90,7 @@ int Run(CalibrateArgs& a) {
   if (!slices.ok()) return Fail("calibrate", slices.status().message());
   std::printf("resample: %s -> %s\n", slices->Brief().c_str(),
               (a.options.session / "slices" / "index.json").string().c_str());
+  if (Status st = WriteBoardLightFiles(a.options.session / "slices", *slices); !st.ok()) return Fail("calibrate", st.message());
   std::map<std::string, int> skipped_by_reason;  // the full list is in index.json
   for (const auto& s : slices->skipped) ++skipped_by_reason[s.reason.substr(0, std::min(s.reason.find(" ("), s.reason.find(" by ")))];
   for (const auto& [reason, count] : skipped_by_reason) std::printf("  skipped %d: %s\n", count, reason.c_str());

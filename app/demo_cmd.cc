@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/board_lights.h"
 #include "app/commands.h"
+#include "app/demo_reconstruct.h"
 #include "calib/calibrate.h"
 #include "calib/intrinsics.h"
 #include "calib/resample.h"
@@ -217,11 +219,23 @@ int RunDemo(DemoArgs& a) {
       report.Picture("slices_vs_truth.jpg", "Top board: resampled slice (left) and true BTF slice (right) of each pair, one exposure per pair");
     }
     std::printf("demo: resample: %s\n", res->Brief().c_str());
+    if (Status st = WriteBoardLightFiles(session_dir / "slices", *res); !st.ok()) return Fail("demo", st.message());
+
+    DemoReconstructionInputs rec;
+    rec.out = a.out;
+    rec.session = session_dir;
+    rec.material = &*material;
+    rec.top_board = scene->boards.front().id;
+    rec.top_offset_m = scene->boards.front().material_offset_m;
+    rec.patch_m = scene->boards.front().patch_m;
+    rec.progress = !a.no_progress;
+    if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st.message());
   }
 
   report.Heading("Files");
   report.Paragraph("session/: shots/, calib/, journal.jsonl, session.json, truth.json, rig_layout.json, calibration/rig.json, "
-                   "calibration/report.json, slices/ (OpenEXR BTF slices) and slices/index.json. Formats: docs/formats.md.");
+                   "calibration/report.json, slices/ (OpenEXR BTF slices), slices/index.json and slices/board_BB.lp; top_board.ptm "
+                   "beside this report. Formats: docs/formats.md.");
   if (Status st = report.Write(a.out); !st.ok()) return Fail("demo", st.message());
   std::printf("demo: %s\n", sim->Brief().c_str());
   std::printf("demo: report -> %s\n", (a.out / "report.html").string().c_str());

@@ -2,6 +2,7 @@
 // Reads SESSION/slices/index.json (or --slices INDEX), reconstructs the requested direction
 // pairs (default: the Bonn 81 x 81 grid) and writes one OpenEXR slice per pair plus an index.
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -71,6 +72,7 @@ int Run(ReconstructArgs& a) {
   std::vector<Json> entries(pairs.size());
   std::vector<std::string> errors(pairs.size());
   ProgressBar bar("reconstruct", !a.no_progress);
+  const auto start = std::chrono::steady_clock::now();
   std::atomic<int> done = 0;
   std::atomic<bool> cancelled = false;
   ParallelFor(0, int(pairs.size()), [&](int k) {
@@ -91,13 +93,16 @@ int Run(ReconstructArgs& a) {
     entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
     if (!bar.Update(++done, int(pairs.size()), name)) cancelled = true;
   }, a.options.btf.num_threads);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const std::string& e : errors)
     if (!e.empty()) return Fail("reconstruct", e);
   if (cancelled) return Fail("reconstruct", "cancelled", kExitCancelled);
 
   Json j = {{"format", "mesocap-btf"}, {"width", btf->width()}, {"height", btf->height()},
             {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
-            {"slices_used", loaded.slices_used}, {"skipped", loaded.skipped}, {"slices", entries}};
+            {"slices_used", loaded.slices_used}, {"skipped", loaded.skipped},
+            {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", seconds},
+            {"ms_per_slice", 1000 * seconds / pairs.size()}, {"slices", entries}};
   j["provenance"] = MakeProvenance({{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}});
   if (Status st = WriteJsonFile(a.out / "index.json", j); !st.ok()) return Fail("reconstruct", st.message());
   std::error_code ec;
@@ -105,8 +110,10 @@ int Run(ReconstructArgs& a) {
   std::filesystem::rename(a.out, final_out, ec);
   if (ec) return Fail("reconstruct", "cannot move results to " + final_out.string() + ": " + ec.message());
   a.out = final_out;
-  std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views -> %s\n", pairs.size(), btf->width(),
-              btf->height(), loaded.slices_used, loaded.views, a.out.string().c_str());
+  std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views: statistics %.1f s, reconstruction "
+              "%.1f s (%.1f ms per slice, written) -> %s\n",
+              pairs.size(), btf->width(), btf->height(), loaded.slices_used, loaded.views, loaded.seconds, seconds,
+              1000 * seconds / pairs.size(), a.out.string().c_str());
   return kExitOk;
 }
 

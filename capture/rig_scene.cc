@@ -101,7 +101,10 @@ StatusOr<RigScene> MakeRigScene(const RigOptions& options) {
     const double tilt_deg = slot.incidence_deg == 0 ? 0 : slot.incidence_deg - camera_offset_deg + 2 * u11(rng);
     const double tilt = DegToRad(tilt_deg);
     const Eigen::Vector3d n = std::sin(tilt) * radial + std::cos(tilt) * Eigen::Vector3d::UnitZ();
-    Eigen::Vector3d x_axis = Eigen::Vector3d(-radial.y(), radial.x(), 0);
+    // Every patch is glued with the material's x along the world x (projected into the board):
+    // the views then meet the material from different azimuths in its own frame, the rings of
+    // Ngan & Durand's Fig. 5, instead of all from the same side.
+    Eigen::Vector3d x_axis = (Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX().dot(n) * n).normalized();
     if (slot.radius_m == 0) x_axis = Eigen::AngleAxisd(DegToRad(3 * u11(rng)), Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitX();
     const Eigen::Vector3d y_axis = n.cross(x_axis).normalized();
     Eigen::Matrix3d world_from_board;

@@ -111,6 +111,13 @@ StatusOr<LightInterpolator> LightInterpolator::Create(const std::vector<Eigen::V
   return interp;
 }
 
+bool LightInterpolator::Contains(const Eigen::Vector3d& direction) const {
+  const Eigen::Vector2d p = OnDisk(direction);
+  for (const auto& t : triangles_)
+    if (Barycentric(disk_[t[0]], disk_[t[1]], disk_[t[2]], p).minCoeff() >= -1e-9) return true;
+  return false;
+}
+
 std::vector<WeightedIndex> LightInterpolator::Weights(const Eigen::Vector3d& direction) const {
   const Eigen::Vector2d p = OnDisk(direction);
   constexpr double kEps = 1e-9;

@@ -36,6 +36,8 @@ class LightInterpolator {
                                             double min_separation_deg = 0.25);
   // Up to three measured directions and their barycentric weights (non-negative).
   std::vector<WeightedIndex> Weights(const Eigen::Vector3d& direction) const;
+  // True when `direction` falls inside the triangulated hull (no radial projection needed).
+  bool Contains(const Eigen::Vector3d& direction) const;
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
 
  private:

@@ -70,6 +70,8 @@ TEST(LightInterpolator, OutsideTheHullProjectsRadiallyOntoIt) {
   auto interp = LightInterpolator::Create(dirs);
   ASSERT_TRUE(interp.ok());
   const Eigen::Vector3d q = DirectionFromAnglesDeg(80, 30);  // beyond the 40-deg ring, between two lights
+  EXPECT_FALSE(interp->Contains(q));
+  EXPECT_TRUE(interp->Contains(DirectionFromAnglesDeg(30, 30)));  // hexagon edge at 0.557 on the disk
   const auto w = interp->Weights(q);
   ASSERT_EQ(w.size(), 2u);
   EXPECT_NEAR(w[0].weight, 0.5, 1e-9);

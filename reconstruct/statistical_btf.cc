@@ -82,6 +82,12 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
   return BlendSliceStatistics(stats, weights);
 }
 
+bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
+  for (const WeightedIndex& v : view_rings_.Weights(view))
+    if (!view_lights_[v.index].Contains(light)) return false;
+  return true;
+}
+
 Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   const Image base = BaseTexture(light);
   const SliceStatistics target = TargetStatistics(light, view);

@@ -56,6 +56,9 @@ class StatisticalBtf {
   // Inverse-CDF blend of the measured statistics around (light, view); weights may be negative
   // when the view lies outside the measured rings.
   SliceStatistics TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
+  // True when every view the pair borrows statistics from measured lights around `light` (the
+  // light lies inside that view's triangulated light hull): no light extrapolation.
+  bool LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // The reconstructed slice. Thread-safe.
   Image Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
 

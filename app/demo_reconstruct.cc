@@ -1,0 +1,218 @@
+#include "app/demo_reconstruct.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <optional>
+
+#include "app/board_lights.h"
+#include "capture/btf_render.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "export/lp_file.h"
+#include "export/previews.h"
+#include "export/ptm_file.h"
+#include "reconstruct/btf_evaluation.h"
+#include "reconstruct/ptm.h"
+#include "reconstruct/slice_set.h"
+
+namespace mesocap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+Image TrueSlice(const DemoReconstructionInputs& in, const Eigen::Vector3d& light, const Eigen::Vector3d& view, int size,
+                int samples_per_axis = 2) {
+  TrueBtfRequest r;
+  const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
+  r.theta_i_deg = i.x(), r.phi_i_deg = i.y(), r.theta_o_deg = o.x(), r.phi_o_deg = o.y();
+  r.size = size;
+  r.patch_m = in.patch_m;
+  r.offset_m = in.top_offset_m;
+  r.samples_per_axis = samples_per_axis;
+  return RenderTrueBtfSlice(*in.material, r, 1);
+}
+
+// Scales every image of a row by one factor (the first image's 99th percentile to 1).
+std::vector<Image> ExposeRow(const std::vector<Image>& row) {
+  const Image ref = ExposeForDisplay(row.front(), 0.99);
+  float scale = 1;
+  for (size_t i = 0; i < ref.size(); ++i)
+    if (row.front().data()[i] > 1e-6f && ref.data()[i] < 1) { scale = ref.data()[i] / row.front().data()[i]; break; }
+  std::vector<Image> out;
+  for (Image img : row) {
+    for (size_t i = 0; i < img.size(); ++i) img.data()[i] = std::clamp(img.data()[i] * scale, 0.0f, 1.0f);
+    out.push_back(std::move(img));
+  }
+  return out;
+}
+
+Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
+  auto lights = ReadLpFile(BoardLightFile(in.session / "slices", in.top_board));
+  if (!lights.ok()) return lights.status();
+  std::vector<Image> images;
+  std::vector<Eigen::Vector3d> dirs;
+  for (const LpEntry& e : *lights) {
+    auto im = ReadImage(e.image);
+    if (!im.ok()) return im.status();
+    images.push_back(std::move(*im));
+    dirs.push_back(e.light_dir);
+  }
+  PtmFitOptions fit;
+  fit.format = PtmFormat::kRgb;
+  PtmFitReport fit_report;
+  auto ptm = FitPtm(images, dirs, fit, &fit_report);
+  if (!ptm.ok()) return ptm.status();
+  if (Status st = WritePtmFile(in.out / "top_board.ptm", *ptm); !st.ok()) return st;
+  std::vector<Image> row;
+  std::vector<std::string> labels;
+  for (double phi : {0.0, 120.0, 240.0}) {
+    const Eigen::Vector3d light = DirectionFromAnglesDeg(50, phi);
+    row.push_back(TrueSlice(in, light, Eigen::Vector3d::UnitZ(), ptm->width()));
+    row.push_back(RelightPtm(*ptm, light, false));
+    labels.push_back(Format("truth i(50,%.0f)", phi));
+    labels.push_back("PTM relit");
+  }
+  row = ExposeRow(row);
+  Image normals = PtmNormalsAndAlbedo(*ptm).normals;
+  for (size_t i = 0; i < normals.size(); ++i) normals.data()[i] = 0.5f * (normals.data()[i] + 1.0f);
+  row.push_back(normals);
+  labels.push_back("PTM normals");
+  if (Status st = WriteImage(in.out / "ptm.jpg", ContactSheet(row, labels, 7, 160), {.format = PixelFormat::kUint8Srgb}); !st.ok())
+    return st;
+  report->Heading("Polynomial texture map of the top board");
+  report->Paragraph(Format("mesocap calibrate wrote slices/board_%02d.lp (RTI light file of the top board's slices); "
+                           "`mesocap fit-ptm --lp` fits an RGB PTM to its %d slices (top_board.ptm, opens in RTIViewer), "
+                           "RMS residual %.4f. The PTM is smooth in the light direction by construction, so it misses "
+                           "the material's sharp cast shadows:",
+                           in.top_board, fit_report.num_lights, fit_report.rms_residual));
+  report->Picture("ptm.jpg", "True BTF (top view) and the PTM relit at three held-out lights; PTM normals");
+  std::printf("demo: PTM of the top board from %d slices, rms residual %.4f\n", fit_report.num_lights, fit_report.rms_residual);
+  return Status::Ok();
+}
+
+// Pixel W1 of each method's slice against the truth, averaged over channels.
+std::array<double, kBtfMethods> PixelW1(const std::array<Image, kBtfMethods>& methods, const Image& truth) {
+  const SliceStatistics ts = ComputeSliceStatistics(truth);
+  std::array<double, kBtfMethods> w{};
+  for (int m = 0; m < kBtfMethods; ++m) {
+    for (int c = 0; c < truth.channels(); ++c) {
+      std::vector<float> plane = ChannelPlane(methods[m], c);
+      w[m] += WassersteinDistance(InverseCdfOf(plane), ts.pixels[c]) / truth.channels();
+    }
+  }
+  return w;
+}
+
+Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
+  SliceSetOptions options;
+  options.size = 128;
+  SliceSetReport loaded;
+  ProgressBar bar("statistics", in.progress);
+  auto btf = LoadStatisticalBtf(in.session / "slices" / "index.json", options, &loaded, bar.AsCallback());
+  if (!btf.ok()) return btf.status();
+
+  // An even spread of the Bonn grid's pairs, split by whether the neighbouring views measured
+  // lights around the pair's light: a tilted board never sees the flash from below its slope,
+  // so there the statistics are extrapolated from the edge of its measured lights.
+  const std::vector<Eigen::Vector3d> bonn = BonnDirections();
+  constexpr int kPairs = 60;
+  struct Scored { Eigen::Vector3d light, view; bool covered; std::array<double, kBtfMethods> w; };
+  std::vector<Scored> scored(kPairs);
+  ParallelFor(0, kPairs, [&](int k) {
+    const size_t flat = size_t(k) * bonn.size() * bonn.size() / kPairs + 7;
+    Scored& s = scored[k];
+    s.light = bonn[flat % bonn.size()], s.view = bonn[(flat / bonn.size()) % bonn.size()];
+    s.covered = btf->LightCovered(s.light, s.view);
+    const Image truth = TrueSlice(in, s.light, s.view, btf->width());
+    s.w = PixelW1(ReconstructAllMethods(*btf, s.light, s.view, truth), truth);
+  });
+  std::vector<std::vector<std::string>> rows;
+  for (bool covered : {true, false}) {
+    int n = 0, wins = 0;
+    std::array<std::vector<double>, kBtfMethods> w;
+    for (const Scored& s : scored)
+      if (s.covered == covered) {
+        ++n;
+        wins += s.w[0] < s.w[1] && s.w[0] < s.w[2];
+        for (int m = 0; m < kBtfMethods; ++m) w[m].push_back(s.w[m]);
+      }
+    if (n == 0) continue;
+    std::vector<std::string> row = {covered ? "light inside the views' measured lights" : "light extrapolated",
+                                    std::to_string(n), Format("%.0f%%", 100.0 * wins / n)};
+    for (auto& v : w) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      row.push_back(Format("%.5f", v[v.size() / 2]));
+    }
+    rows.push_back(row);
+  }
+  // Pictures: the first two covered and the first two extrapolated pairs.
+  std::vector<Image> cells;
+  std::vector<std::string> labels;
+  for (bool covered : {true, false}) {
+    int shown = 0;
+    for (const Scored& s : scored) {
+      if (s.covered != covered || shown == 2) continue;
+      ++shown;
+      const Image truth = TrueSlice(in, s.light, s.view, btf->width());
+      const auto methods = ReconstructAllMethods(*btf, s.light, s.view, truth);
+      for (const Image& img : ExposeRow({truth, methods[0], methods[1]})) cells.push_back(img);
+      const Eigen::Vector2d i = AnglesDegFromDirection(s.light), o = AnglesDegFromDirection(s.view);
+      labels.insert(labels.end(), {Format("truth i(%.0f,%.0f) o(%.0f,%.0f)", i.x(), i.y(), o.x(), o.y()),
+                                   covered ? "statistical" : "statistical (extrapolated)", "top view only"});
+    }
+  }
+  if (Status st = WriteImage(in.out / "btf_reconstruction.jpg", ContactSheet(cells, labels, 3, 220),
+                             {.format = PixelFormat::kUint8Srgb});
+      !st.ok())
+    return st;
+  report->Heading("Statistical BTF from the session's slices");
+  report->Paragraph(Format("`mesocap reconstruct` builds the BTF of Ngan & Durand from the calibrated slices (resampled to "
+                           "128 texels): %d slices in %d views, board %d's %d slices as base textures, %zu skipped. "
+                           "Scored against the true BTF on %d pairs spread over the 81 x 81 grid, by pixel W1 (lower is "
+                           "better); the last baseline is given the true average BRDF:",
+                           loaded.slices_used, loaded.views, loaded.top_board, loaded.top_lights, loaded.skipped.size(), kPairs));
+  report->Table({"pairs", "count", "statistical beats both", "median W1 statistical", "top view only",
+                 "top texture x true average BRDF"},
+                rows);
+  report->Picture("btf_reconstruction.jpg", "Truth | statistical reconstruction | top-view base texture, one exposure per row");
+  std::printf("demo: statistical BTF from %d slices in %d views\n", loaded.slices_used, loaded.views);
+  return Status::Ok();
+}
+
+Status AddEvaluation(const DemoReconstructionInputs& in, Report* report) {
+  const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+    return TrueSlice(in, light, view, 64, 3);
+  };
+  BtfEvaluationOptions options;
+  options.max_pairs = 240;
+  ProgressBar bar("evaluate", in.progress);
+  auto eval = EvaluateStatisticalBtf(truth, options, bar.AsCallback());
+  if (!eval.ok()) return eval.status();
+  const auto wp = eval->Median(&PairScore::wasserstein_pixels), wb = eval->Median(&PairScore::wasserstein_bands),
+             rmse = eval->Median(&PairScore::rmse);
+  std::vector<std::vector<std::string>> rows;
+  for (int m = 0; m < kBtfMethods; ++m)
+    rows.push_back({BtfMethodToString(BtfMethod(m)), Format("%.5f", rmse[m]), Format("%.5f", wp[m]), Format("%.5f", wb[m])});
+  report->Heading("The paper's validation (mesocap evaluate)");
+  report->Paragraph(Format("With the true BTF at the rig's 13 views under the 81 Bonn lights as input, %zu held-out pairs of "
+                           "the 81 x 81 grid (64 x 64 texels): the statistical reconstruction beats both baselines on "
+                           "pixel W1 in %.1f%% of pairs (issue 5 asks for 80%%), on subband W1 in %.1f%%. "
+                           "`mesocap evaluate --material NAME` runs all 5832 pairs.",
+                           eval->pairs.size(), 100 * eval->FractionBeatingBoth(false), 100 * eval->FractionBeatingBoth(true)));
+  report->Table({"method", "median RMSE", "median W1 pixels", "median W1 subbands"}, rows);
+  std::printf("demo: evaluate: %s\n", eval->Brief().c_str());
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status AddReconstructionToDemo(const DemoReconstructionInputs& in, Report* report) {
+  MESOCAP_RETURN_IF_ERROR(AddPtm(in, report));
+  MESOCAP_RETURN_IF_ERROR(AddStatisticalBtf(in, report));
+  return AddEvaluation(in, report);
+}
+
+}  // namespace mesocap::app
