@@ -7,6 +7,9 @@
 
 #include "app/board_lights.h"
 #include "app/commands.h"
+#include "calib/intrinsics_plot.h"
+#include "core/image_io.h"
+#include "export/previews.h"
 #include "calib/calibrate.h"
 #include "calib/intrinsics.h"
 #include "calib/resample.h"
@@ -27,7 +30,7 @@ struct CalibrateArgs {
   bool no_progress = false;
 };
 
-StatusOr<CameraModel> CameraFor(const CalibrateArgs& a, const RigLayout& layout, Json* intrinsics_report) {
+StatusOr<CameraModel> CameraFor(const CalibrateArgs& a, const RigLayout& layout, Json* intrinsics_report, Image* residual_plot) {
   if (!a.camera_file.empty()) {
     auto j = ReadJsonFile(a.camera_file);
     if (!j.ok()) return j.status();
@@ -51,6 +54,7 @@ StatusOr<CameraModel> CameraFor(const CalibrateArgs& a, const RigLayout& layout,
   auto result = CalibrateIntrinsics(images, io, bar.AsCallback());
   if (!result.ok()) return result.status();
   *intrinsics_report = result->ToJson();
+  if (residual_plot) *residual_plot = PlotIntrinsicsResiduals(*result);
   std::fprintf(stderr, "intrinsics: %s\n", result->Brief().c_str());
   return result->camera;
 }
@@ -66,7 +70,8 @@ int Run(CalibrateArgs& a) {
   auto layout = RigLayout::FromJson(*layout_json);
   if (!layout.ok()) return Fail("calibrate", a.layout_file.string() + ": " + layout.status().message());
   Json intrinsics_report = Json::object();
-  auto camera = CameraFor(a, *layout, &intrinsics_report);
+  Image residual_plot;
+  auto camera = CameraFor(a, *layout, &intrinsics_report, &residual_plot);
   if (!camera.ok()) return Fail("calibrate", camera.status().message());
   ProgressBar bar("calibrate", !a.no_progress);
   auto result = CalibrateSession(a.options, *layout, *camera, bar.AsCallback());
@@ -82,6 +87,22 @@ int Run(CalibrateArgs& a) {
   report["intrinsics"] = intrinsics_report;
   if (Status st = WriteJsonFile(out / "rig.json", rig); !st.ok()) return Fail("calibrate", st.message());
   if (Status st = WriteJsonFile(out / "report.json", report); !st.ok()) return Fail("calibrate", st.message());
+  // Plots a person reads at a glance: checkerboard residuals, and the flash directions seen from
+  // the most head-on board (the top of the pyramid).
+  if (!residual_plot.empty())
+    if (Status st = WriteImage(out / "intrinsics_residuals.png", residual_plot, {.format = PixelFormat::kUint8Srgb}); !st.ok())
+      return Fail("calibrate", st.message());
+  const BoardPose* top = nullptr;
+  for (const BoardPose& b : result->boards)
+    if (b.found && (!top || std::abs(b.R(2, 2)) > std::abs(top->R(2, 2)))) top = &b;
+  if (top) {
+    std::vector<Eigen::Vector3d> dirs;
+    for (const ShotCalibration& shot : result->shots)
+      if (shot.light.ok) dirs.push_back(top->R.transpose() * (shot.light.light_m - top->t));
+    const Image plot = HemispherePlot(dirs, 420, "flash directions, board " + std::to_string(top->id) + " frame");
+    if (Status st = WriteImage(out / "lights.png", plot, {.format = PixelFormat::kUint8Srgb}); !st.ok())
+      return Fail("calibrate", st.message());
+  }
   std::printf("calibrate: %s -> %s\n", result->Brief().c_str(), (out / "rig.json").string().c_str());
   for (const auto& r : result->rejected) std::printf("  rejected: %s\n", r.c_str());
   if (a.no_resample) return kExitOk;
