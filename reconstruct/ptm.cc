@@ -439,6 +439,84 @@ StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
   return FitPtmImpl(images, kU8ToUnit, light_dirs, options, report);
 }
 
+StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const PixelLightFn& light_dir,
+                                   const PtmFitOptions& options, PtmFitReport* report, int* degenerate_pixels) {
+  MESOCAP_CHECK(options.Check(), "invalid PtmFitOptions");
+  const auto start = std::chrono::steady_clock::now();
+  if (images.size() < size_t(kPtmCoefficients))
+    return Status::Error("PTM fit: " + std::to_string(images.size()) + " images; at least 6 lights are needed");
+  MESOCAP_RETURN_IF_ERROR(CheckPtmImages(images));
+  const int n = int(images.size());
+  const int width = images[0].width(), height = images[0].height(), channels = images[0].channels();
+  const bool lrgb = options.format == PtmFormat::kLrgb;
+  Ptm ptm;
+  ptm.format = options.format;
+  ptm.coefficients = Image(width, height, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
+  if (lrgb) ptm.rgb = Image(width, height, 3);
+  std::vector<double> row_sse(height, 0.0);
+  std::vector<int> row_degenerate(height, 0);
+  ParallelFor(0, height, [&](int y) {
+    Eigen::MatrixXd a(n, kPtmCoefficients), obs(n, 3);
+    for (int x = 0; x < width; ++x) {
+      for (int i = 0; i < n; ++i) {
+        a.row(i) = PtmBasis(light_dir(i, x, y));
+        const float* px = images[i].pixel(x, y);
+        for (int c = 0; c < 3; ++c) obs(i, c) = px[channels == 1 ? 0 : c];
+      }
+      const Eigen::Matrix<double, 6, 6> ata = a.transpose() * a;
+      const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(ata);
+      const double scale = ata.diagonal().maxCoeff();
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 1e-12 * scale)) {
+        ++row_degenerate[y];
+        continue;
+      }
+      float* coef = ptm.coefficients.pixel(x, y);
+      if (!lrgb) {
+        const Eigen::Matrix<double, 6, 3> c = ldlt.solve(a.transpose() * obs);
+        for (int ch = 0; ch < 3; ++ch)
+          for (int k = 0; k < kPtmCoefficients; ++k) coef[ch * 6 + k] = float(c(k, ch));
+        row_sse[y] += (a * c - obs).squaredNorm();
+        continue;
+      }
+      // LRGB as in the shared fit: luminance normalised by its brightest observation, then the
+      // colour that best matches the observations given the fitted luminance.
+      Eigen::VectorXd lum = obs * Eigen::Vector3d(kPtmLumaWeights[0], kPtmLumaWeights[1], kPtmLumaWeights[2]);
+      const double ymax = lum.maxCoeff();
+      if (!(ymax > options.black_level)) continue;
+      lum /= ymax;
+      Eigen::Matrix<double, 6, 1> c = ldlt.solve(a.transpose() * lum);
+      const Eigen::VectorXd fitted = a * c;
+      const double den = fitted.squaredNorm();
+      Eigen::Vector3d rgb = den > 1e-20 ? Eigen::Vector3d((obs.transpose() * fitted / den).cwiseMax(0.0)) : Eigen::Vector3d::Zero();
+      const double peak = rgb.maxCoeff();
+      if (peak > 1.0) rgb /= peak, c *= peak;  // keep the colour representable in 8 bits
+      for (int k = 0; k < kPtmCoefficients; ++k) coef[k] = float(c(k));
+      float* out_rgb = ptm.rgb.pixel(x, y);
+      for (int ch = 0; ch < 3; ++ch) out_rgb[ch] = float(rgb(ch));
+      row_sse[y] += ((a * c) * rgb.transpose() - obs).squaredNorm();
+    }
+  }, options.num_threads);
+  double sse = 0;
+  int degenerate = 0;
+  for (int y = 0; y < height; ++y) sse += row_sse[y], degenerate += row_degenerate[y];
+  if (degenerate_pixels) *degenerate_pixels = degenerate;
+  if (report) {
+    report->num_lights = n;
+    report->width = width;
+    report->height = height;
+    report->rms_residual = std::sqrt(sse / (double(width) * height * n * 3));
+    report->fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return ptm;
+}
+
+PixelLightFn PointLightDirections(std::vector<Eigen::Vector3d> lights_m, int size, double patch_m) {
+  return [lights = std::move(lights_m), size, patch_m](int i, int x, int y) {
+    const Eigen::Vector3d texel(-patch_m / 2 + (x + 0.5) * patch_m / size, patch_m / 2 - (y + 0.5) * patch_m / size, 0.0);
+    return Eigen::Vector3d((lights[i] - texel).normalized());
+  };
+}
+
 Image RelightPtm(const Ptm& ptm, const Eigen::Vector3d& light_dir, bool clamp, int num_threads) {
   MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
   MESOCAP_CHECK(light_dir.allFinite() && light_dir.norm() > 0, "invalid light direction");

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,23 @@ StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
 StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
                      const std::vector<Eigen::Vector3d>& light_dirs,
                      const PtmFitOptions& options = {}, PtmFitReport* report = nullptr);
+
+// Where a point light close to the sample makes the light direction differ from pixel to pixel
+// (a flash 0.5 m from a 64 mm patch: up to ~7 deg): light i's unit direction at pixel (x, y),
+// surface frame.
+using PixelLightFn = std::function<Eigen::Vector3d(int light, int x, int y)>;
+
+// The same least-squares fit with a light matrix per pixel (normal equations, 6 x 6 per pixel,
+// in double). Slower than the shared solve; RGB and LRGB as above. A pixel whose directions are
+// degenerate (fewer than 6 lights or a singular matrix) gets zero coefficients and is counted in
+// `degenerate_pixels`.
+StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const PixelLightFn& light_dir,
+                                   const PtmFitOptions& options = {}, PtmFitReport* report = nullptr,
+                                   int* degenerate_pixels = nullptr);
+
+// Directions from point lights at `lights_m` (patch frame, metres) to the texel centres of a
+// size x size slice of side patch_m (texel (x, y) centre at (-P/2 + (x+0.5)P/N, P/2 - (y+0.5)P/N)).
+PixelLightFn PointLightDirections(std::vector<Eigen::Vector3d> lights_m, int size, double patch_m);
 
 // Evaluates the PTM for one light direction: a 3-channel image, clamped to [0, 1] as the RTI
 // viewers do (set clamp = false to get the raw polynomial values).

@@ -494,5 +494,69 @@ TEST(Ptm, RelightClampsLikeTheViewers) {
   EXPECT_FLOAT_EQ(RelightPtm(ptm, {0, 0, 1}, false).at(0, 0, 2), 1.4f);
 }
 
+// A flash 0.3 m above a 64 mm patch: each texel sees each light from its own direction. Data
+// made from known per-texel polynomials evaluated at those directions is recovered exactly by the
+// per-pixel fit, and not by the shared fit that uses the patch centre's directions.
+TEST(Ptm, PerPixelLightsRecoverKnownCoefficientsUnderAPointLight) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  std::uniform_real_distribution<double> coef(-0.5, 0.5);
+  const int size = 8;
+  const double patch_m = 0.064;
+  std::vector<Eigen::Vector3d> lights_m;
+  for (const auto& d : RandomLights(rng, 14)) lights_m.push_back(0.3 * d);
+  const PixelLightFn dir = PointLightDirections(lights_m, size, patch_m);
+  std::vector<std::vector<double>> truth(size * size * 3, std::vector<double>(6));
+  for (auto& t : truth)
+    for (double& v : t) v = coef(rng);
+  std::vector<Image> images;
+  for (int i = 0; i < int(lights_m.size()); ++i) {
+    Image im(size, size, 3);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x)
+        for (int c = 0; c < 3; ++c) im.at(x, y, c) = float(Eval(truth[(y * size + x) * 3 + c].data(), dir(i, x, y)));
+    images.push_back(im);
+  }
+  PtmFitOptions options;
+  options.format = PtmFormat::kRgb;
+  PtmFitReport per_pixel_report, shared_report;
+  int degenerate = -1;
+  const StatusOr<Ptm> ptm = FitPtmPerPixelLights(images, dir, options, &per_pixel_report, &degenerate);
+  ASSERT_TRUE(ptm.ok()) << ptm.status().message();
+  EXPECT_EQ(degenerate, 0);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 6; ++k)
+          EXPECT_NEAR(ptm->coefficients.at(x, y, c * 6 + k), truth[(y * size + x) * 3 + c][k], 1e-4);
+  EXPECT_LT(per_pixel_report.rms_residual, 1e-5);
+  std::vector<Eigen::Vector3d> centre;
+  for (const auto& l : lights_m) centre.push_back(l.normalized());
+  ASSERT_TRUE(FitPtm(images, centre, options, &shared_report).ok());
+  EXPECT_GT(shared_report.rms_residual, 100 * per_pixel_report.rms_residual);
+}
+
+TEST(Ptm, PerPixelFitEqualsTheSharedFitForADistantLight) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  std::uniform_real_distribution<float> value(0.05f, 0.9f);
+  const auto lights = DomeLights();
+  std::vector<Image> images;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    Image im(6, 4, 3);
+    for (size_t k = 0; k < im.size(); ++k) im.data()[k] = value(rng);
+    images.push_back(im);
+  }
+  for (const PtmFormat format : {PtmFormat::kRgb, PtmFormat::kLrgb}) {
+    PtmFitOptions options;
+    options.format = format;
+    const auto shared = FitPtm(images, lights, options);
+    const auto per_pixel = FitPtmPerPixelLights(images, [&](int i, int, int) { return lights[i]; }, options);
+    ASSERT_TRUE(shared.ok() && per_pixel.ok());
+    for (size_t k = 0; k < shared->coefficients.size(); ++k)
+      EXPECT_NEAR(shared->coefficients.data()[k], per_pixel->coefficients.data()[k], 2e-4) << PtmFormatToString(format);
+    for (size_t k = 0; k < shared->rgb.size(); ++k)
+      EXPECT_NEAR(shared->rgb.data()[k], per_pixel->rgb.data()[k], 2e-4);
+  }
+}
+
 }  // namespace
 }  // namespace mesocap
