@@ -24,13 +24,9 @@ namespace fs = std::filesystem;
 
 Image TrueSlice(const DemoReconstructionInputs& in, const Eigen::Vector3d& light, const Eigen::Vector3d& view, int size,
                 int samples_per_axis = 2) {
-  TrueBtfRequest r;
-  const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
-  r.theta_i_deg = i.x(), r.phi_i_deg = i.y(), r.theta_o_deg = o.x(), r.phi_o_deg = o.y();
-  r.size = size;
+  TrueBtfRequest r = TrueBtfRequestFor(light, view, size, samples_per_axis);
   r.patch_m = in.patch_m;
   r.offset_m = in.top_offset_m;
-  r.samples_per_axis = samples_per_axis;
   return RenderTrueBtfSlice(*in.material, r, 1);
 }
 

@@ -73,11 +73,7 @@ int Run(const EvaluateArgs& a) {
   std::filesystem::create_directories(a.out);
 
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-    TrueBtfRequest r;
-    const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
-    r.theta_i_deg = i.x(), r.phi_i_deg = i.y(), r.theta_o_deg = o.x(), r.phi_o_deg = o.y();
-    r.size = a.size;
-    r.samples_per_axis = a.samples_per_axis;
+    const TrueBtfRequest r = TrueBtfRequestFor(light, view, a.size, a.samples_per_axis);
     return RenderTrueBtfSlice(*material, r, 1);  // parallel over slices, not inside one
   };
   BtfEvaluationOptions options;

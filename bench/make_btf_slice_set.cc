@@ -34,9 +34,7 @@ int main(int argc, char** argv) {
   ParallelFor(0, n, [&](int k) {
     const int v = k / int(lights.size()), l = k % int(lights.size());
     const Eigen::Vector2d i = AnglesDegFromDirection(lights[l]), o = AnglesDegFromDirection(views[v]);
-    TrueBtfRequest r;
-    r.theta_i_deg = i.x(), r.phi_i_deg = i.y(), r.theta_o_deg = o.x(), r.phi_o_deg = o.y();
-    r.size = size;
+    const TrueBtfRequest r = TrueBtfRequestFor(lights[l], views[v], size);
     char name[64];
     std::snprintf(name, sizeof name, "board_%02d/light_%02d.exr", v, l);
     std::filesystem::create_directories(dir / std::string(name).substr(0, 8));

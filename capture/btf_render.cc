@@ -75,6 +75,15 @@ Eigen::Vector3f ReflectedRadiance(const Material& m, const MaterialHit& hit, con
   return f * float(cos_i);
 }
 
+TrueBtfRequest TrueBtfRequestFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view, int size, int samples_per_axis) {
+  const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
+  TrueBtfRequest r;
+  r.theta_i_deg = i.x(), r.phi_i_deg = i.y(), r.theta_o_deg = o.x(), r.phi_o_deg = o.y();
+  r.size = size;
+  r.samples_per_axis = samples_per_axis;
+  return r;
+}
+
 Image RenderTrueBtfSlice(const Material& m, const TrueBtfRequest& r, int num_threads) {
   const Eigen::Vector3d wi = DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg);
   const Eigen::Vector3d wo = DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);

@@ -40,6 +40,10 @@ struct TrueBtfRequest {
   int samples_per_axis = 1;
 };
 
+// A request for the pair of unit directions (patch frame) `light`, `view`.
+TrueBtfRequest TrueBtfRequestFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view, int size,
+                                 int samples_per_axis = 1);
+
 // One true BTF slice: orthographic view from (theta_o, phi_o), directional light from
 // (theta_i, phi_i) with unit perpendicular irradiance, linear RGB radiance on the texel grid
 // of a resampled slice (docs/formats.md: texel (i, j) centre at x = -P/2 + (i+0.5)P/N,

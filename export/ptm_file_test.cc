@@ -157,10 +157,7 @@ TEST(PtmFileVirtualMaterial, HeldOutLightsMatchTheFloatFitAndAnIndependentDecode
   for (size_t k = 0; k < bonn.size(); ++k) (k % 9 == 4 ? held_out : lights).push_back(bonn[k]);
   std::vector<Image> photos;
   for (const auto& l : lights) {
-    const Eigen::Vector2d a = AnglesDegFromDirection(l);
-    TrueBtfRequest r;
-    r.theta_i_deg = a.x(), r.phi_i_deg = a.y(), r.size = 48;
-    Image slice = RenderTrueBtfSlice(*material, r);
+    Image slice = RenderTrueBtfSlice(*material, TrueBtfRequestFor(l, Eigen::Vector3d::UnitZ(), 48));
     for (size_t i = 0; i < slice.size(); ++i) slice.data()[i] = LinearToSrgb(std::min(1.0f, 4.0f * slice.data()[i]));
     photos.push_back(std::move(slice));
   }

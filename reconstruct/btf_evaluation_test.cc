@@ -20,11 +20,8 @@ TEST_P(EvaluateMaterial, BeatsBothBaselinesOnWassersteinForMostHeldOutPairs) {
   auto material = Material::Create(GetParam());
   ASSERT_TRUE(material.ok());
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-    TrueBtfRequest r;
-    const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
-    r.theta_i_deg = i.x(), r.phi_i_deg = i.y(), r.theta_o_deg = o.x(), r.phi_o_deg = o.y();
-    r.size = 64;
-    r.samples_per_axis = 3;  // area-averaged texels: point samples alias the 3 mm corduroy wales
+    // Area-averaged texels (3x3 samples): point samples alias the 3 mm corduroy wales.
+    const TrueBtfRequest r = TrueBtfRequestFor(light, view, 64, 3);
     return RenderTrueBtfSlice(*material, r, 1);
   };
   BtfEvaluationOptions options;
