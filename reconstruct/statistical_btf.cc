@@ -56,14 +56,21 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   }
   btf.views_ = std::move(views);
   btf.top_slices_ = std::move(top_slices);
+  btf.top_lights_dirs_ = top_lights;
   return btf;
+}
+
+double StatisticalBtf::CosineRatio(const Eigen::Vector3d& target, const Eigen::Vector3d& measured) const {
+  if (!options_.cosine_weighted_lights) return 1.0;
+  constexpr double kMinCos = 0.1;  // about 84 deg: keeps grazing slices from being blown up
+  return std::max(target.normalized().z(), kMinCos) / std::max(measured.normalized().z(), kMinCos);
 }
 
 Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
   const Image& first = top_slices_.front();
   Image base(first.width(), first.height(), first.channels());
   for (const WeightedIndex& w : top_lights_.Weights(light)) {
-    const float weight = float(w.weight);
+    const float weight = float(w.weight * CosineRatio(light, top_lights_dirs_[w.index]));
     const float* src = top_slices_[w.index].data();
     float* dst = base.data();
     for (size_t i = 0; i < base.size(); ++i) dst[i] += weight * src[i];
@@ -77,7 +84,7 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
   for (const WeightedIndex& v : view_rings_.Weights(view))
     for (const WeightedIndex& l : view_lights_[v.index].Weights(light)) {
       stats.push_back(&views_[v.index].statistics[l.index]);
-      weights.push_back(v.weight * l.weight);
+      weights.push_back(v.weight * l.weight * CosineRatio(light, views_[v.index].lights[l.index]));
     }
   return BlendSliceStatistics(stats, weights);
 }

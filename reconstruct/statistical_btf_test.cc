@@ -84,6 +84,32 @@ TEST(StatisticalBtf, FullMatchingStaysCloseAndBaseInterpolatesTopSlices) {
   EXPECT_GT(RelativeRms(btf->BaseTexture(light), truth.Slice(light, view)), 0.15);  // the base alone is off
 }
 
+// A Lambertian-like BTF, texture x cos(theta_i), measured under a few lights far apart: blending
+// the cosine-normalised slices gives any light's slice exactly; blending values as measured
+// (the paper's) does not.
+TEST(StatisticalBtf, CosineWeightedLightsInterpolateALambertianFalloffExactly) {
+  SyntheticBtf texture(32, testing::SeedFromTestName());
+  std::vector<Eigen::Vector3d> lights = {Eigen::Vector3d::UnitZ()};
+  for (int k = 0; k < 5; ++k) lights.push_back(DirectionFromAnglesDeg(70, 72.0 * k));
+  auto slice = [&](const Eigen::Vector3d& l) {
+    Image out = texture.texture;
+    for (size_t i = 0; i < out.size(); ++i) out.data()[i] *= float(l.z());
+    return out;
+  };
+  std::vector<Image> top;
+  for (const auto& l : lights) top.push_back(slice(l));
+  const Eigen::Vector3d query = DirectionFromAnglesDeg(40, 100);
+  for (const bool cosine : {true, false}) {
+    StatisticalBtfOptions options;
+    options.cosine_weighted_lights = cosine;
+    auto btf = StatisticalBtf::Create(top, lights, {MeasureView(Eigen::Vector3d::UnitZ(), lights, top, options)}, options);
+    ASSERT_TRUE(btf.ok()) << btf.status().message();
+    const double error = RelativeRms(btf->BaseTexture(query), slice(query));
+    if (cosine) EXPECT_LT(error, 1e-5);
+    else EXPECT_GT(error, 0.05);
+  }
+}
+
 TEST(StatisticalBtf, RejectsBadInput) {
   SyntheticBtf truth(32, testing::SeedFromTestName());
   Fixture f;
