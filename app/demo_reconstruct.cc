@@ -30,20 +30,6 @@ Image TrueSlice(const DemoReconstructionInputs& in, const Eigen::Vector3d& light
   return RenderTrueBtfSlice(*in.material, r, 1);
 }
 
-// Scales every image of a row by one factor (the first image's 99th percentile to 1).
-std::vector<Image> ExposeRow(const std::vector<Image>& row) {
-  const Image ref = ExposeForDisplay(row.front(), 0.99);
-  float scale = 1;
-  for (size_t i = 0; i < ref.size(); ++i)
-    if (row.front().data()[i] > 1e-6f && ref.data()[i] < 1) { scale = ref.data()[i] / row.front().data()[i]; break; }
-  std::vector<Image> out;
-  for (Image img : row) {
-    for (size_t i = 0; i < img.size(); ++i) img.data()[i] = std::clamp(img.data()[i] * scale, 0.0f, 1.0f);
-    out.push_back(std::move(img));
-  }
-  return out;
-}
-
 Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
   // The top board's slices with their flash positions in the patch frame (centre + distance x
   // direction), from the slice index: a PTM per pixel under the actual point light, next to the
@@ -78,7 +64,7 @@ Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
     labels.push_back(Format("truth i(50,%.0f)", phi));
     labels.push_back("PTM relit");
   }
-  row = ExposeRow(row);
+  row = ExposeTogether(row);
   Image normals = PtmNormalsAndAlbedo(*ptm).normals;
   for (size_t i = 0; i < normals.size(); ++i) normals.data()[i] = 0.5f * (normals.data()[i] + 1.0f);
   row.push_back(normals);
@@ -98,19 +84,6 @@ Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
   return Status::Ok();
 }
 
-// Pixel W1 of each method's slice against the truth, averaged over channels.
-std::array<double, kBtfMethods> PixelW1(const std::array<Image, kBtfMethods>& methods, const Image& truth) {
-  const SliceStatistics ts = ComputeSliceStatistics(truth);
-  std::array<double, kBtfMethods> w{};
-  for (int m = 0; m < kBtfMethods; ++m) {
-    for (int c = 0; c < truth.channels(); ++c) {
-      std::vector<float> plane = ChannelPlane(methods[m], c);
-      w[m] += WassersteinDistance(InverseCdfOf(plane), ts.pixels[c]) / truth.channels();
-    }
-  }
-  return w;
-}
-
 Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
   SliceSetOptions options;
   options.size = 128;
@@ -124,15 +97,23 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
   // so there the statistics are extrapolated from the edge of its measured lights.
   const std::vector<Eigen::Vector3d> bonn = BonnDirections();
   constexpr int kPairs = 60;
-  struct Scored { Eigen::Vector3d light, view; bool covered; std::array<double, kBtfMethods> w; };
+  struct Scored {
+    Eigen::Vector3d light, view;
+    bool covered;
+    std::array<double, kBtfMethods> w;  // pixel W1 per method
+    Image truth, statistical, top_view;  // kept for the pictures
+  };
   std::vector<Scored> scored(kPairs);
   ParallelFor(0, kPairs, [&](int k) {
     const size_t flat = size_t(k) * bonn.size() * bonn.size() / kPairs + 7;
     Scored& s = scored[k];
     s.light = bonn[flat % bonn.size()], s.view = bonn[(flat / bonn.size()) % bonn.size()];
     s.covered = btf->LightCovered(s.light, s.view);
-    const Image truth = TrueSlice(in, s.light, s.view, btf->width());
-    s.w = PixelW1(ReconstructAllMethods(*btf, s.light, s.view, truth), truth);
+    s.truth = TrueSlice(in, s.light, s.view, btf->width());
+    const std::array<Image, kBtfMethods> methods = ReconstructAllMethods(*btf, s.light, s.view, s.truth);
+    s.w = ScoreMethods(methods, s.truth).wasserstein_pixels;
+    s.statistical = methods[int(BtfMethod::kStatistical)];
+    s.top_view = methods[int(BtfMethod::kTopView)];
   });
   std::vector<std::vector<std::string>> rows;
   for (bool covered : {true, false}) {
@@ -161,9 +142,7 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
     for (const Scored& s : scored) {
       if (s.covered != covered || shown == 2) continue;
       ++shown;
-      const Image truth = TrueSlice(in, s.light, s.view, btf->width());
-      const auto methods = ReconstructAllMethods(*btf, s.light, s.view, truth);
-      for (const Image& img : ExposeRow({truth, methods[0], methods[1]})) cells.push_back(img);
+      for (const Image& img : ExposeTogether({s.truth, s.statistical, s.top_view})) cells.push_back(img);
       const Eigen::Vector2d i = AnglesDegFromDirection(s.light), o = AnglesDegFromDirection(s.view);
       labels.insert(labels.end(), {Format("truth i(%.0f,%.0f) o(%.0f,%.0f)", i.x(), i.y(), o.x(), o.y()),
                                    covered ? "statistical" : "statistical (extrapolated)", "top view only"});

@@ -14,6 +14,7 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/provenance.h"
+#include "core/session.h"
 #include "export/previews.h"
 #include "export/report.h"
 #include "reconstruct/btf_evaluation.h"
@@ -43,23 +44,9 @@ Image PictureSheet(const StatisticalBtf& btf, const TrueSliceFn& truth) {
     const Eigen::Vector3d light = DirectionFromAnglesDeg(p[0], p[1]), view = DirectionFromAnglesDeg(p[2], p[3]);
     const Image t = truth(light, view);
     const auto methods = ReconstructAllMethods(btf, light, view, t);
-    const Image exposed = ExposeForDisplay(t, 0.99);
-    float scale = 1;
-    for (size_t i = 0; i < t.size(); ++i)
-      if (t.data()[i] > 0 && exposed.data()[i] < 1) { scale = exposed.data()[i] / t.data()[i]; break; }
-    auto show = [&](const Image& img) {
-      Image out = img;
-      for (size_t i = 0; i < out.size(); ++i) out.data()[i] = std::clamp(out.data()[i] * scale, 0.0f, 1.0f);
-      return out;
-    };
-    char where[96];
-    std::snprintf(where, sizeof where, "i(%g,%g) o(%g,%g)", p[0], p[1], p[2], p[3]);
-    cells.push_back(show(t));
-    labels.push_back(std::string("truth ") + where);
-    for (int m = 0; m < kBtfMethods; ++m) {
-      cells.push_back(show(methods[m]));
-      labels.push_back(BtfMethodToString(BtfMethod(m)));
-    }
+    for (const Image& cell : ExposeTogether({t, methods[0], methods[1], methods[2]})) cells.push_back(cell);
+    labels.push_back(Format("truth i(%g,%g) o(%g,%g)", p[0], p[1], p[2], p[3]));
+    for (int m = 0; m < kBtfMethods; ++m) labels.push_back(BtfMethodToString(BtfMethod(m)));
   }
   return ContactSheet(cells, labels, 4, 200);
 }
@@ -68,8 +55,7 @@ int Run(const EvaluateArgs& a) {
   auto material = Material::Create(a.material);
   if (!material.ok()) return Fail("evaluate", material.status().message(), kExitUsage);
   if (a.size < 16 || (a.size & (a.size - 1)) != 0) return Fail("evaluate", "--size must be a power of two >= 16", kExitUsage);
-  if (std::filesystem::exists(a.out) && !std::filesystem::is_empty(a.out))
-    return Fail("evaluate", a.out.string() + " exists and is not empty", kExitUsage);
+  if (!IsMissingOrEmptyDir(a.out)) return Fail("evaluate", a.out.string() + ": exists and is not empty", kExitUsage);
   std::filesystem::create_directories(a.out);
 
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {

@@ -8,13 +8,14 @@
 #include <memory>
 #include <sstream>
 
-#include <unistd.h>
 
 #include "app/commands.h"
 #include "core/directions.h"
+#include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
+#include "core/session.h"
 #include "reconstruct/slice_set.h"
 
 namespace mesocap::app {
@@ -51,8 +52,7 @@ int Run(ReconstructArgs& a) {
         const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
         pairs.push_back({i.x(), i.y(), o.x(), o.y()});
       }
-  if (std::filesystem::exists(a.out) && !std::filesystem::is_empty(a.out))
-    return Fail("reconstruct", a.out.string() + " exists and is not empty", kExitUsage);
+  if (!IsMissingOrEmptyDir(a.out)) return Fail("reconstruct", a.out.string() + ": exists and is not empty", kExitUsage);
   a.options.btf.match_subbands = !a.pixel_only;
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
 
@@ -62,13 +62,19 @@ int Run(ReconstructArgs& a) {
   for (const std::string& s : loaded.skipped) std::fprintf(stderr, "mesocap reconstruct: skipped %s\n", s.c_str());
   if (!btf.ok()) return Fail("reconstruct", btf.status().message());
 
-  // Everything goes to a hidden partial folder renamed into place at the end: an interrupted run
+  // Everything goes to a staging folder published at the end: an interrupted or failed run
   // leaves nothing under the output's name.
-  std::filesystem::path final_out = std::filesystem::absolute(a.out);
-  if (final_out.filename().empty()) final_out = final_out.parent_path();  // "out/" names "out"
-  a.out = final_out.parent_path() / ("." + final_out.filename().string() + ".partial-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(a.out);
-  std::filesystem::create_directories(a.out / "slices");
+  std::filesystem::path out = std::filesystem::absolute(a.out);
+  if (out.filename().empty()) out = out.parent_path();  // "out/" names "out"
+  const std::filesystem::path staging = StagingFolderFor(out);
+  std::error_code ec;
+  std::filesystem::remove_all(staging, ec);
+  std::filesystem::create_directories(staging / "slices", ec);
+  if (ec) return Fail("reconstruct", staging.string() + ": cannot create: " + ec.message());
+  auto fail = [&](const std::string& message, int code = kExitFailure) {
+    std::filesystem::remove_all(staging, ec);
+    return Fail("reconstruct", message, code);
+  };
   std::vector<Json> entries(pairs.size());
   std::vector<std::string> errors(pairs.size());
   ProgressBar bar("reconstruct", !a.no_progress);
@@ -89,14 +95,14 @@ int Run(ReconstructArgs& a) {
     w.attributes["mesocap:phi_o_deg"] = float(p[3]);
     w.attributes["mesocap:quantity"] = std::string("BTF: radiance per unit perpendicular irradiance (includes cos theta_i)");
     w.attributes["mesocap:method"] = std::string(a.pixel_only ? "statistical (pixel histogram)" : "statistical (Ngan & Durand 2006)");
-    if (Status st = WriteImage(a.out / name, slice, w); !st.ok()) errors[k] = st.message();
+    if (Status st = WriteImage(staging / name, slice, w); !st.ok()) errors[k] = st.message();
     entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
     if (!bar.Update(++done, int(pairs.size()), name)) cancelled = true;
   }, a.options.btf.num_threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const std::string& e : errors)
-    if (!e.empty()) return Fail("reconstruct", e);
-  if (cancelled) return Fail("reconstruct", "cancelled", kExitCancelled);
+    if (!e.empty()) return fail(e);
+  if (cancelled) return fail("cancelled", kExitCancelled);
 
   Json j = {{"format", "mesocap-btf"}, {"width", btf->width()}, {"height", btf->height()},
             {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
@@ -104,16 +110,12 @@ int Run(ReconstructArgs& a) {
             {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", seconds},
             {"ms_per_slice", 1000 * seconds / pairs.size()}, {"slices", entries}};
   j["provenance"] = MakeProvenance({{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}});
-  if (Status st = WriteJsonFile(a.out / "index.json", j); !st.ok()) return Fail("reconstruct", st.message());
-  std::error_code ec;
-  std::filesystem::remove(final_out, ec);  // an empty folder may stand there
-  std::filesystem::rename(a.out, final_out, ec);
-  if (ec) return Fail("reconstruct", "cannot move results to " + final_out.string() + ": " + ec.message());
-  a.out = final_out;
+  if (Status st = WriteJsonFile(staging / "index.json", j); !st.ok()) return fail(st.message());
+  if (Status st = PublishStagingFolder(staging, out); !st.ok()) return fail(st.message());
   std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views: statistics %.1f s, reconstruction "
               "%.1f s (%.1f ms per slice, written) -> %s\n",
               pairs.size(), btf->width(), btf->height(), loaded.slices_used, loaded.views, loaded.seconds, seconds,
-              1000 * seconds / pairs.size(), a.out.string().c_str());
+              1000 * seconds / pairs.size(), out.string().c_str());
   return kExitOk;
 }
 

@@ -19,6 +19,7 @@
 #include "calib/intrinsics_cost.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace {
@@ -27,12 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string Format(const char* fmt, double a, double b = 0, double c = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c);
-  return buf;
 }
 
 std::string PatternName(const IntrinsicsOptions& o) { return std::to_string(o.cols) + "x" + std::to_string(o.rows); }
@@ -371,7 +366,7 @@ Json IntrinsicsResult::ToJson() const {
 
 std::string IntrinsicsResult::Brief() const {
   const IntrinsicsStddev& s = report.stddev;
-  std::string text = Format("%.0fx%.0f: ", camera.width, camera.height) +
+  std::string text = Format("%dx%d: ", camera.width, camera.height) +
                      Format("fx %.2f fy %.2f ", camera.K(0, 0), camera.K(1, 1)) +
                      Format("cx %.2f cy %.2f px", camera.K(0, 2), camera.K(1, 2));
   if (report.covariance_ok)

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdarg>
 #include <set>
 #include <tuple>
 
@@ -14,6 +13,7 @@
 #include "core/parallel.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -192,16 +192,6 @@ std::vector<double> BrdfSmoothingScales(const std::vector<double>& mean, const s
 }
 
 namespace {
-
-std::string Format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string Format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, args);
-  va_end(args);
-  return buf;
-}
 
 // Segment p + s (q - p), s in (0, 1), against the square |x|,|y| <= half of the frame (R, t).
 bool SegmentHitsSquare(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Matrix3d& R,

@@ -1,7 +1,5 @@
 #include "capture/import.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -265,10 +263,6 @@ StatusOr<std::string> PlaceOriginal(const fs::path& source, const fs::path& dest
   return std::string("copy");
 }
 
-fs::path StagingPathFor(const fs::path& out) {
-  return out.parent_path() / ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
-}
-
 }  // namespace
 
 std::string LinkModeToString(LinkMode mode) { return mode == LinkMode::kCopy ? "copy" : "hardlink"; }
@@ -399,7 +393,7 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
   // 3. Assemble the session in a staging folder.
   fs::path out_clean = fs::absolute(options.out).lexically_normal();
   if (out_clean.filename().empty()) out_clean = out_clean.parent_path();  // "dir/" -> "dir"
-  const fs::path staging = StagingPathFor(out_clean);
+  const fs::path staging = StagingFolderFor(out_clean);
   std::error_code ec;
   fs::create_directories(out_clean.parent_path(), ec);
   if (ec) return Status::Error(out_clean.parent_path().string() + ": cannot create folder: " + ec.message());
@@ -476,11 +470,7 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
   if (Status st = WriteJsonFile(staging / "import_report.json", report.ToJson()); !st.ok()) return fail(st);
 
   // Only now does the session appear under its name.
-  if (fs::exists(out_clean, ec)) fs::remove(out_clean, ec);  // an empty folder (checked above)
-  fs::rename(staging, out_clean, ec);
-  if (ec)
-    return fail(Status::Error(out_clean.string() + ": cannot move the finished session into place: " + ec.message()));
-  SyncPath(out_clean.parent_path());
+  if (Status st = PublishStagingFolder(staging, out_clean); !st.ok()) return fail(st);
   return report;
 }
 

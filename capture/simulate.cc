@@ -1,7 +1,5 @@
 #include "capture/simulate.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 
@@ -103,7 +101,7 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   for (auto& s : scene.calib_shots) s.file = WithExtension(s.file, ext);
 
   const fs::path out = fs::absolute(options.out).lexically_normal();
-  const fs::path staging = out.parent_path() / ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
+  const fs::path staging = StagingFolderFor(out);
   std::error_code ec;
   fs::create_directories(out.parent_path(), ec);
   fs::remove_all(staging, ec);
@@ -170,10 +168,7 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   if (Status st = WriteJsonFile(staging / "simulate_report.json", report.ToJson()); !st.ok()) return fail(st);
 
   // Only now does the session appear under its name.
-  if (fs::exists(out)) fs::remove(out, ec);  // an empty folder (checked above)
-  fs::rename(staging, out, ec);
-  if (ec) return fail(Status::Error(out.string() + ": cannot move the finished session into place: " + ec.message()));
-  SyncPath(out.parent_path());
+  if (Status st = PublishStagingFolder(staging, out); !st.ok()) return fail(st);
   return report;
 }
 

@@ -51,6 +51,18 @@ Status SyncPath(const fs::path& path) {
   return Status::Ok();
 }
 
+fs::path StagingFolderFor(const fs::path& out) {
+  return out.parent_path() / ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
+}
+
+Status PublishStagingFolder(const fs::path& staging, const fs::path& out) {
+  std::error_code ec;
+  if (fs::exists(out, ec)) fs::remove(out, ec);  // an empty folder (callers check before they start)
+  fs::rename(staging, out, ec);
+  if (ec) return Status::Error(out.string() + ": cannot move the finished folder into place: " + ec.message());
+  return SyncPath(out.parent_path());
+}
+
 Status WriteFileAtomically(const fs::path& path, const std::function<Status(const fs::path&)>& write) {
   const fs::path temp = TempPathFor(path);
   std::error_code ec;

@@ -65,14 +65,33 @@ Image HemispherePlot(const std::vector<Eigen::Vector3d>& directions, int size, c
   return plot;
 }
 
-Image ExposeForDisplay(const Image& linear, double percentile) {
+namespace {
+
+// The factor that maps the `percentile` value of `linear` to 1.
+float DisplayScale(const Image& linear, double percentile) {
   std::vector<float> values(linear.data(), linear.data() + linear.size());
-  if (values.empty()) return linear;
+  if (values.empty()) return 1.0f;
   const size_t k = std::min(values.size() - 1, size_t(percentile * values.size()));
   std::nth_element(values.begin(), values.begin() + k, values.end());
-  const float scale = values[k] > 0 ? 1.0f / values[k] : 1.0f;
-  Image out = linear;
-  for (size_t i = 0; i < out.size(); ++i) out.data()[i] = std::min(1.0f, out.data()[i] * scale);
+  return values[k] > 0 ? 1.0f / values[k] : 1.0f;
+}
+
+Image Scaled(Image image, float scale) {
+  for (size_t i = 0; i < image.size(); ++i) image.data()[i] = std::clamp(image.data()[i] * scale, 0.0f, 1.0f);
+  return image;
+}
+
+}  // namespace
+
+Image ExposeForDisplay(const Image& linear, double percentile) {
+  return Scaled(linear, DisplayScale(linear, percentile));
+}
+
+std::vector<Image> ExposeTogether(const std::vector<Image>& linear, double percentile) {
+  std::vector<Image> out;
+  if (linear.empty()) return out;
+  const float scale = DisplayScale(linear.front(), percentile);
+  for (const Image& image : linear) out.push_back(Scaled(image, scale));
   return out;
 }
 

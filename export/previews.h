@@ -26,4 +26,8 @@ Image HemispherePlot(const std::vector<Eigen::Vector3d>& directions, int size, c
 // Linear values -> display: scales so the `percentile` value maps to 1, for HDR slices.
 Image ExposeForDisplay(const Image& linear, double percentile = 0.99);
 
+// Several linear images under one exposure, the first one's (e.g. the truth a row of
+// reconstructions is compared with): its `percentile` value maps to 1.
+std::vector<Image> ExposeTogether(const std::vector<Image>& linear, double percentile = 0.99);
+
 }  // namespace mesocap

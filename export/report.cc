@@ -1,21 +1,11 @@
 #include "export/report.h"
 
-#include <cstdarg>
 #include <cstdio>
 
 #include "core/atomic_file.h"
 #include "core/provenance.h"
 
 namespace mesocap {
-
-std::string Format(const char* fmt, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, ap);
-  va_end(ap);
-  return buf;
-}
 
 void Report::Heading(const std::string& text) { blocks_.push_back({Block::kHeading, text, "", {}, {}}); }
 void Report::Paragraph(const std::string& text) { blocks_.push_back({Block::kParagraph, text, "", {}, {}}); }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/status.h"
+#include "core/text_format.h"  // Format, for table cells
 
 namespace mesocap {
 
@@ -33,8 +34,5 @@ class Report {
   std::string title_;
   std::vector<Block> blocks_;
 };
-
-// printf-style formatting into a std::string, for table cells.
-std::string Format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 
 }  // namespace mesocap

@@ -74,6 +74,25 @@ std::array<Image, kBtfMethods> ReconstructAllMethods(const StatisticalBtf& btf, 
   return out;
 }
 
+PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Image& truth,
+                       const SliceStatisticsOptions& options) {
+  const SliceStatistics truth_stats = ComputeSliceStatistics(truth, options);
+  PairScore score;
+  for (int m = 0; m < kBtfMethods; ++m) {
+    score.rmse[m] = RmsDifference(methods[m], truth);
+    const SliceStatistics stats = ComputeSliceStatistics(methods[m], options);
+    double wp = 0, wb = 0;
+    for (int c = 0; c < stats.channels; ++c) {
+      wp += WassersteinDistance(stats.pixels[c], truth_stats.pixels[c]) / stats.channels;
+      for (int b = 0; b < stats.band_count; ++b)
+        wb += WassersteinDistance(stats.band(c, b), truth_stats.band(c, b)) / (stats.channels * stats.band_count);
+    }
+    score.wasserstein_pixels[m] = wp;
+    score.wasserstein_bands[m] = wb;
+  }
+  return score;
+}
+
 double BtfEvaluation::FractionBeatingBoth(bool bands) const {
   if (pairs.empty()) return 0;
   int wins = 0;
@@ -196,21 +215,9 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
     const auto t0 = std::chrono::steady_clock::now();
     const std::array<Image, kBtfMethods> result = ReconstructAllMethods(*btf, light, view, truth_slice);
     reconstruct_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
-    const SliceStatistics truth_stats = ComputeSliceStatistics(truth_slice, options.btf.statistics);
     PairScore& score = eval.pairs[k];
+    score = ScoreMethods(result, truth_slice, options.btf.statistics);
     score.light = light, score.view = view;
-    for (int m = 0; m < kBtfMethods; ++m) {
-      score.rmse[m] = RmsDifference(result[m], truth_slice);
-      const SliceStatistics stats = ComputeSliceStatistics(result[m], options.btf.statistics);
-      double wp = 0, wb = 0;
-      for (int c = 0; c < stats.channels; ++c) {
-        wp += WassersteinDistance(stats.pixels[c], truth_stats.pixels[c]) / stats.channels;
-        for (int b = 0; b < stats.band_count; ++b)
-          wb += WassersteinDistance(stats.band(c, b), truth_stats.band(c, b)) / (stats.channels * stats.band_count);
-      }
-      score.wasserstein_pixels[m] = wp;
-      score.wasserstein_bands[m] = wb;
-    }
     if (!ReportProgress(progress, ++done, int(held_out.size()), "score held-out pairs")) cancelled = true;
   }, num_threads);
   if (cancelled) return Status::Error("cancelled");

@@ -69,6 +69,11 @@ std::vector<Eigen::Vector3d> RigViewDirections();
 StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options,
                                                const ProgressFn& progress = nullptr, std::optional<StatisticalBtf>* model = nullptr);
 
+// RMSE, pixel W1 and subband W1 of each method's slice against `truth`, averaged over colour
+// channels (and subbands); light and view are left for the caller.
+PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Image& truth,
+                       const SliceStatisticsOptions& options = {});
+
 // The three methods' slices for one pair: statistical, top view, BRDF-modulated (the last needs
 // the truth's mean).
 std::array<Image, kBtfMethods> ReconstructAllMethods(const StatisticalBtf& btf, const Eigen::Vector3d& light,

@@ -84,17 +84,28 @@ std::vector<Eigen::Vector3d> HemisphereLights() {
   return lights;
 }
 
+// Runs `mesocap fit-ptm` on dir/capture.lp into dir/out.ptm with `extra` options.
+int RunFitPtm(const fs::path& dir, const std::string& extra, std::string* out) {
+  return testing::RunMesocap("fit-ptm --lp " + (dir / "capture.lp").string() + " --out " + (dir / "out.ptm").string() +
+                                 " --no-progress " + extra,
+                             out);
+}
+
+// A failed fit: one line naming the command, and neither the .ptm nor its report written.
+void ExpectOneLineFailureWritingNothing(const fs::path& dir, const std::string& out) {
+  EXPECT_EQ(Lines(out), 1) << out;
+  EXPECT_EQ(out.rfind("mesocap fit-ptm: ", 0), 0u) << out;
+  EXPECT_FALSE(fs::exists(dir / "out.ptm"));
+  EXPECT_FALSE(fs::exists(dir / "out.json"));
+}
+
 TEST(PtmCli, FitsAndRelightsHeldOutDirection) {
   const auto dir = testing::MakeTempDir();
   const auto lights = HemisphereLights();
   MakeSet(dir, lights);
   std::string out;
   const fs::path ptm = dir / "out.ptm";
-  ASSERT_EQ(testing::RunMesocap("fit-ptm --lp " + (dir / "capture.lp").string() + " --out " + ptm.string() +
-                                    " --format rgb --no-progress --normals " + (dir / "n.png").string(),
-                                &out),
-            0)
-      << out;
+  ASSERT_EQ(RunFitPtm(dir, "--format rgb --normals " + (dir / "n.png").string(), &out), 0) << out;
   EXPECT_EQ(Lines(out), 1) << out;
   ASSERT_TRUE(fs::exists(ptm));
   ASSERT_TRUE(fs::exists(dir / "out.json"));
@@ -141,15 +152,9 @@ TEST(PtmCli, FiveLightsFailWithOneLineAndWriteNothing) {
   lights.resize(5);
   MakeSet(dir, lights);
   std::string out;
-  EXPECT_EQ(testing::RunMesocap("fit-ptm --lp " + (dir / "capture.lp").string() + " --out " +
-                                    (dir / "out.ptm").string() + " --no-progress",
-                                &out),
-            1);
-  EXPECT_EQ(Lines(out), 1) << out;
-  EXPECT_EQ(out.rfind("mesocap fit-ptm: ", 0), 0u) << out;
+  EXPECT_EQ(RunFitPtm(dir, "", &out), 1);
+  ExpectOneLineFailureWritingNothing(dir, out);
   EXPECT_NE(out.find("6"), std::string::npos) << out;
-  EXPECT_FALSE(fs::exists(dir / "out.ptm"));
-  EXPECT_FALSE(fs::exists(dir / "out.json"));
 }
 
 TEST(PtmCli, MissingImageFailsWithOneLineAndWritesNothing) {
@@ -157,25 +162,16 @@ TEST(PtmCli, MissingImageFailsWithOneLineAndWritesNothing) {
   MakeSet(dir, HemisphereLights());
   fs::remove(dir / "img_7.png");
   std::string out;
-  EXPECT_EQ(testing::RunMesocap("fit-ptm --lp " + (dir / "capture.lp").string() + " --out " +
-                                    (dir / "out.ptm").string() + " --no-progress",
-                                &out),
-            1);
-  EXPECT_EQ(Lines(out), 1) << out;
-  EXPECT_EQ(out.rfind("mesocap fit-ptm: ", 0), 0u) << out;
+  EXPECT_EQ(RunFitPtm(dir, "", &out), 1);
+  ExpectOneLineFailureWritingNothing(dir, out);
   EXPECT_NE(out.find("img_7.png"), std::string::npos) << out;
-  EXPECT_FALSE(fs::exists(dir / "out.ptm"));
-  EXPECT_FALSE(fs::exists(dir / "out.json"));
 }
 
 TEST(PtmCli, BadOptionIsUsageError) {
   const auto dir = testing::MakeTempDir();
   MakeSet(dir, HemisphereLights());
   std::string out;
-  EXPECT_EQ(testing::RunMesocap("fit-ptm --lp " + (dir / "capture.lp").string() + " --out " +
-                                    (dir / "out.ptm").string() + " --format xyz --no-progress",
-                                &out),
-            2);
+  EXPECT_EQ(RunFitPtm(dir, "--format xyz", &out), 2);
   EXPECT_EQ(Lines(out), 1) << out;
   EXPECT_FALSE(fs::exists(dir / "out.ptm"));
 }
