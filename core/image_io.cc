@@ -104,6 +104,7 @@ StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
   if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0)
     info.bits_per_sample = bps;
   info.attributes = AttributesOf(spec);
+  info.channel_names.assign(spec.channelnames.begin(), spec.channelnames.end());
   in->close();
   return info;
 }
@@ -156,6 +157,12 @@ Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOpti
   if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:" + std::to_string(options.jpeg_quality));
   if (ext == ".exr") spec.attribute("compression", options.exr_compression);
   ApplyAttributes(options.attributes, &spec);
+  if (!options.channel_names.empty()) {
+    if (int(options.channel_names.size()) != image.channels())
+      return Status::Error(path.string() + ": " + std::to_string(options.channel_names.size()) + " channel names for " +
+                           std::to_string(image.channels()) + " channels");
+    spec.channelnames = options.channel_names;
+  }
 
   // Encode sRGB ourselves so 8-bit output is exactly reproducible.
   std::vector<uint8_t> srgb;

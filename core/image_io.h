@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "core/image.h"
 #include "core/status.h"
@@ -24,6 +25,7 @@ struct ImageWriteOptions {
   int jpeg_quality = 95;
   std::string exr_compression = "zip";  // zip, piz, none
   ImageAttributes attributes;           // EXR: stored as header attributes; others: metadata
+  std::vector<std::string> channel_names;  // EXR: names of the channels (empty: R, G, B, A, ...)
 };
 
 struct ImageReadOptions {
@@ -36,6 +38,7 @@ struct ImageInfo {
   std::string format_name;   // "jpeg", "png", "openexr", "raw", ...
   int bits_per_sample = 0;   // 8, 16, 32
   ImageAttributes attributes;  // every header/EXIF attribute OpenImageIO reports
+  std::vector<std::string> channel_names;
 };
 
 // Reads header only (cheap): size, format, EXIF. Error names the file.

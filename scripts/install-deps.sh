@@ -10,6 +10,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libjpeg62-turbo-dev
   libapriltag-dev
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
+  libmaxflow-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -1,0 +1,312 @@
+#include "synth/exemplar.h"
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/json.h"
+#include "core/parallel.h"
+#include "export/ptm_file.h"
+
+namespace mesocap {
+namespace fs = std::filesystem;
+
+std::string ExemplarKindToString(ExemplarKind kind) {
+  switch (kind) {
+    case ExemplarKind::kImage: return "image";
+    case ExemplarKind::kBtf: return "btf";
+    case ExemplarKind::kPtm: return "ptm";
+  }
+  return "?";
+}
+
+StatusOr<Image> Exemplar::ReadSlice(int k) const {
+  MESOCAP_CHECK(k >= 0 && k < int(slices.size()), "slice index out of range");
+  ImageReadOptions options;
+  options.max_channels = 3;
+  auto slice = ReadImage(slices[k].file, options);
+  if (!slice.ok()) return slice.status();
+  if (slice->width() != width || slice->height() != height || slice->channels() != 3)
+    return Status::Error(slices[k].file.string() + ": " + std::to_string(slice->width()) + "x" +
+                         std::to_string(slice->height()) + "x" + std::to_string(slice->channels()) +
+                         ", the exemplar's slices are " + std::to_string(width) + "x" + std::to_string(height) + " RGB");
+  return slice;
+}
+
+namespace {
+
+// Rows of the random test matrix for (slice k, channel c): regenerated on demand from the seed.
+Eigen::MatrixXd TestRows(int k, int channels, int columns) {
+  std::mt19937_64 rng(0x5eed0000ull + uint64_t(k));
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd rows(channels, columns);
+  for (int c = 0; c < channels; ++c)
+    for (int j = 0; j < columns; ++j) rows(c, j) = normal(rng);
+  return rows;
+}
+
+Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> AsMatrix(const Image& image) {
+  return {image.data(), Eigen::Index(image.pixel_count()), Eigen::Index(image.channels())};
+}
+
+Eigen::MatrixXd Orthonormalize(const Eigen::MatrixXd& y) {
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(y);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(y.rows(), y.cols());
+}
+
+// Calls visit(k, slice) for every slice in order; slices are decoded `threads` at a time in
+// parallel, visited one by one (the sums stay independent of the thread count).
+Status ForEachSlice(int count, const std::function<StatusOr<Image>(int)>& read_slice, int num_threads,
+                    const std::function<void(int, const Image&)>& visit) {
+  const int batch = std::max(1, EffectiveThreadCount(num_threads));
+  for (int first = 0; first < count; first += batch) {
+    const int n = std::min(batch, count - first);
+    std::vector<StatusOr<Image>> read(n, Status::Error("not read"));
+    ParallelFor(0, n, [&](int i) { read[i] = read_slice(first + i); }, num_threads);
+    for (int i = 0; i < n; ++i) {
+      if (!read[i].ok()) return read[i].status();
+      visit(first + i, *read[i]);
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<StatusOr<Image>(int)>& read_slice,
+                                             int components, int power_iterations, int num_threads,
+                                             const ProgressFn& progress) {
+  MESOCAP_CHECK(count > 0 && components > 0, "no slices or no components");
+  auto first = read_slice(0);
+  if (!first.ok()) return first.status();
+  const int width = first->width(), height = first->height(), channels = first->channels();
+  const Eigen::Index texels = Eigen::Index(first->pixel_count());
+  const int columns = count * channels;
+  const int passes = 2 + power_iterations;
+  int pass = 0;
+  auto report = [&](int k) { return ReportProgress(progress, pass * count + k + 1, passes * count, "SVD of the slices"); };
+
+  SliceFeatures result;
+  if (columns <= components) {  // few enough values per texel: keep them all, exactly
+    result.features = Image(width, height, columns);
+    MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
+      for (size_t t = 0; t < s.pixel_count(); ++t)
+        for (int c = 0; c < channels; ++c) result.features.data()[t * columns + k * channels + c] = s.data()[t * channels + c];
+    }));
+    return result;
+  }
+
+  const int sketch = std::min(columns, components + 10);  // Halko et al.'s oversampling p = 10
+  double frobenius = 0;
+  Eigen::MatrixXd y = Eigen::MatrixXd::Zero(texels, sketch);
+  MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
+    const Eigen::MatrixXd a = AsMatrix(s).cast<double>();
+    y.noalias() += a * TestRows(k, channels, sketch);
+    frobenius += a.squaredNorm();
+    report(k);
+  }));
+  Eigen::MatrixXd q = Orthonormalize(y);
+  for (int it = 0; it < power_iterations; ++it) {  // y = A A^T q, one slice at a time
+    ++pass;
+    y.setZero();
+    MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
+      const Eigen::MatrixXd a = AsMatrix(s).cast<double>();
+      y.noalias() += a * (a.transpose() * q);
+      report(k);
+    }));
+    q = Orthonormalize(y);
+  }
+  // B = Q^T A is sketch x columns; B B^T gives its left singular vectors and values.
+  ++pass;
+  Eigen::MatrixXd bbt = Eigen::MatrixXd::Zero(sketch, sketch);
+  MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
+    const Eigen::MatrixXd b = q.transpose() * AsMatrix(s).cast<double>();
+    bbt.noalias() += b * b.transpose();
+    report(k);
+  }));
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(bbt);  // ascending eigenvalues
+  const int kept = std::min(components, sketch);
+  Eigen::MatrixXd u(sketch, kept);
+  double energy = 0;
+  for (int j = 0; j < kept; ++j) {
+    const int src = sketch - 1 - j;
+    const double sigma = std::sqrt(std::max(0.0, eig.eigenvalues()(src)));
+    u.col(j) = eig.eigenvectors().col(src) * sigma;
+    energy += sigma * sigma;
+  }
+  const Eigen::MatrixXd g = q * u;  // texels x kept: U Sigma of the SVD
+  result.features = Image(width, height, kept);
+  for (Eigen::Index t = 0; t < texels; ++t)
+    for (int j = 0; j < kept; ++j) result.features.data()[t * kept + j] = float(g(t, j));
+  result.energy_kept = frobenius > 0 ? energy / frobenius : 1.0;
+  return result;
+}
+
+Image PtmFeatures(const Ptm& ptm) {
+  Image out(ptm.width(), ptm.height(), 18);
+  for (int y = 0; y < ptm.height(); ++y)
+    for (int x = 0; x < ptm.width(); ++x) {
+      const float* a = ptm.coefficients.pixel(x, y);
+      float* f = out.pixel(x, y);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 6; ++k)
+          f[6 * c + k] = ptm.format == PtmFormat::kLrgb ? a[k] * ptm.rgb.at(x, y, c) : a[6 * c + k];
+    }
+  return out;
+}
+
+Exemplar ImageExemplar(Image image) {
+  Exemplar e;
+  e.kind = ExemplarKind::kImage;
+  e.width = image.width();
+  e.height = image.height();
+  if (image.channels() >= 3) {
+    e.preview = Image(image.width(), image.height(), 3);
+    for (size_t t = 0; t < image.pixel_count(); ++t)
+      std::copy_n(image.data() + t * image.channels(), 3, e.preview.data() + 3 * t);
+  } else {
+    e.preview = Image(image.width(), image.height(), 3);
+    for (size_t t = 0; t < image.pixel_count(); ++t)
+      std::fill_n(e.preview.data() + 3 * t, 3, image.data()[t * image.channels()]);
+  }
+  e.features = image;
+  e.image = std::move(image);
+  return e;
+}
+
+StatusOr<Exemplar> BtfExemplar(std::vector<ExemplarSlice> slices, const ExemplarOptions& options, const ProgressFn& progress) {
+  if (slices.empty()) return Status::Error("a BTF exemplar needs at least one slice");
+  Exemplar e;
+  e.kind = ExemplarKind::kBtf;
+  e.slices = std::move(slices);
+  auto info = ReadImageInfo(e.slices[0].file);
+  if (!info.ok()) return info.status();
+  e.width = info->width;
+  e.height = info->height;
+  // The preview: the most head-on view, lit most head-on.
+  int best = 0;
+  for (int k = 1; k < int(e.slices.size()); ++k) {
+    const auto& s = e.slices[k];
+    const auto& b = e.slices[best];
+    if (std::tie(s.theta_o_deg, s.theta_i_deg) < std::tie(b.theta_o_deg, b.theta_i_deg)) best = k;
+  }
+  auto preview = e.ReadSlice(best);
+  if (!preview.ok()) return preview.status();
+  e.preview = std::move(*preview);
+  auto features = GeometryMapsOfSlices(int(e.slices.size()), [&](int k) { return e.ReadSlice(k); },
+                                       options.svd_components, options.svd_power_iterations, options.num_threads, progress);
+  if (!features.ok()) return features.status();
+  e.features = std::move(features->features);
+  e.svd_energy_kept = features->energy_kept;
+  return e;
+}
+
+namespace {
+
+StatusOr<fs::path> SafeRelative(const fs::path& index, const Json& entry) {
+  const fs::path file = entry.at("file").get<std::string>();
+  if (file.is_absolute() || std::any_of(file.begin(), file.end(), [](const fs::path& p) { return p == ".."; }))
+    return Status::Error(index.string() + ": slice file '" + file.string() + "' must be relative and stay inside the folder");
+  return file;
+}
+
+StatusOr<std::vector<ExemplarSlice>> SlicesFromIndex(const fs::path& index_path, int board) {
+  auto index = ReadJsonFile(index_path);
+  if (!index.ok()) return index.status();
+  if (!index->is_object() || !index->contains("slices") || !(*index)["slices"].is_array())
+    return Status::Error(index_path.string() + ": not a slice index (no \"slices\" list)");
+  const std::string format = index->value("format", "");
+  const bool session = format == "mesocap-slices";
+  std::map<int, std::vector<ExemplarSlice>> by_board;
+  const Json& list = (*index)["slices"];
+  for (size_t k = 0; k < list.size(); ++k) {
+    try {
+      const Json& e = list[k];
+      auto file = SafeRelative(index_path, e);
+      if (!file.ok()) return file.status();
+      ExemplarSlice s;
+      s.file = index_path.parent_path() / *file;
+      s.theta_i_deg = e.at("theta_i_deg").get<double>();
+      s.phi_i_deg = e.at("phi_i_deg").get<double>();
+      s.theta_o_deg = e.at("theta_o_deg").get<double>();
+      s.phi_o_deg = e.at("phi_o_deg").get<double>();
+      for (double t : {s.theta_i_deg, s.theta_o_deg})
+        if (!(t >= 0 && t <= 90)) return Status::Error(index_path.string() + ": slice " + std::to_string(k) + ": theta out of [0, 90]");
+      for (double p : {s.phi_i_deg, s.phi_o_deg})
+        if (!std::isfinite(p)) return Status::Error(index_path.string() + ": slice " + std::to_string(k) + ": phi is not finite");
+      s.light = DirectionFromAnglesDeg(s.theta_i_deg, s.phi_i_deg);
+      s.view = DirectionFromAnglesDeg(s.theta_o_deg, s.phi_o_deg);
+      by_board[session ? e.at("board").get<int>() : 0].push_back(std::move(s));
+    } catch (const std::exception& ex) {
+      return Status::Error(index_path.string() + ": slice entry " + std::to_string(k) + " is malformed: " + ex.what());
+    }
+  }
+  if (by_board.empty()) return Status::Error(index_path.string() + ": lists no slices");
+  if (board >= 0) {
+    auto it = by_board.find(board);
+    if (it == by_board.end()) return Status::Error(index_path.string() + ": no slices of board " + std::to_string(board));
+    return it->second;
+  }
+  // The most head-on board: smallest mean view incidence.
+  auto mean_theta = [](const std::vector<ExemplarSlice>& v) {
+    double t = 0;
+    for (const auto& s : v) t += s.theta_o_deg;
+    return t / v.size();
+  };
+  auto best = by_board.begin();
+  for (auto it = by_board.begin(); it != by_board.end(); ++it)
+    if (mean_theta(it->second) < mean_theta(best->second)) best = it;
+  return best->second;
+}
+
+}  // namespace
+
+StatusOr<Exemplar> LoadExemplar(const fs::path& path, const ExemplarOptions& options, const ProgressFn& progress) {
+  if (!options.Check()) return Status::Error("invalid exemplar options");
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return Status::Error(path.string() + ": no such file or folder");
+  fs::path index;
+  if (fs::is_directory(path, ec)) {
+    for (const fs::path& candidate : {path / "index.json", path / "slices" / "index.json"})
+      if (fs::is_regular_file(candidate, ec)) {
+        index = candidate;
+        break;
+      }
+    if (index.empty()) return Status::Error(path.string() + ": a folder without index.json or slices/index.json is not a BTF");
+  } else if (path.extension() == ".json") {
+    index = path;
+  }
+  if (!index.empty()) {
+    auto slices = SlicesFromIndex(index, options.board);
+    if (!slices.ok()) return slices.status();
+    auto e = BtfExemplar(std::move(*slices), options, progress);
+    if (e.ok()) e->path = path;
+    return e;
+  }
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  if (ext == ".ptm") {
+    auto ptm = ReadPtmFile(path);
+    if (!ptm.ok()) return ptm.status();
+    Exemplar e;
+    e.kind = ExemplarKind::kPtm;
+    e.path = path;
+    e.width = ptm->width();
+    e.height = ptm->height();
+    e.features = PtmFeatures(*ptm);
+    e.preview = RelightPtm(*ptm, Eigen::Vector3d::UnitZ());
+    e.ptm = std::move(*ptm);
+    return e;
+  }
+  auto image = ReadImage(path);
+  if (!image.ok()) return image.status();
+  Exemplar e = ImageExemplar(std::move(*image));
+  e.path = path;
+  return e;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,298 @@
+#include "synth/patch_matching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <mutex>
+
+#include <fftw3.h>
+
+#include "core/directions.h"
+#include "core/parallel.h"
+#include "core/status.h"
+#include "synth/synth_map.h"
+
+namespace mesocap {
+
+Eigen::Vector2d RotatedSample::SourceOf(int u, int v) const {
+  return origin + RotatedStep(u, v, rotation_deg);
+}
+
+Eigen::Vector2i RotatedSample::SourceTexel(int u, int v) const {
+  const Eigen::Vector2d s = SourceOf(u, v);
+  return {std::clamp(int(std::floor(s.x())), 0, sample_width - 1), std::clamp(int(std::floor(s.y())), 0, sample_height - 1)};
+}
+
+RotatedSample MakeRotatedSample(const Image& features, const Image& constraint, double rotation_deg) {
+  RotatedSample copy;
+  copy.rotation_deg = rotation_deg;
+  const int w = features.width(), h = features.height();
+  copy.sample_width = w;
+  copy.sample_height = h;
+  if (std::fmod(std::abs(rotation_deg), 360.0) == 0) {
+    copy.size_x = w;
+    copy.size_y = h;
+  } else {
+    const double c = std::abs(std::cos(DegToRad(rotation_deg))), s = std::abs(std::sin(DegToRad(rotation_deg)));
+    copy.size_x = copy.size_y = std::max(1, int(std::floor(std::min(w, h) / (c + s) - 1e-9)));
+  }
+  // The copy's centre sits on the sample's centre.
+  copy.origin = Eigen::Vector2d(w / 2.0, h / 2.0) + RotatedStep(0.5 - copy.size_x / 2.0, 0.5 - copy.size_y / 2.0, rotation_deg);
+  copy.features = Image(copy.size_x, copy.size_y, features.channels());
+  if (!constraint.empty()) copy.constraint = Image(copy.size_x, copy.size_y, 1);
+  for (int v = 0; v < copy.size_y; ++v)
+    for (int u = 0; u < copy.size_x; ++u) {
+      const Eigen::Vector2i s = copy.SourceTexel(u, v);
+      const int sx = s.x(), sy = s.y();
+      std::copy_n(features.pixel(sx, sy), features.channels(), copy.features.pixel(u, v));
+      if (!constraint.empty()) copy.constraint.at(u, v) = constraint.at(sx, sy);
+    }
+  return copy;
+}
+
+namespace {
+
+using Complex = std::complex<float>;
+
+struct FloatBuffer {
+  float* data = nullptr;
+  explicit FloatBuffer(size_t n) : data(fftwf_alloc_real(n)) { std::fill_n(data, n, 0.f); }
+  ~FloatBuffer() { fftwf_free(data); }
+};
+struct ComplexBuffer {
+  Complex* data = nullptr;
+  size_t n = 0;
+  explicit ComplexBuffer(size_t count) : data(reinterpret_cast<Complex*>(fftwf_alloc_complex(count))), n(count) {
+    std::fill_n(data, n, Complex(0));
+  }
+  ComplexBuffer(ComplexBuffer&& o) noexcept : data(o.data), n(o.n) { o.data = nullptr; }
+  ComplexBuffer& operator=(ComplexBuffer&& o) noexcept {
+    std::swap(data, o.data);
+    std::swap(n, o.n);
+    return *this;
+  }
+  ~ComplexBuffer() { fftwf_free(data); }
+};
+
+std::mutex& FftwPlannerMutex() {
+  static std::mutex m;  // FFTW's planner is not thread-safe; executing a plan is
+  return m;
+}
+
+}  // namespace
+
+struct PatchMatcher::Impl {
+  const std::vector<RotatedSample>* copies = nullptr;
+  PatchMatcherOptions options;
+  int px = 0, py = 0;  // padded FFT size (largest copy)
+  size_t spectrum = 0;
+  fftwf_plan forward = nullptr, inverse = nullptr;
+  int channels = 0;
+  bool constrained = false;
+  // Per copy: channel spectra, spectrum of |S|^2, of ms and of ms^2.
+  std::vector<std::vector<ComplexBuffer>> copy_spectra;
+
+  void Forward(float* plane, Complex* out) const {
+    fftwf_execute_dft_r2c(forward, plane, reinterpret_cast<fftwf_complex*>(out));
+  }
+  ComplexBuffer SpectrumOf(const std::function<float(int, int)>& value, int w, int h, int x_off = 0, int y_off = 0) const {
+    FloatBuffer plane(size_t(px) * py);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) plane.data[size_t(y) * px + x] = value(x + x_off, y + y_off);
+    ComplexBuffer out(spectrum);
+    Forward(plane.data, out.data);
+    return out;
+  }
+};
+
+PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const PatchMatcherOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  MESOCAP_CHECK(!copies.empty(), "no sample copies to match against");
+  Impl& m = *impl_;
+  m.copies = &copies;
+  m.options = options;
+  m.channels = copies[0].features.channels();
+  m.constrained = options.constraint_weight > 0 && !copies[0].constraint.empty();
+  for (const auto& c : copies) {
+    m.px = std::max(m.px, c.size_x);
+    m.py = std::max(m.py, c.size_y);
+  }
+  m.spectrum = size_t(m.py) * (m.px / 2 + 1);
+  {
+    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
+    FloatBuffer plane(size_t(m.px) * m.py);
+    ComplexBuffer spec(m.spectrum);
+    m.forward = fftwf_plan_dft_r2c_2d(m.py, m.px, plane.data, reinterpret_cast<fftwf_complex*>(spec.data), FFTW_ESTIMATE);
+    m.inverse = fftwf_plan_dft_c2r_2d(m.py, m.px, reinterpret_cast<fftwf_complex*>(spec.data), plane.data, FFTW_ESTIMATE);
+  }
+  m.copy_spectra.resize(copies.size());
+  const int per_copy = m.channels + 1 + (m.constrained ? 2 : 0);
+  for (auto& list : m.copy_spectra)
+    for (int j = 0; j < per_copy; ++j) list.emplace_back(0);
+  ParallelFor(0, int(copies.size()) * per_copy, [&](int job) {
+    const int k = job / per_copy, j = job % per_copy;
+    const RotatedSample& c = copies[k];
+    std::function<float(int, int)> value;
+    if (j < m.channels) {
+      value = [&c, j](int x, int y) { return c.features.at(x, y, j); };
+    } else if (j == m.channels) {
+      value = [&c](int x, int y) {
+        const float* f = c.features.pixel(x, y);
+        float s = 0;
+        for (int i = 0; i < c.features.channels(); ++i) s += f[i] * f[i];
+        return s;
+      };
+    } else if (j == m.channels + 1) {
+      value = [&c](int x, int y) { return c.constraint.at(x, y); };
+    } else {
+      value = [&c](int x, int y) { return c.constraint.at(x, y) * c.constraint.at(x, y); };
+    }
+    m.copy_spectra[k][j] = m.SpectrumOf(value, c.size_x, c.size_y);
+  }, options.num_threads);
+}
+
+PatchMatcher::~PatchMatcher() {
+  std::lock_guard<std::mutex> lock(FftwPlannerMutex());
+  fftwf_destroy_plan(impl_->forward);
+  fftwf_destroy_plan(impl_->inverse);
+}
+
+struct PatchMatcher::WindowSpectra {
+  std::vector<ComplexBuffer> masked_features;  // F(M O_c), per channel
+  ComplexBuffer mask{0};                       // F(M)
+  ComplexBuffer target{0}, box{0};             // F(m0 over the window), F(window indicator)
+  double masked_norm = 0, target_norm = 0;     // sum M |O|^2, sum m0^2
+  double overlap = 0, area = 0;
+  bool use_constraint = false;
+};
+
+std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWindow& w) const {
+  const Impl& m = *impl_;
+  const Image& out = *w.features;
+  const std::vector<uint8_t>& syn = *w.synthesized;
+  auto masked = [&](int x, int y) { return syn[size_t(y) * out.width() + x] != 0; };
+  auto ws = std::make_unique<WindowSpectra>();
+  ws->area = double(w.width) * w.height;
+  for (int y = 0; y < w.height; ++y)
+    for (int x = 0; x < w.width; ++x)
+      if (masked(w.x0 + x, w.y0 + y)) {
+        ws->overlap += 1;
+        const float* f = out.pixel(w.x0 + x, w.y0 + y);
+        for (int c = 0; c < m.channels; ++c) ws->masked_norm += double(f[c]) * f[c];
+      }
+  ws->use_constraint = m.constrained && w.target_constraint;
+  if (ws->use_constraint)
+    for (int y = 0; y < w.height; ++y)
+      for (int x = 0; x < w.width; ++x) ws->target_norm += std::pow(double(w.target_constraint->at(w.x0 + x, w.y0 + y)), 2);
+  const int jobs = m.channels + 1 + (ws->use_constraint ? 2 : 0);
+  for (int c = 0; c < m.channels; ++c) ws->masked_features.emplace_back(0);
+  ParallelFor(0, jobs, [&](int j) {
+    std::function<float(int, int)> value;
+    if (j < m.channels)
+      value = [&, j](int x, int y) { return masked(x, y) ? out.at(x, y, j) : 0.f; };
+    else if (j == m.channels)
+      value = [&](int x, int y) { return masked(x, y) ? 1.f : 0.f; };
+    else if (j == m.channels + 1)
+      value = [&](int x, int y) { return w.target_constraint->at(x, y); };
+    else
+      value = [](int, int) { return 1.f; };
+    ComplexBuffer s = m.SpectrumOf(value, w.width, w.height, w.x0, w.y0);
+    if (j < m.channels) ws->masked_features[j] = std::move(s);
+    else if (j == m.channels) ws->mask = std::move(s);
+    else if (j == m.channels + 1) ws->target = std::move(s);
+    else ws->box = std::move(s);
+  }, m.options.num_threads);
+  return ws;
+}
+
+std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpectra& ws, int copy_index, int* valid_w,
+                                           int* valid_h) const {
+  const Impl& m = *impl_;
+  const RotatedSample& copy = (*m.copies)[copy_index];
+  *valid_w = copy.size_x - w.width + 1;
+  *valid_h = copy.size_y - w.height + 1;
+  if (*valid_w <= 0 || *valid_h <= 0) return {};
+  // cost spectrum = (F(|S|^2) conj F(M) - 2 sum_c F(S_c) conj F(M O_c)) / overlap
+  //               + lambda (F(ms^2) conj F(box) - 2 F(ms) conj F(m0)) / area
+  const auto& spectra = m.copy_spectra[copy_index];
+  ComplexBuffer total(m.spectrum);
+  const float inv_overlap = ws.overlap > 0 ? float(1.0 / ws.overlap) : 0.f;
+  const float lambda = ws.use_constraint ? float(m.options.constraint_weight / ws.area) : 0.f;
+  for (size_t i = 0; i < m.spectrum; ++i) {
+    Complex cross(0);
+    for (int c = 0; c < m.channels; ++c) cross += spectra[c].data[i] * std::conj(ws.masked_features[c].data[i]);
+    Complex t = (spectra[m.channels].data[i] * std::conj(ws.mask.data[i]) - 2.f * cross) * inv_overlap;
+    if (ws.use_constraint)
+      t += lambda * (spectra[m.channels + 2].data[i] * std::conj(ws.box.data[i]) -
+                     2.f * spectra[m.channels + 1].data[i] * std::conj(ws.target.data[i]));
+    total.data[i] = t;
+  }
+  FloatBuffer plane(size_t(m.px) * m.py);
+  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
+  const double scale = 1.0 / (double(m.px) * m.py);
+  const double constant = (ws.overlap > 0 ? ws.masked_norm / ws.overlap : 0) +
+                          (ws.use_constraint ? m.options.constraint_weight * ws.target_norm / ws.area : 0);
+  std::vector<double> costs(size_t(*valid_w) * *valid_h);
+  for (int v = 0; v < *valid_h; ++v)
+    for (int u = 0; u < *valid_w; ++u)
+      costs[size_t(v) * *valid_w + u] = std::max(0.0, constant + plane.data[size_t(v) * m.px + u] * scale);
+  return costs;
+}
+
+std::vector<double> PatchMatcher::Costs(const MatchWindow& w, int copy_index, int* valid_w, int* valid_h) const {
+  return CostsFor(w, *Prepare(w), copy_index, valid_w, valid_h);
+}
+
+MatchResult PatchMatcher::BestMatch(const MatchWindow& window) const {
+  const Impl& m = *impl_;
+  const int n = int(m.copies->size());
+  const auto ws = Prepare(window);
+  std::vector<MatchResult> best(n);
+  ParallelFor(0, n, [&](int k) {
+    int vw = 0, vh = 0;
+    const std::vector<double> costs = CostsFor(window, *ws, k, &vw, &vh);
+    for (int v = 0; v < vh; ++v)
+      for (int u = 0; u < vw; ++u) {
+        const double c = costs[size_t(v) * vw + u];
+        if (!best[k].found || c < best[k].cost) best[k] = {k, u, v, c, true};
+      }
+  }, n > 1 ? m.options.num_threads : 1);
+  MatchResult result;  // the first copy wins ties: independent of the thread count
+  for (const auto& b : best)
+    if (b.found && (!result.found || b.cost < result.cost)) result = b;
+  return result;
+}
+
+std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow& w, double constraint_weight,
+                                    int* valid_w, int* valid_h) {
+  *valid_w = copy.size_x - w.width + 1;
+  *valid_h = copy.size_y - w.height + 1;
+  if (*valid_w <= 0 || *valid_h <= 0) return {};
+  const Image& out = *w.features;
+  const int channels = out.channels();
+  const bool use_constraint = constraint_weight > 0 && w.target_constraint && !copy.constraint.empty();
+  double overlap = 0;
+  for (int y = 0; y < w.height; ++y)
+    for (int x = 0; x < w.width; ++x) overlap += (*w.synthesized)[size_t(w.y0 + y) * out.width() + w.x0 + x] != 0;
+  const double area = double(w.width) * w.height;
+  std::vector<double> costs(size_t(*valid_w) * *valid_h);
+  for (int v = 0; v < *valid_h; ++v)
+    for (int u = 0; u < *valid_w; ++u) {
+      double ssd = 0, constraint = 0;
+      for (int y = 0; y < w.height; ++y)
+        for (int x = 0; x < w.width; ++x) {
+          const int ox = w.x0 + x, oy = w.y0 + y;
+          if ((*w.synthesized)[size_t(oy) * out.width() + ox]) {
+            const float* a = out.pixel(ox, oy);
+            const float* b = copy.features.pixel(u + x, v + y);
+            for (int c = 0; c < channels; ++c) ssd += double(a[c] - b[c]) * (a[c] - b[c]);
+          }
+          if (use_constraint) constraint += std::pow(double(w.target_constraint->at(ox, oy)) - copy.constraint.at(u + x, v + y), 2);
+        }
+      costs[size_t(v) * *valid_w + u] = (overlap > 0 ? ssd / overlap : 0) + (use_constraint ? constraint_weight * constraint / area : 0);
+    }
+  return costs;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,87 @@
+// Entire-patch matching (Kwatra et al. 2003, as Zhou 2005 §III-B uses it): every placement of
+// the sample (and of its rotated copies) under a work window is scored by the sum of squared
+// feature differences over the window's already-synthesized texels, normalised by their count
+// (the overlap area). The sums are cross-correlations, computed with FFTs (FFTW):
+//   SSD(t) = sum_p M(p) |O(p)|^2 - 2 sum_p M(p) O(p).S(p + t) + sum_p M(p) |S(p + t)|^2.
+// An optional constraint channel adds lambda * sum_p (m0(p) - ms(p + t))^2 / window area over the
+// whole window (graphcut painting's joint search, Zhou §IV-A).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/image.h"
+
+namespace mesocap {
+
+// A rotated copy of the sample: the largest centred square that stays inside the sample after
+// turning it by `rotation_deg` (synth_map.h's convention), sampled at nearest texels.
+struct RotatedSample {
+  double rotation_deg = 0;
+  int size_x = 0, size_y = 0;  // extent of the copy in texels
+  Image features;              // size_x x size_y
+  Image constraint;            // 1 channel, or empty
+  // Sample texel coordinates (centre) of the copy's texel (u, v).
+  Eigen::Vector2d SourceOf(int u, int v) const;
+  // The sample texel the copy's texel (u, v) was taken from (nearest, clamped into the sample).
+  Eigen::Vector2i SourceTexel(int u, int v) const;
+  int sample_width = 0, sample_height = 0;
+  Eigen::Vector2d origin;      // sample coordinate of the copy's texel (0, 0) centre
+};
+
+RotatedSample MakeRotatedSample(const Image& features, const Image& constraint, double rotation_deg);
+
+// The window to match: features of the output under it, which texels are synthesized, and the
+// target constraint m0 (painting) over the whole window.
+struct MatchWindow {
+  int width = 0, height = 0;
+  const Image* features = nullptr;    // the output's features (whole output)
+  const std::vector<uint8_t>* synthesized = nullptr;  // whole output, 1 = has a value
+  const Image* target_constraint = nullptr;  // whole output, 1 channel, or null
+  int x0 = 0, y0 = 0;                 // window origin in the output
+};
+
+struct MatchResult {
+  int rotation = 0;      // index into the rotated copies
+  int u = 0, v = 0;      // the copy's texel under the window's origin
+  double cost = 0;       // normalised SSD (+ constraint term)
+  bool found = false;
+};
+
+struct PatchMatcherOptions {
+  double constraint_weight = 0;  // lambda of the constraint term (0: no constraint term)
+  int num_threads = -1;
+};
+
+class PatchMatcher {
+ public:
+  // `copies` must outlive the matcher. Every copy is prepared once (FFTs of its feature channels,
+  // of its squared norm and of its constraint).
+  PatchMatcher(const std::vector<RotatedSample>& copies, const PatchMatcherOptions& options);
+  ~PatchMatcher();
+  PatchMatcher(const PatchMatcher&) = delete;
+  PatchMatcher& operator=(const PatchMatcher&) = delete;
+
+  // The placement of least cost over every copy and translation keeping the window inside the copy.
+  // Windows larger than every copy return found = false.
+  MatchResult BestMatch(const MatchWindow& window) const;
+  // All costs for one copy (row-major over valid (u, v)), for tests and the brute-force comparison.
+  std::vector<double> Costs(const MatchWindow& window, int copy, int* valid_w, int* valid_h) const;
+
+ private:
+  struct Impl;
+  struct WindowSpectra;
+  std::unique_ptr<WindowSpectra> Prepare(const MatchWindow& window) const;
+  std::vector<double> CostsFor(const MatchWindow& window, const WindowSpectra& spectra, int copy, int* valid_w,
+                               int* valid_h) const;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The same costs by direct summation: O(window * placements * channels). The reference the FFT
+// path is tested and benchmarked against.
+std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow& window, double constraint_weight,
+                                    int* valid_w, int* valid_h);
+
+}  // namespace mesocap

@@ -1,0 +1,87 @@
+#include "synth/patch_matching.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+
+Image RandomImage(int w, int h, int channels, std::mt19937& rng) {
+  Image image(w, h, channels);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (size_t i = 0; i < image.size(); ++i) image.data()[i] = u(rng);
+  return image;
+}
+
+TEST(PatchMatching, FftCostsEqualBruteForceWithRotationsAndConstraint) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  const Image sample = RandomImage(40, 36, 5, rng);
+  const Image sample_mask = RandomImage(40, 36, 1, rng);
+  const Image output = RandomImage(50, 45, 5, rng);
+  const Image target = RandomImage(50, 45, 1, rng);
+  std::vector<uint8_t> synthesized(50 * 45);
+  for (auto& s : synthesized) s = rng() % 3 != 0;
+  std::vector<RotatedSample> copies;
+  for (double r : {0.0, 30.0, 90.0, 215.0}) copies.push_back(MakeRotatedSample(sample, sample_mask, r));
+  for (double weight : {0.0, 0.7}) {
+    PatchMatcher matcher(copies, {weight, 2});
+    MatchWindow window{11, 9, &output, &synthesized, &target, 17, 23};
+    for (int k = 0; k < int(copies.size()); ++k) {
+      int fw = 0, fh = 0, bw = 0, bh = 0;
+      const auto fft = matcher.Costs(window, k, &fw, &fh);
+      const auto brute = BruteForceCosts(copies[k], window, weight, &bw, &bh);
+      ASSERT_EQ(fw, bw);
+      ASSERT_EQ(fh, bh);
+      ASSERT_GT(fw, 0);
+      for (size_t i = 0; i < fft.size(); ++i) EXPECT_NEAR(fft[i], brute[i], 1e-4 * (1 + brute[i])) << "copy " << k << " at " << i;
+    }
+  }
+}
+
+TEST(PatchMatching, FindsAPlantedCopyOfTheSample) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  const Image sample = RandomImage(48, 48, 3, rng);
+  Image output = RandomImage(64, 64, 3, rng);
+  std::vector<uint8_t> synthesized(64 * 64, 0);
+  // Output texels (20..34, 10..24) hold sample texels (7.., 30..), partly synthesized.
+  for (int y = 0; y < 15; ++y)
+    for (int x = 0; x < 15; ++x) {
+      std::copy_n(sample.pixel(7 + x, 30 - 12 + y), 3, output.pixel(20 + x, 10 + y));
+      synthesized[(10 + y) * 64 + 20 + x] = (x + y) % 4 != 0;
+    }
+  std::vector<RotatedSample> copies{MakeRotatedSample(sample, Image(), 0)};
+  PatchMatcher matcher(copies, {});
+  const MatchResult m = matcher.BestMatch({15, 15, &output, &synthesized, nullptr, 20, 10});
+  ASSERT_TRUE(m.found);
+  EXPECT_EQ(m.u, 7);
+  EXPECT_EQ(m.v, 18);
+  EXPECT_NEAR(m.cost, 0, 1e-4);
+}
+
+TEST(PatchMatching, RotatedCopiesStayInsideTheSampleAndTurnTheRightWay) {
+  Image sample(33, 33, 2);
+  for (int y = 0; y < 33; ++y)
+    for (int x = 0; x < 33; ++x) sample.at(x, y, 0) = float(x), sample.at(x, y, 1) = float(y);
+  for (double r = 0; r < 360; r += 5) {
+    const RotatedSample copy = MakeRotatedSample(sample, Image(), r);
+    for (int v = 0; v < copy.size_y; ++v)
+      for (int u = 0; u < copy.size_x; ++u) {
+        const Eigen::Vector2d s = copy.SourceOf(u, v);
+        ASSERT_GE(s.x(), 0) << r;
+        ASSERT_LT(s.x(), 33) << r;
+        ASSERT_GE(s.y(), 0) << r;
+        ASSERT_LT(s.y(), 33) << r;
+      }
+  }
+  // Turned 90 deg counter-clockwise in the material frame (y up the slice): a step right in the
+  // copy is a step down the sample's rows.
+  const RotatedSample quarter = MakeRotatedSample(sample, Image(), 90);
+  EXPECT_EQ(quarter.features.at(5, 5, 1) + 1, quarter.features.at(6, 5, 1));
+  EXPECT_EQ(quarter.features.at(5, 5, 0), quarter.features.at(6, 5, 0));
+}
+
+}  // namespace
+}  // namespace mesocap

@@ -1,0 +1,320 @@
+#include "synth/quilt.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/text_format.h"
+#include "synth/graphcut_fit.h"
+#include "synth/patch_matching.h"
+
+namespace mesocap {
+
+int QuiltOptions::EffectiveRadius(int sample_width, int sample_height) const {
+  return patch_radius > 0 ? patch_radius : std::max(min_patch_radius, std::min(32, std::min(sample_width, sample_height) / 4));
+}
+
+Status QuiltOptions::Check(int sample_width, int sample_height) const {
+  if (width < 1 || height < 1 || width > 32768 || height > 32768)
+    return Status::Error(Format("output size %dx%d: each side must be 1..32768 texels", width, height));
+  if (min_patch_radius < 1) return Status::Error("the minimum patch radius must be at least 1");
+  if (!(shrink > 0 && shrink < 1)) return Status::Error("the shrink factor must be in (0, 1)");
+  if (!(seam_threshold > 0)) return Status::Error("the seam threshold must be positive");
+  if (rotations < 1 || rotations > 360) return Status::Error("rotations must be 1..360");
+  const int r = EffectiveRadius(sample_width, sample_height);
+  if (r < min_patch_radius) return Status::Error(Format("patch radius %d is below the minimum %d", r, min_patch_radius));
+  const int smallest_copy = rotations > 1 ? int(std::min(sample_width, sample_height) / std::sqrt(2.0)) : std::min(sample_width, sample_height);
+  if (2 * min_patch_radius + 1 > smallest_copy)
+    return Status::Error(Format("the sample (%dx%d texels) is smaller than the smallest work patch (%d texels a side%s)",
+                                sample_width, sample_height, 2 * min_patch_radius + 1, rotations > 1 ? ", rotated" : ""));
+  if (patch_radius > 0 && 2 * patch_radius + 1 > std::min(sample_width, sample_height))
+    return Status::Error(Format("the sample (%dx%d texels) is smaller than the work patch (%d texels a side)", sample_width,
+                                sample_height, 2 * patch_radius + 1));
+  return Status::Ok();
+}
+
+Image TargetConstraint(const Image& target_mask, double width) {
+  cv::Mat outside(target_mask.height(), target_mask.width(), CV_8U);
+  for (int y = 0; y < target_mask.height(); ++y)
+    for (int x = 0; x < target_mask.width(); ++x) outside.at<uint8_t>(y, x) = target_mask.at(x, y) > 0.5f ? 0 : 255;
+  cv::Mat distance;
+  cv::distanceTransform(outside, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  Image m0(target_mask.width(), target_mask.height(), 1);
+  for (int y = 0; y < m0.height(); ++y)
+    for (int x = 0; x < m0.width(); ++x) {
+      const float d = distance.at<float>(y, x);  // 0 inside F, else distance to the nearest texel of F
+      m0.at(x, y) = d == 0 ? 1.f : width > 0 ? float(std::max(0.0, 1.0 - d / (width + 1))) : 0.f;
+    }
+  return m0;
+}
+
+namespace {
+
+double FeatureVariance(const Image& f) {
+  const int F = f.channels();
+  std::vector<double> mean(F, 0);
+  for (size_t t = 0; t < f.pixel_count(); ++t)
+    for (int c = 0; c < F; ++c) mean[c] += f.data()[t * F + c];
+  for (double& m : mean) m /= double(f.pixel_count());
+  double v = 0;
+  for (size_t t = 0; t < f.pixel_count(); ++t)
+    for (int c = 0; c < F; ++c) v += std::pow(f.data()[t * F + c] - mean[c], 2);
+  return v / double(f.pixel_count());
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+class Quilter {
+ public:
+  Quilter(const Image& sample, const QuiltOptions& options, const Image* sample_mask, const Image* target,
+          double match_weight, QuiltReport* report)
+      : options_(options), canvas_(options.width, options.height, sample, "quilt"), rng_(options.seed), report_(*report) {
+    for (int k = 0; k < options.rotations; ++k)
+      copies_.push_back(MakeRotatedSample(sample, sample_mask ? *sample_mask : Image(), 360.0 * k / options.rotations));
+    PatchMatcherOptions mo;
+    mo.num_threads = options.num_threads;
+    mo.constraint_weight = target ? match_weight : 0;
+    matcher_ = std::make_unique<PatchMatcher>(copies_, mo);
+    canvas_.sample_mask = sample_mask;
+    canvas_.target = target;
+    report_.sample_neighbour_step = MeanNeighbourStep(sample);
+    report_.patch_radius = options.EffectiveRadius(sample.width(), sample.height());
+    neighbours_.assign(size_t(options.width) * options.height, 0);
+  }
+
+  SynthCanvas& canvas() { return canvas_; }
+  const std::vector<RotatedSample>& copies() const { return copies_; }
+
+  // Fills every texel; returns false when cancelled.
+  bool FillAll(const FitOptions& fit, const ProgressFn& progress) {
+    const int total = options_.width * options_.height;
+    int filled = 0;
+    while (filled < total) {
+      const auto [vx, vy] = MostConstrained();
+      PlaceAround(vx, vy, fit, /*repair=*/false);
+      filled = canvas_.map.FilledCount();
+      if (!ReportProgress(progress, filled, total, "quilting")) return false;
+    }
+    return true;
+  }
+
+  // Places one patch centred on (vx, vy); returns the number of texels it changed.
+  int PlaceAround(int vx, int vy, const FitOptions& fit, bool repair) {
+    int r = report_.patch_radius;
+    while (true) {
+      const int x0 = std::max(0, vx - r), y0 = std::max(0, vy - r);
+      const int x1 = std::min(options_.width - 1, vx + r), y1 = std::min(options_.height - 1, vy + r);
+      PlacedPatch patch;
+      patch.x0 = x0, patch.y0 = y0, patch.width = x1 - x0 + 1, patch.height = y1 - y0 + 1;
+      MatchResult match = Match(patch);
+      if (!match.found) {
+        MESOCAP_CHECK(r > options_.min_patch_radius, "no copy of the sample is as large as the smallest window");
+        r = std::max(options_.min_patch_radius, int(r * options_.shrink));
+        continue;
+      }
+      patch.copy = &copies_[match.rotation];
+      patch.u0 = match.u, patch.v0 = match.v;
+      const auto start = std::chrono::steady_clock::now();
+      const CutResult cut = FitPatch(canvas_, patch, DefaultFreedom(canvas_, patch), fit);
+      report_.seconds_cutting += Seconds(start);
+      const bool last_try = r <= options_.min_patch_radius;
+      if (cut.mean_seam_cost() <= options_.seam_threshold * report_.sample_neighbour_step || last_try) {
+        if (cut.new_texels == 0) return 0;
+        CommitPatch(&canvas_, patch, cut);
+        UpdateNeighbours(patch);
+        ++report_.patches;
+        if (repair) ++report_.repair_patches;
+        seam_cost_sum_ += cut.seam_cost;
+        seam_edges_ += cut.seam_edges;
+        report_.mean_seam_cost = seam_edges_ ? seam_cost_sum_ / seam_edges_ : 0;
+        return cut.new_texels;
+      }
+      ++report_.rejected_cuts;
+      r = std::max(options_.min_patch_radius, int(r * options_.shrink));
+    }
+  }
+
+  // Commits a fixed placement with a given freedom (verbatim copying).
+  void PlaceFixed(const PlacedPatch& patch, const std::vector<FitFreedom>& freedom, const FitOptions& fit) {
+    const CutResult cut = FitPatch(canvas_, patch, freedom, fit);
+    if (cut.new_texels == 0) return;
+    CommitPatch(&canvas_, patch, cut);
+    UpdateNeighbours(patch);
+    ++report_.patches;
+  }
+
+ private:
+  MatchResult Match(const PlacedPatch& patch) {
+    MatchWindow w;
+    w.width = patch.width, w.height = patch.height, w.x0 = patch.x0, w.y0 = patch.y0;
+    w.features = &canvas_.features;
+    w.synthesized = &canvas_.synthesized;
+    w.target_constraint = canvas_.target;
+    bool any = false;
+    for (int y = 0; y < w.height && !any; ++y)
+      for (int x = 0; x < w.width && !any; ++x) any = canvas_.synthesized[size_t(w.y0 + y) * options_.width + w.x0 + x];
+    if (!any && !canvas_.target) {  // nothing to match yet: a random placement of the unrotated sample
+      const RotatedSample& c = copies_[0];
+      if (c.size_x < w.width || c.size_y < w.height) return {};
+      MatchResult m;
+      m.found = true;
+      m.u = std::uniform_int_distribution<int>(0, c.size_x - w.width)(rng_);
+      m.v = std::uniform_int_distribution<int>(0, c.size_y - w.height)(rng_);
+      return m;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    MatchResult m = matcher_->BestMatch(w);
+    report_.seconds_matching += Seconds(start);
+    return m;
+  }
+
+  std::pair<int, int> MostConstrained() const {
+    int best = -1, bx = 0, by = 0;
+    for (int y = 0; y < options_.height; ++y)
+      for (int x = 0; x < options_.width; ++x) {
+        const size_t i = size_t(y) * options_.width + x;
+        if (canvas_.synthesized[i] || neighbours_[i] <= best) continue;
+        best = neighbours_[i], bx = x, by = y;
+        if (best == 8) return {bx, by};
+      }
+    if (best == 0 && canvas_.next_patch == 0)  // the very first patch: anywhere
+      return {std::uniform_int_distribution<int>(0, options_.width - 1)(rng_),
+              std::uniform_int_distribution<int>(0, options_.height - 1)(rng_)};
+    return {bx, by};
+  }
+
+  void UpdateNeighbours(const PlacedPatch& p) {
+    const int W = options_.width, H = options_.height;
+    for (int y = std::max(0, p.y0 - 1); y <= std::min(H - 1, p.y0 + p.height); ++y)
+      for (int x = std::max(0, p.x0 - 1); x <= std::min(W - 1, p.x0 + p.width); ++x) {
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int ax = x + dx, ay = y + dy;
+            if ((dx || dy) && ax >= 0 && ay >= 0 && ax < W && ay < H) n += canvas_.synthesized[size_t(ay) * W + ax];
+          }
+        neighbours_[size_t(y) * W + x] = uint8_t(n);
+      }
+  }
+
+  QuiltOptions options_;
+  std::vector<RotatedSample> copies_;
+  std::unique_ptr<PatchMatcher> matcher_;
+  SynthCanvas canvas_;
+  mutable std::mt19937 rng_;
+  QuiltReport& report_;
+  std::vector<uint8_t> neighbours_;
+  double seam_cost_sum_ = 0;
+  long seam_edges_ = 0;
+};
+
+}  // namespace
+
+StatusOr<SynthMap> QuiltSynthesis(const Image& sample, const QuiltOptions& options, QuiltReport* report,
+                                  const ProgressFn& progress) {
+  MESOCAP_RETURN_IF_ERROR(options.Check(sample.width(), sample.height()));
+  const auto start = std::chrono::steady_clock::now();
+  QuiltReport local;
+  QuiltReport& rep = report ? *report : local;
+  rep = {};
+  Quilter quilter(sample, options, nullptr, nullptr, 0, &rep);
+  if (!quilter.FillAll({}, progress)) return Status::Error("cancelled");
+  rep.seconds = Seconds(start);
+  return std::move(quilter.canvas().map);
+}
+
+namespace {
+
+// Where the feature's centroid and bounding box lie in a mask.
+struct MaskRegion {
+  double cx = 0, cy = 0;
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  int count = 0;
+};
+MaskRegion RegionOf(const Image& mask) {
+  MaskRegion r;
+  r.x0 = mask.width(), r.y0 = mask.height();
+  for (int y = 0; y < mask.height(); ++y)
+    for (int x = 0; x < mask.width(); ++x)
+      if (mask.at(x, y) > 0.5f) {
+        r.cx += x, r.cy += y, ++r.count;
+        r.x0 = std::min(r.x0, x), r.y0 = std::min(r.y0, y), r.x1 = std::max(r.x1, x), r.y1 = std::max(r.y1, y);
+      }
+  if (r.count) r.cx /= r.count, r.cy /= r.count;
+  return r;
+}
+
+}  // namespace
+
+StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask, const Image& target_mask,
+                                  const QuiltOptions& options, const PaintOptions& paint, QuiltReport* report,
+                                  const ProgressFn& progress) {
+  MESOCAP_RETURN_IF_ERROR(options.Check(sample.width(), sample.height()));
+  if (sample_mask.width() != sample.width() || sample_mask.height() != sample.height())
+    return Status::Error(Format("the feature mask is %dx%d, the sample %dx%d", sample_mask.width(), sample_mask.height(),
+                                sample.width(), sample.height()));
+  if (target_mask.width() != options.width || target_mask.height() != options.height)
+    return Status::Error(Format("the target mask is %dx%d, the output %dx%d", target_mask.width(), target_mask.height(),
+                                options.width, options.height));
+  const MaskRegion feature = RegionOf(sample_mask), target = RegionOf(target_mask);
+  if (feature.count == 0) return Status::Error("the feature mask marks no texel of the sample (white = feature)");
+  if (feature.count == int(sample_mask.pixel_count())) return Status::Error("the feature mask covers the whole sample: no background to quilt");
+  if (target.count == 0) return Status::Error("the target mask marks no texel of the output (white = where the feature goes)");
+
+  const auto start = std::chrono::steady_clock::now();
+  QuiltReport local;
+  QuiltReport& rep = report ? *report : local;
+  rep = {};
+  const Image m0 = TargetConstraint(target_mask, paint.transition_width);
+  Image background_target(options.width, options.height, 1, 0.f);  // verbatim: quilt background first
+  const double variance = FeatureVariance(sample);
+  Quilter quilter(sample, options, &sample_mask, paint.verbatim ? &background_target : &m0,
+                  paint.match_weight * variance, &rep);
+  quilter.canvas().map.method = "paint";
+  FitOptions fit;
+  fit.data_weight = paint.data_weight * rep.sample_neighbour_step;
+  if (!quilter.FillAll(fit, progress)) return Status::Error("cancelled");
+
+  SynthCanvas& canvas = quilter.canvas();
+  if (paint.verbatim) {
+    // Paste the feature's bounding box (plus the transition zone) with its centroid on the target's.
+    canvas.target = &m0;
+    const int margin = int(std::ceil(paint.transition_width)) + 2;
+    const int dx = int(std::lround(target.cx - feature.cx)), dy = int(std::lround(target.cy - feature.cy));
+    PlacedPatch patch;
+    patch.copy = &quilter.copies()[0];
+    const int sx0 = std::max(0, feature.x0 - margin), sy0 = std::max(0, feature.y0 - margin);
+    const int sx1 = std::min(sample.width() - 1, feature.x1 + margin), sy1 = std::min(sample.height() - 1, feature.y1 + margin);
+    patch.x0 = std::max(0, sx0 + dx), patch.y0 = std::max(0, sy0 + dy);
+    const int ox1 = std::min(options.width - 1, sx1 + dx), oy1 = std::min(options.height - 1, sy1 + dy);
+    if (ox1 < patch.x0 || oy1 < patch.y0) return Status::Error("the target mask places the feature outside the output");
+    patch.width = ox1 - patch.x0 + 1, patch.height = oy1 - patch.y0 + 1;
+    patch.u0 = patch.x0 - dx, patch.v0 = patch.y0 - dy;
+    std::vector<FitFreedom> freedom = DefaultFreedom(canvas, patch);
+    for (int y = 0; y < patch.height; ++y)
+      for (int x = 0; x < patch.width; ++x)
+        if (sample_mask.at(patch.u0 + x, patch.v0 + y) > 0.5f) freedom[size_t(y) * patch.width + x] = FitFreedom::kForceNew;
+    quilter.PlaceFixed(patch, freedom, fit);
+  } else {
+    // Repair: patches centred on texels whose feature label still disagrees with m0.
+    std::vector<uint8_t> given_up(size_t(options.width) * options.height, 0);
+    for (int k = 0; k < paint.max_repair_patches; ++k) {
+      int vx = -1, vy = -1;
+      for (int y = 0; y < options.height && vx < 0; ++y)
+        for (int x = 0; x < options.width && vx < 0; ++x)
+          if (!given_up[size_t(y) * options.width + x] && std::abs(canvas.MaskAt(x, y) - m0.at(x, y)) > 0.5f) vx = x, vy = y;
+      if (vx < 0) break;
+      if (quilter.PlaceAround(vx, vy, fit, /*repair=*/true) == 0 || std::abs(canvas.MaskAt(vx, vy) - m0.at(vx, vy)) > 0.5f)
+        given_up[size_t(vy) * options.width + vx] = 1;
+    }
+  }
+  rep.seconds = Seconds(start);
+  return std::move(canvas.map);
+}
+
+}  // namespace mesocap

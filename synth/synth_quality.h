@@ -1,0 +1,32 @@
+// How good a synthesis is, measured from the map and the images it makes: the colour step across
+// every cut against the sample's own neighbour step (seams), and the steerable-pyramid subband
+// histograms against the sample's (statistics). The baseline both are judged against: patches of
+// the same size placed at random offsets.
+#pragma once
+
+#include <cstdint>
+
+#include "core/image.h"
+#include "synth/synth_map.h"
+
+namespace mesocap {
+
+struct SeamMeasure {
+  double mean_cut_step = 0;     // mean L2 step between neighbours whose sources are not neighbours
+  long cut_pairs = 0;
+  double mean_sample_step = 0;  // mean L2 step between 4-neighbours of the sample
+  double ratio() const { return mean_sample_step > 0 ? mean_cut_step / mean_sample_step : 0; }
+};
+
+// `output` is the map applied to `sample` (same channels). With `wrap`, the pairs across the
+// right/left and bottom/top edges count too (a tile repeated next to itself).
+SeamMeasure MeasureSeams(const SynthMap& map, const Image& output, const Image& sample, bool wrap = false);
+
+// Patches of `patch` x `patch` texels, each from a uniformly random offset of the sample.
+SynthMap RandomTilingMap(int sample_width, int sample_height, int width, int height, int patch, uint32_t seed);
+
+// Mean 1-D Wasserstein distance between the subband histograms (steerable pyramid, 4
+// orientations, the scales both images have) of `a` and `b`, over bands and channels.
+double SubbandDistance(const Image& a, const Image& b);
+
+}  // namespace mesocap
