@@ -11,6 +11,6 @@ int Fail(const std::string& verb, const std::string& message, int code) {
 
 std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(),     ImportCommand(),          CaptureCommand(),
           CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand(), FitPtmCommand(), RelightCommand(),
-          ReconstructCommand(), EvaluateCommand(), LightsCommand()}; }
+          ReconstructCommand(), EvaluateCommand(), LightsCommand(), SynthCommand(), SynthApplyCommand(), PaintCommand()}; }
 
 }  // namespace mesocap::app

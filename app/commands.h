@@ -42,5 +42,8 @@ Command RelightCommand();
 Command ReconstructCommand();
 Command EvaluateCommand();
 Command LightsCommand();
+Command SynthCommand();
+Command SynthApplyCommand();
+Command PaintCommand();
 
 }  // namespace mesocap::app

@@ -85,18 +85,23 @@ TrueBtfRequest TrueBtfRequestFor(const Eigen::Vector3d& light, const Eigen::Vect
 }
 
 Image RenderTrueBtfSlice(const Material& m, const TrueBtfRequest& r, int num_threads) {
-  const Eigen::Vector3d wi = DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg);
-  const Eigen::Vector3d wo = DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);
+  // A turned material is the plain one seen through the inverse turn: points and directions by -r.
+  const Eigen::Matrix3d material_from_patch =
+      Eigen::AngleAxisd(-DegToRad(r.material_rotation_deg), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d wi = material_from_patch * DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg);
+  const Eigen::Vector3d wo = material_from_patch * DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);
+  const Eigen::Matrix2d turn = material_from_patch.topLeftCorner<2, 2>();
   Image out(r.size, r.size, 3);
   ParallelFor(0, r.size, [&](int j) {
     const int n = std::max(1, r.samples_per_axis);
     const double texel_m = r.patch_m / r.size;
     for (int i = 0; i < r.size; ++i) {
-      const Eigen::Vector2d centre = TexelCentre(i, j, r.size, r.patch_m) + r.offset_m;
+      const Eigen::Vector2d centre = TexelCentre(i, j, r.size, r.patch_m);
       Eigen::Vector3f L = Eigen::Vector3f::Zero();
       for (int sy = 0; sy < n; ++sy)
         for (int sx = 0; sx < n; ++sx) {
-          const Eigen::Vector2d xy = centre + texel_m * Eigen::Vector2d((sx + 0.5) / n - 0.5, (sy + 0.5) / n - 0.5);
+          const Eigen::Vector2d xy =
+              turn * (centre + texel_m * Eigen::Vector2d((sx + 0.5) / n - 0.5, (sy + 0.5) / n - 0.5)) + r.offset_m;
           const MaterialHit hit = TraceFromViewer(m, xy.x(), xy.y(), wo);
           if (!SelfShadowed(m, hit.point, wi)) L += ReflectedRadiance(m, hit, wi, wo);
         }

@@ -38,6 +38,9 @@ struct TrueBtfRequest {
   // Stratified samples per texel axis: 1 point-samples the texel centre; more average the
   // texel's footprint as a camera pixel does (no aliasing of fine mesostructure).
   int samples_per_axis = 1;
+  // The material turned counter-clockwise (patch frame, about the patch centre) by this angle:
+  // the truth of a synthesized patch pasted with that rotation.
+  double material_rotation_deg = 0;
 };
 
 // A request for the pair of unit directions (patch frame) `light`, `view`.

@@ -77,10 +77,22 @@ Status ForEachSlice(int count, const std::function<StatusOr<Image>(int)>& read_s
 
 }  // namespace
 
-StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<StatusOr<Image>(int)>& read_slice,
-                                             int components, int power_iterations, int num_threads,
+StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<StatusOr<Image>(int)>& read_raw,
+                                             int components, int power_iterations, bool normalize, int num_threads,
                                              const ProgressFn& progress) {
   MESOCAP_CHECK(count > 0 && components > 0, "no slices or no components");
+  // Every slice weighs the same in the distances, whatever its exposure: a grazing-lit slice's
+  // shadows matter as much as a head-on slice's colours.
+  const std::function<StatusOr<Image>(int)> read_slice = [&](int k) -> StatusOr<Image> {
+    auto s = read_raw(k);
+    if (!s.ok() || !normalize) return s;
+    double sum = 0;
+    for (size_t i = 0; i < s->size(); ++i) sum += double(s->data()[i]) * s->data()[i];
+    const double rms = std::sqrt(sum / std::max<size_t>(1, s->size()));
+    if (rms > 0)
+      for (size_t i = 0; i < s->size(); ++i) s->data()[i] = float(s->data()[i] / rms);
+    return s;
+  };
   auto first = read_slice(0);
   if (!first.ok()) return first.status();
   const int width = first->width(), height = first->height(), channels = first->channels();
@@ -198,7 +210,8 @@ StatusOr<Exemplar> BtfExemplar(std::vector<ExemplarSlice> slices, const Exemplar
   if (!preview.ok()) return preview.status();
   e.preview = std::move(*preview);
   auto features = GeometryMapsOfSlices(int(e.slices.size()), [&](int k) { return e.ReadSlice(k); },
-                                       options.svd_components, options.svd_power_iterations, options.num_threads, progress);
+                                       options.svd_components, options.svd_power_iterations, options.normalize_slices,
+                                       options.num_threads, progress);
   if (!features.ok()) return features.status();
   e.features = std::move(features->features);
   e.svd_energy_kept = features->energy_kept;

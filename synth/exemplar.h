@@ -31,6 +31,9 @@ struct ExemplarSlice {
 struct ExemplarOptions {
   int svd_components = 40;  // n of Zhou §III-A: geometry maps kept from the SVD of the slices
   int svd_power_iterations = 1;  // randomized SVD (Halko et al.): passes that sharpen the basis
+  // Divide each slice by its RMS value before the SVD, so every light and view weighs the same in
+  // matching and cutting (false: the plain sum of squared errors over slices).
+  bool normalize_slices = true;
   int board = -1;           // session slices: which board (-1: the most head-on one)
   int num_threads = -1;
   bool Check() const { return svd_components >= 1 && svd_power_iterations >= 0; }
@@ -72,7 +75,8 @@ struct SliceFeatures {
   double energy_kept = 1.0;  // sum of kept squared singular values / Frobenius norm squared
 };
 StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<StatusOr<Image>(int)>& read_slice,
-                                             int components, int power_iterations, int num_threads = -1,
+                                             int components, int power_iterations, bool normalize = true,
+                                             int num_threads = -1,
                                              const ProgressFn& progress = nullptr);
 
 // The PTM's per-colour polynomials as one 18-vector per texel (LRGB: the luminance polynomial

@@ -91,7 +91,13 @@ CutResult FitPatch(const SynthCanvas& c, const PlacedPatch& p, const std::vector
       graph.add_tweights(node(x, y), cost_new, cost_old);
     }
 
-  // Smoothness: M(p, q, A, B) = |A(p) - B(p)| + |A(q) - B(q)|, with seam nodes on old seams.
+  // Smoothness: M(p, q, A, B) = |A(p) - B(p)| + |A(q) - B(q)| (Kwatra), plus step_weight times the
+  // mean step across the cut, (|A(p) - B(q)| + |B(p) - A(q)|) / 2: where A and B agree (a periodic
+  // material copied a period away) M is ~0 everywhere and the cut would land at an arbitrary
+  // phase of the pattern; the second term puts it where the material itself is smooth.
+  auto edge_cost = [&](const float* ap, const float* aq, const float* bp, const float* bq) {
+    return Distance(ap, bp, F) + Distance(aq, bq, F) + 0.5 * options.step_weight * (Distance(ap, bq, F) + Distance(bp, aq, F));
+  };
   struct Edge {
     int a, b;
     double weight;        // cost when a and b differ (plain edge)
@@ -116,9 +122,9 @@ CutResult FitPatch(const SynthCanvas& c, const PlacedPatch& p, const std::vector
           // Old seam between a and b: A_a continued to b and A_b continued back to a.
           const float* a_at_b = ContinuedOld(c, p.x0 + x, p.y0 + y, dx, dy);
           const float* b_at_a = ContinuedOld(c, p.x0 + x2, p.y0 + y2, -dx, -dy);
-          e.to_a = Distance(old_at(x, y), new_a, F) + Distance(a_at_b, new_b, F);
-          e.to_b = Distance(b_at_a, new_a, F) + Distance(old_at(x2, y2), new_b, F);
-          e.old_seam = Distance(old_at(x, y), b_at_a, F) + Distance(a_at_b, old_at(x2, y2), F);
+          e.to_a = edge_cost(old_at(x, y), a_at_b, new_a, new_b);
+          e.to_b = edge_cost(b_at_a, old_at(x2, y2), new_a, new_b);
+          e.old_seam = edge_cost(old_at(x, y), a_at_b, b_at_a, old_at(x2, y2));
           e.seam_node = graph.add_node();
           graph.add_edge(e.a, e.seam_node, e.to_a, e.to_a);
           graph.add_edge(e.seam_node, e.b, e.to_b, e.to_b);
@@ -126,7 +132,7 @@ CutResult FitPatch(const SynthCanvas& c, const PlacedPatch& p, const std::vector
         } else {
           const float* old_a = fa ? old_at(x, y) : ContinuedOld(c, p.x0 + x2, p.y0 + y2, -dx, -dy);
           const float* old_b = fb ? old_at(x2, y2) : ContinuedOld(c, p.x0 + x, p.y0 + y, dx, dy);
-          e.weight = Distance(old_a, new_a, F) + Distance(old_b, new_b, F);
+          e.weight = edge_cost(old_a, old_b, new_a, new_b);
           graph.add_edge(e.a, e.b, e.weight, e.weight);
         }
         edges.push_back(e);

@@ -51,6 +51,7 @@ struct CutResult {
 
 struct FitOptions {
   double data_weight = 0;  // w of the painting data term (0: synthesis, smoothness only)
+  double step_weight = 0.5;  // weight of the step across the cut in the smoothness term (0: Kwatra's M)
 };
 
 // Default freedom: unfilled texels must take the new patch; filled texels on the window's edge

@@ -244,24 +244,29 @@ std::vector<double> PatchMatcher::Costs(const MatchWindow& w, int copy_index, in
   return CostsFor(w, *Prepare(w), copy_index, valid_w, valid_h);
 }
 
-MatchResult PatchMatcher::BestMatch(const MatchWindow& window) const {
+MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperature, double uniform) const {
   const Impl& m = *impl_;
   const int n = int(m.copies->size());
   const auto ws = Prepare(window);
-  std::vector<MatchResult> best(n);
-  ParallelFor(0, n, [&](int k) {
-    int vw = 0, vh = 0;
-    const std::vector<double> costs = CostsFor(window, *ws, k, &vw, &vh);
-    for (int v = 0; v < vh; ++v)
-      for (int u = 0; u < vw; ++u) {
-        const double c = costs[size_t(v) * vw + u];
-        if (!best[k].found || c < best[k].cost) best[k] = {k, u, v, c, true};
-      }
-  }, n > 1 ? m.options.num_threads : 1);
-  MatchResult result;  // the first copy wins ties: independent of the thread count
-  for (const auto& b : best)
-    if (b.found && (!result.found || b.cost < result.cost)) result = b;
-  return result;
+  std::vector<std::vector<double>> costs(n);
+  std::vector<int> widths(n), heights(n);
+  ParallelFor(0, n, [&](int k) { costs[k] = CostsFor(window, *ws, k, &widths[k], &heights[k]); }, n > 1 ? m.options.num_threads : 1);
+  MatchResult best;  // the first copy and texel win ties: independent of the thread count
+  for (int k = 0; k < n; ++k)
+    for (size_t i = 0; i < costs[k].size(); ++i)
+      if (!best.found || costs[k][i] < best.cost)
+        best = {k, int(i % widths[k]), int(i / widths[k]), costs[k][i], true};
+  if (!best.found || temperature <= 0) return best;
+  double total = 0;
+  for (const auto& c : costs)
+    for (double v : c) total += std::exp(-(v - best.cost) / temperature);
+  double target = uniform * total;
+  for (int k = 0; k < n; ++k)
+    for (size_t i = 0; i < costs[k].size(); ++i) {
+      target -= std::exp(-(costs[k][i] - best.cost) / temperature);
+      if (target <= 0) return {k, int(i % widths[k]), int(i / widths[k]), costs[k][i], true};
+    }
+  return best;
 }
 
 std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow& w, double constraint_weight,

@@ -66,7 +66,10 @@ class PatchMatcher {
 
   // The placement of least cost over every copy and translation keeping the window inside the copy.
   // Windows larger than every copy return found = false.
-  MatchResult BestMatch(const MatchWindow& window) const;
+  MatchResult BestMatch(const MatchWindow& window) const { return ChooseMatch(window, 0, 0); }
+  // Kwatra's stochastic choice: placement t with probability proportional to
+  // exp(-(C(t) - C_min) / temperature), drawn with `uniform` in [0, 1); temperature 0: the least cost.
+  MatchResult ChooseMatch(const MatchWindow& window, double temperature, double uniform) const;
   // All costs for one copy (row-major over valid (u, v)), for tests and the brute-force comparison.
   std::vector<double> Costs(const MatchWindow& window, int copy, int* valid_w, int* valid_h) const;
 

@@ -23,6 +23,7 @@ Status QuiltOptions::Check(int sample_width, int sample_height) const {
   if (min_patch_radius < 1) return Status::Error("the minimum patch radius must be at least 1");
   if (!(shrink > 0 && shrink < 1)) return Status::Error("the shrink factor must be in (0, 1)");
   if (!(seam_threshold > 0)) return Status::Error("the seam threshold must be positive");
+  if (!(randomness >= 0)) return Status::Error("the randomness must be at least 0");
   if (rotations < 1 || rotations > 360) return Status::Error("rotations must be 1..360");
   const int r = EffectiveRadius(sample_width, sample_height);
   if (r < min_patch_radius) return Status::Error(Format("patch radius %d is below the minimum %d", r, min_patch_radius));
@@ -83,6 +84,7 @@ class Quilter {
     canvas_.sample_mask = sample_mask;
     canvas_.target = target;
     report_.sample_neighbour_step = MeanNeighbourStep(sample);
+    variance_ = FeatureVariance(sample);
     report_.patch_radius = options.EffectiveRadius(sample.width(), sample.height());
     neighbours_.assign(size_t(options.width) * options.height, 0);
   }
@@ -168,7 +170,8 @@ class Quilter {
       return m;
     }
     const auto start = std::chrono::steady_clock::now();
-    MatchResult m = matcher_->BestMatch(w);
+    const double uniform = std::uniform_real_distribution<double>(0, 1)(rng_);
+    MatchResult m = matcher_->ChooseMatch(w, options_.randomness * variance_, uniform);
     report_.seconds_matching += Seconds(start);
     return m;
   }
@@ -209,6 +212,7 @@ class Quilter {
   mutable std::mt19937 rng_;
   QuiltReport& report_;
   std::vector<uint8_t> neighbours_;
+  double variance_ = 0;
   double seam_cost_sum_ = 0;
   long seam_edges_ = 0;
 };
@@ -216,7 +220,7 @@ class Quilter {
 }  // namespace
 
 StatusOr<SynthMap> QuiltSynthesis(const Image& sample, const QuiltOptions& options, QuiltReport* report,
-                                  const ProgressFn& progress) {
+                                  const ProgressFn& progress, Image* built) {
   MESOCAP_RETURN_IF_ERROR(options.Check(sample.width(), sample.height()));
   const auto start = std::chrono::steady_clock::now();
   QuiltReport local;
@@ -225,6 +229,7 @@ StatusOr<SynthMap> QuiltSynthesis(const Image& sample, const QuiltOptions& optio
   Quilter quilter(sample, options, nullptr, nullptr, 0, &rep);
   if (!quilter.FillAll({}, progress)) return Status::Error("cancelled");
   rep.seconds = Seconds(start);
+  if (built) *built = quilter.canvas().features;
   return std::move(quilter.canvas().map);
 }
 
@@ -253,7 +258,7 @@ MaskRegion RegionOf(const Image& mask) {
 
 StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask, const Image& target_mask,
                                   const QuiltOptions& options, const PaintOptions& paint, QuiltReport* report,
-                                  const ProgressFn& progress) {
+                                  const ProgressFn& progress, Image* built) {
   MESOCAP_RETURN_IF_ERROR(options.Check(sample.width(), sample.height()));
   if (sample_mask.width() != sample.width() || sample_mask.height() != sample.height())
     return Status::Error(Format("the feature mask is %dx%d, the sample %dx%d", sample_mask.width(), sample_mask.height(),
@@ -314,6 +319,7 @@ StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask,
     }
   }
   rep.seconds = Seconds(start);
+  if (built) *built = canvas.features;
   return std::move(canvas.map);
 }
 

@@ -24,6 +24,10 @@ struct QuiltOptions {
   // T_c: a cut is accepted when its mean cost per separated neighbour pair is at most this many
   // times the sample's mean neighbour feature step.
   double seam_threshold = 2.0;
+  // Placement choice among the matches (Kwatra et al. 2003): probability proportional to
+  // exp(-(C - C_min) / (randomness * sigma^2)), sigma^2 the sample's feature variance; 0 takes the
+  // least cost (Zhou). A little randomness keeps the output from drawing on one region only.
+  double randomness = 0.0;
   int rotations = 1;               // rotated copies of the sample, evenly spaced (Zhou: 72); 1 = none
   uint32_t seed = 1;
   int num_threads = -1;
@@ -48,8 +52,10 @@ struct QuiltReport {
 };
 
 // Quilts `sample_features` (one vector per texel) into a map of options.width x height.
+// `built`, if given, receives the features the method assembled patch by patch (what applying the
+// map to the sample must reproduce bit for bit).
 StatusOr<SynthMap> QuiltSynthesis(const Image& sample_features, const QuiltOptions& options, QuiltReport* report,
-                                  const ProgressFn& progress = nullptr);
+                                  const ProgressFn& progress = nullptr, Image* built = nullptr);
 
 // m0 of Zhou §IV-B: 1 inside the user's target region, falling linearly to 0 across a transition
 // zone of `width` texels outside it.
@@ -60,6 +66,6 @@ Image TargetConstraint(const Image& target_mask, double width);
 // still break the constraint. Masks: 1 channel, sample size and output size.
 StatusOr<SynthMap> PaintSynthesis(const Image& sample_features, const Image& sample_mask, const Image& target_mask,
                                   const QuiltOptions& options, const PaintOptions& paint, QuiltReport* report,
-                                  const ProgressFn& progress = nullptr);
+                                  const ProgressFn& progress = nullptr, Image* built = nullptr);
 
 }  // namespace mesocap

@@ -153,7 +153,7 @@ bool PeriodRange(int n, double f, int overlap, int tiles, int* lo, int* hi) {
   *hi = f > 0.5 ? int(std::floor(n / (f - 0.5))) : n;
   *hi = std::min(*hi, n - overlap);
   if (tiles > 1) *hi = std::min(*hi, n / tiles);
-  *lo = std::max(*lo, 2 * overlap + 1);
+  *lo = std::max(*lo, overlap + 1);  // the overlap band lies inside one period
   return *lo <= *hi;
 }
 
@@ -235,7 +235,9 @@ StatusOr<RollerTiles> AnalyseRoller(const Image& f, const Image& lum, const Roll
   if (options.tiles > 1) {
     const int bh = std::max(1, int(std::lround(N / (options.interior_alpha * fr))));
     const int bv = std::max(1, int(std::lround(M / (options.interior_alpha * fc))));
-    if (r.tile_h < 4 * bh + 1 || r.tile_w < 4 * bv + 1)
+    // A frame of half a band keeps the borders identical; the cut runs through the next band.
+    const int fh = std::max(1, bh / 2), fv = std::max(1, bv / 2);
+    if (r.tile_h < 2 * (fh + bh) + 1 || r.tile_w < 2 * (fv + bv) + 1)
       return Status::Error(Format("the tile (%dx%d) is too small for an interior replacement band of %dx%d texels",
                                   r.tile_w, r.tile_h, bv, bh));
     Image tile_features(r.tile_w, r.tile_h, f.channels());
@@ -248,8 +250,8 @@ StatusOr<RollerTiles> AnalyseRoller(const Image& f, const Image& lum, const Roll
       for (int u = 0; u < r.tile_w; ++u) {
         const int depth_r = std::min(t, r.tile_h - 1 - t), depth_c = std::min(u, r.tile_w - 1 - u);
         const size_t i = size_t(t) * r.tile_w + u;
-        if (depth_r < bh || depth_c < bv) freedom[i] = FitFreedom::kForceOld;
-        else if (depth_r < 2 * bh || depth_c < 2 * bv) freedom[i] = FitFreedom::kFree;
+        if (depth_r < fh || depth_c < fv) freedom[i] = FitFreedom::kForceOld;
+        else if (depth_r < fh + bh || depth_c < fv + bv) freedom[i] = FitFreedom::kFree;
         ring[i] = freedom[i] != FitFreedom::kForceNew;
       }
     std::vector<RotatedSample> copies{MakeRotatedSample(f, Image(), 0)};

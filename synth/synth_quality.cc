@@ -5,7 +5,6 @@
 #include <random>
 
 #include "reconstruct/slice_statistics.h"
-#include "synth/graphcut_fit.h"
 
 namespace mesocap {
 
@@ -30,13 +29,25 @@ bool Continues(const SynthMap& map, int px, int py, int qx, int qy, int dx, int 
 }  // namespace
 
 SeamMeasure MeasureSeams(const SynthMap& map, const Image& output, const Image& sample, bool wrap) {
+  // The sample's own steps per direction: a cut between horizontal neighbours is compared with
+  // the sample's horizontal steps (anisotropic materials differ a lot between the two).
+  const int C = output.channels();
+  double sample_step[2] = {0, 0};
+  long sample_pairs[2] = {0, 0};
+  for (int y = 0; y < sample.height(); ++y)
+    for (int x = 0; x < sample.width(); ++x) {
+      if (x + 1 < sample.width()) sample_step[0] += Step(sample.pixel(x, y), sample.pixel(x + 1, y), C), ++sample_pairs[0];
+      if (y + 1 < sample.height()) sample_step[1] += Step(sample.pixel(x, y), sample.pixel(x, y + 1), C), ++sample_pairs[1];
+    }
+  for (int d = 0; d < 2; ++d) sample_step[d] = sample_pairs[d] ? sample_step[d] / sample_pairs[d] : 0;
+
   SeamMeasure m;
-  m.mean_sample_step = MeanNeighbourStep(sample);
-  double sum = 0;
-  const int W = map.width, H = map.height, C = output.channels();
+  double sum = 0, expected = 0;
+  const int W = map.width, H = map.height;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
-      for (auto [dx, dy] : {std::pair{1, 0}, {0, 1}}) {
+      for (int d = 0; d < 2; ++d) {
+        const int dx = d == 0, dy = d == 1;
         int qx = x + dx, qy = y + dy;
         if (qx >= W || qy >= H) {
           if (!wrap) continue;
@@ -44,9 +55,11 @@ SeamMeasure MeasureSeams(const SynthMap& map, const Image& output, const Image& 
         }
         if (Continues(map, x, y, qx, qy, dx, dy)) continue;
         sum += Step(output.pixel(x, y), output.pixel(qx, qy), C);
+        expected += sample_step[d];
         ++m.cut_pairs;
       }
   m.mean_cut_step = m.cut_pairs ? sum / m.cut_pairs : 0;
+  m.mean_sample_step = m.cut_pairs ? expected / m.cut_pairs : 0.5 * (sample_step[0] + sample_step[1]);
   return m;
 }
 

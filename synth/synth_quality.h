@@ -14,7 +14,9 @@ namespace mesocap {
 struct SeamMeasure {
   double mean_cut_step = 0;     // mean L2 step between neighbours whose sources are not neighbours
   long cut_pairs = 0;
-  double mean_sample_step = 0;  // mean L2 step between 4-neighbours of the sample
+  // The sample's mean L2 step between 4-neighbours in the same directions as the cut pairs
+  // (horizontal and vertical steps weighted by how many cut pairs run each way).
+  double mean_sample_step = 0;
   double ratio() const { return mean_sample_step > 0 ? mean_cut_step / mean_sample_step : 0; }
 };
 

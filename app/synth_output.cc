@@ -1,0 +1,199 @@
+#include "app/synth_output.h"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/provenance.h"
+#include "export/previews.h"
+#include "export/ptm_file.h"
+#include "synth/map_apply.h"
+#include "synth/synth_quality.h"
+
+namespace mesocap::app {
+namespace fs = std::filesystem;
+
+bool ParseSize(const std::string& text, int* width, int* height) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  const int n = std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra);
+  if (n == 1) h = w;
+  else if (n != 3 || (x != 'x' && x != 'X')) return false;
+  if (w < 1 || h < 1 || w > 32768 || h > 32768) return false;
+  *width = w, *height = h;
+  return true;
+}
+
+bool ParseSliceList(const std::string& text, int count, std::vector<int>* slices) {
+  slices->clear();
+  if (text.empty() || text == "all") return true;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ',')) {
+    size_t used = 0;
+    int k = -1;
+    try {
+      k = std::stoi(item, &used);
+    } catch (...) {
+      return false;
+    }
+    if (used != item.size() || k < 0 || k >= count) return false;
+    slices->push_back(k);
+  }
+  return !slices->empty();
+}
+
+StatusOr<Image> ReadMask(const fs::path& path) {
+  ImageReadOptions options;
+  options.linearize = false;
+  auto image = ReadImage(path, options);
+  if (!image.ok()) return image.status();
+  Image mask(image->width(), image->height(), 1);
+  for (size_t t = 0; t < mask.pixel_count(); ++t) mask.data()[t] = image->data()[t * image->channels()] > 0.5f ? 1.f : 0.f;
+  return mask;
+}
+
+namespace {
+
+double PeakMemoryMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+// Three slices to show: the most head-on view under three well-separated lights.
+std::vector<int> PreviewSlices(const Exemplar& e) {
+  std::vector<int> order(e.slices.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = int(k);
+  double best_view = 1e9;
+  for (const auto& s : e.slices) best_view = std::min(best_view, s.theta_o_deg);
+  std::vector<int> chosen;
+  for (int k : order) {
+    if (e.slices[k].theta_o_deg > best_view + 1) continue;
+    bool far = true;
+    for (int c : chosen) far &= AngleBetweenDeg(e.slices[c].light, e.slices[k].light) > 20;
+    if (far) chosen.push_back(k);
+    if (chosen.size() == 3) break;
+  }
+  return chosen;
+}
+
+Json SeamJson(const SynthMap& map, const Image& output, const Image& sample, const std::string& label) {
+  const SeamMeasure s = MeasureSeams(map, output, sample);
+  return {{"image", label}, {"mean_cut_step", s.mean_cut_step}, {"cut_pairs", s.cut_pairs},
+          {"sample_neighbour_step", s.mean_sample_step}, {"ratio", s.ratio()}};
+}
+
+}  // namespace
+
+Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutputRequest request, const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  fs::path out = fs::absolute(request.out);
+  if (out.filename().empty()) out = out.parent_path();
+  const fs::path staging = StagingFolderFor(out);
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  fs::create_directories(staging, ec);
+  if (ec) return Status::Error(staging.string() + ": cannot create: " + ec.message());
+  auto fail = [&](Status st) {
+    fs::remove_all(staging, ec);
+    return st;
+  };
+  if (Status st = WriteSynthMap(staging / "map.exr", map); !st.ok()) return fail(st);
+  if (Status st = WriteImage(staging / "patches.png", PatchPicture(map)); !st.ok()) return fail(st);
+
+  Json seams = Json::array();
+  std::vector<Image> previews;
+  std::vector<std::string> preview_names;
+  if (e.kind == ExemplarKind::kImage) {
+    const Image synthesized = ApplyMapToImage(map, e.image);
+    ImageWriteOptions exr;
+    exr.format = PixelFormat::kFloat;
+    if (Status st = WriteImage(staging / "synth.exr", synthesized, exr); !st.ok()) return fail(st);
+    previews = {synthesized};
+    preview_names = {"preview.png"};
+    seams.push_back(SeamJson(map, synthesized, e.image, "image"));
+  } else if (e.kind == ExemplarKind::kPtm) {
+    const Ptm synthesized = ApplyMapToPtm(map, e.ptm);
+    if (Status st = WritePtmFile(staging / "synth.ptm", synthesized); !st.ok()) return fail(st);
+    int k = 0;
+    for (const Eigen::Vector3d& light : {Eigen::Vector3d(0, 0, 1), DirectionFromAnglesDeg(45, 0), DirectionFromAnglesDeg(60, 135)}) {
+      previews.push_back(RelightPtm(synthesized, light));
+      preview_names.push_back("preview_light" + std::to_string(++k) + ".png");
+      seams.push_back(SeamJson(map, previews.back(), RelightPtm(e.ptm, light), preview_names.back()));
+    }
+  } else {
+    std::vector<int> slices = request.slices;
+    if (slices.empty())
+      for (int k = 0; k < int(e.slices.size()); ++k) slices.push_back(k);
+    const std::vector<int> shown = PreviewSlices(e);
+    fs::create_directories(staging / "slices", ec);
+    std::vector<Json> entries(e.slices.size());
+    std::vector<Image> shown_images(shown.size());
+    std::mutex mutex;
+    ApplyOptions apply;
+    apply.num_threads = request.num_threads;
+    Status st = ApplyMapToBtf(map, e, slices, [&](int k, const Image& slice) -> Status {
+      const ExemplarSlice& s = e.slices[k];
+      const std::string name = "slices/" + s.file.filename().string();
+      ImageWriteOptions w;
+      w.format = PixelFormat::kHalf;
+      w.attributes["mesocap:theta_i_deg"] = float(s.theta_i_deg);
+      w.attributes["mesocap:phi_i_deg"] = float(s.phi_i_deg);
+      w.attributes["mesocap:theta_o_deg"] = float(s.theta_o_deg);
+      w.attributes["mesocap:phi_o_deg"] = float(s.phi_o_deg);
+      w.attributes["mesocap:method"] = "synthesized (" + map.method + ")";
+      MESOCAP_RETURN_IF_ERROR(WriteImage(staging / name, slice, w));
+      std::lock_guard<std::mutex> lock(mutex);
+      entries[k] = {{"file", name}, {"theta_i_deg", s.theta_i_deg}, {"phi_i_deg", s.phi_i_deg},
+                    {"theta_o_deg", s.theta_o_deg}, {"phi_o_deg", s.phi_o_deg}};
+      for (size_t i = 0; i < shown.size(); ++i)
+        if (shown[i] == k) shown_images[i] = slice;
+      return Status::Ok();
+    }, apply, progress);
+    if (!st.ok()) return fail(st);
+    Json list = Json::array();
+    for (int k : slices) list.push_back(entries[k]);
+    Json index = {{"format", "mesocap-btf"}, {"width", map.width}, {"height", map.height}, {"method", map.method},
+                  {"exemplar", e.path.string()}, {"slices", list}};
+    if (Status s2 = WriteJsonFile(staging / "index.json", index); !s2.ok()) return fail(s2);
+    for (size_t i = 0; i < shown.size(); ++i) {
+      if (shown_images[i].empty()) {  // not among the requested slices: make it for the preview
+        auto lookup = SliceDirectionLookup::Create(e.slices);
+        auto made = SynthesizedSlice(map, e, *lookup, e.slices[shown[i]], [&](int k) { return e.ReadSlice(k); });
+        if (!made.ok()) return fail(made.status());
+        shown_images[i] = std::move(*made);
+      }
+      previews.push_back(shown_images[i]);
+      preview_names.push_back("preview_light" + std::to_string(i + 1) + ".png");
+      auto sample = e.ReadSlice(shown[i]);
+      if (!sample.ok()) return fail(sample.status());
+      Json j = SeamJson(map, shown_images[i], *sample, preview_names.back());
+      j["slice"] = e.slices[shown[i]].file.filename().string();
+      seams.push_back(j);
+    }
+  }
+  const std::vector<Image> exposed = ExposeTogether(previews);
+  for (size_t i = 0; i < exposed.size(); ++i)
+    if (Status st = WriteImage(staging / preview_names[i], exposed[i]); !st.ok()) return fail(st);
+
+  Json& report = request.report;
+  report["exemplar"] = {{"path", e.path.string()}, {"kind", ExemplarKindToString(e.kind)}, {"width", e.width},
+                        {"height", e.height}, {"slices", e.slices.size()}, {"features", e.features.channels()},
+                        {"svd_energy_kept", e.svd_energy_kept}};
+  report["output"] = {{"width", map.width}, {"height", map.height}};
+  report["seams"] = seams;
+  report["seconds_writing"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report["memory_peak_mib"] = PeakMemoryMiB();
+  report["provenance"] = MakeProvenance(report.value("parameters", Json::object()));
+  if (Status st = WriteJsonFile(staging / "report.json", report); !st.ok()) return fail(st);
+  if (Status st = PublishStagingFolder(staging, out); !st.ok()) return fail(st);
+  return Status::Ok();
+}
+
+}  // namespace mesocap::app

@@ -1,0 +1,36 @@
+// What `synth`, `synth-apply` and `paint` write, one writer for all three: the map, the
+// synthesized image / slices / PTM, previews under three lights, the patch picture and report.json,
+// in a staging folder published whole (docs/formats.md, "Synthesis").
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/json.h"
+#include "core/progress.h"
+#include "core/status.h"
+#include "synth/exemplar.h"
+#include "synth/synth_map.h"
+
+namespace mesocap::app {
+
+struct SynthOutputRequest {
+  std::filesystem::path out;
+  std::vector<int> slices;  // BTF: which exemplar slices to synthesize (empty: all)
+  Json report;              // the method's own report; seams, timings and memory are added
+  int num_threads = -1;
+};
+
+// Parses WxH ("512x512" or "512").
+bool ParseSize(const std::string& text, int* width, int* height);
+// Parses "all" or a comma-separated list of slice indices.
+bool ParseSliceList(const std::string& text, int count, std::vector<int>* slices);
+
+Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& exemplar, SynthOutputRequest request,
+                             const ProgressFn& progress);
+
+// Loads a 1-channel mask (white = 1) from any image; the error names the file.
+StatusOr<Image> ReadMask(const std::filesystem::path& path);
+
+}  // namespace mesocap::app

@@ -1,0 +1,85 @@
+// synth, synth-apply and paint through the real CLI on a virtual-rig BTF folder and on an image.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "core/image_io.h"
+#include "core/json.h"
+#include "synth/synth_test_support.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(SynthCli, QuiltAndRollerOutputsAndSynthApplyReproducesEverySlice) {
+  const Exemplar e = testing::VirtualRigExemplar("weave", 64);
+  const fs::path dir = testing::MakeTempDir();
+  const std::string in = e.path.string();
+  for (std::string method : {"quilt", "roller"}) {
+    std::string log;
+    const fs::path out = dir / method, applied = dir / (method + "_applied");
+    ASSERT_EQ(testing::RunMesocap("synth --method " + method + " --input " + in + " --size 96x80 --no-progress --out " + out.string(), &log), 0) << log;
+    for (const char* f : {"map.exr", "index.json", "report.json", "patches.png", "preview_light1.png", "preview_light2.png", "preview_light3.png"})
+      EXPECT_TRUE(fs::exists(out / f)) << method << " " << f;
+    auto report = ReadJsonFile(out / "report.json");
+    ASSERT_TRUE(report.ok());
+    EXPECT_TRUE((*report)["seams"].is_array());
+    EXPECT_GT((*report)["memory_peak_mib"].get<double>(), 0);
+    ASSERT_EQ(testing::RunMesocap("synth-apply --map " + (out / "map.exr").string() + " --input " + in + " --no-progress --out " + applied.string(), &log), 0) << log;
+    auto index = ReadJsonFile(out / "index.json");
+    ASSERT_TRUE(index.ok());
+    ASSERT_EQ((*index)["slices"].size(), e.slices.size());
+    for (const auto& s : (*index)["slices"]) {
+      const std::string file = s["file"].get<std::string>();
+      auto a = ReadImage(out / file), b = ReadImage(applied / file);
+      ASSERT_TRUE(a.ok() && b.ok()) << file;
+      EXPECT_EQ(a->width(), 96);
+      EXPECT_EQ(a->height(), 80);
+      EXPECT_TRUE(*a == *b) << method << " " << file;  // bit for bit
+    }
+  }
+}
+
+TEST(SynthCli, BadInputsGiveOneLineTheRightCodeAndNoOutput) {
+  const fs::path dir = testing::MakeTempDir();
+  Image small(20, 20, 3, 0.5f);
+  ASSERT_TRUE(WriteImage(dir / "small.png", small).ok());
+  std::string log;
+  EXPECT_EQ(testing::RunMesocap("synth --method texture-magic --input " + (dir / "small.png").string() + " --out " + (dir / "a").string(), &log), 2);
+  EXPECT_NE(log.find("unknown method"), std::string::npos) << log;
+  EXPECT_EQ(testing::RunMesocap("synth --method quilt --patch-radius 16 --input " + (dir / "small.png").string() + " --no-progress --out " + (dir / "b").string(), &log), 1);
+  EXPECT_NE(log.find("small.png"), std::string::npos) << log;
+  EXPECT_NE(log.find("smaller than the work patch"), std::string::npos) << log;
+  EXPECT_EQ(testing::RunMesocap("synth --input " + (dir / "missing.exr").string() + " --no-progress --out " + (dir / "c").string(), &log), 1);
+  EXPECT_NE(log.find("missing.exr"), std::string::npos) << log;
+  EXPECT_EQ(testing::RunMesocap("synth --input " + (dir / "small.png").string() + " --size 12xq --out " + (dir / "d").string(), &log), 2);
+  Image mask(20, 20, 1, 0.f);
+  ASSERT_TRUE(WriteImage(dir / "empty_mask.png", mask).ok());
+  EXPECT_EQ(testing::RunMesocap("paint --input " + (dir / "small.png").string() + " --feature-mask " + (dir / "empty_mask.png").string() +
+                                " --target-mask " + (dir / "empty_mask.png").string() + " --size 20x20 --no-progress --out " + (dir / "e").string(), &log), 1);
+  EXPECT_NE(log.find("feature mask marks no texel"), std::string::npos) << log;
+  EXPECT_EQ(testing::RunMesocap("paint --input " + (dir / "small.png").string() + " --feature-mask " + (dir / "empty_mask.png").string() +
+                                " --target-mask " + (dir / "empty_mask.png").string() + " --size 40x40 --no-progress --out " + (dir / "f").string(), &log), 1);
+  EXPECT_NE(log.find("--size is 40x40"), std::string::npos) << log;
+  for (const char* f : {"a", "b", "c", "d", "e", "f"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
+  for (const auto& entry : fs::directory_iterator(dir)) EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos);
+}
+
+TEST(SynthCli, ImageExemplarWritesTheSynthesizedImage) {
+  const fs::path dir = testing::MakeTempDir();
+  Image image(48, 48, 3);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = float(((x / 6 + y / 6) % 2) * 0.5 + 0.1 * c);
+  ASSERT_TRUE(WriteImage(dir / "checks.png", image).ok());
+  std::string log;
+  ASSERT_EQ(testing::RunMesocap("synth --input " + (dir / "checks.png").string() + " --size 100 --no-progress --out " + (dir / "q").string(), &log), 0) << log;
+  auto out = ReadImage(dir / "q" / "synth.exr");
+  ASSERT_TRUE(out.ok());
+  EXPECT_EQ(out->width(), 100);
+  EXPECT_TRUE(fs::exists(dir / "q" / "preview.png"));
+}
+
+}  // namespace
+}  // namespace mesocap
