@@ -1,0 +1,84 @@
+// Synthesis speeds at the settings, one run, figures on stdout:
+//   roller analysis of an 81-slice view (128x128), quilting 512x512 from one RGB slice and from the
+//   81-slice BTF (SVD n = 40), and FFT matching against the brute-force spatial SSD (ratio).
+// Usage: bench_synth [WORK_DIR]   (renders the virtual rig's weave once into WORK_DIR)
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "capture/true_btf_folder.h"
+#include "core/directions.h"
+#include "reconstruct/statistical_btf.h"
+#include "synth/exemplar.h"
+#include "synth/patch_matching.h"
+#include "synth/quilt.h"
+#include "synth/roller.h"
+
+using namespace mesocap;
+
+static double Since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+int main(int argc, char** argv) {
+  const std::filesystem::path work = argc > 1 ? argv[1] : std::filesystem::temp_directory_path() / "mesocap_synth_bench";
+  const auto folder = work / "weave_81";
+  if (!std::filesystem::exists(folder / "index.json")) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+    for (const auto& light : BonnDirections()) pairs.push_back({light, Eigen::Vector3d::UnitZ()});
+    TrueBtfFolderOptions o;
+    o.size = 128;
+    o.samples_per_axis = 1;
+    if (Status st = WriteTrueBtfFolder(*Material::Create("weave"), pairs, o, folder); !st.ok()) {
+      std::fprintf(stderr, "%s\n", st.message().c_str());
+      return 1;
+    }
+  }
+  auto t = std::chrono::steady_clock::now();
+  auto e = LoadExemplar(folder);
+  if (!e.ok()) return std::fprintf(stderr, "%s\n", e.status().message().c_str()), 1;
+  const double svd = Since(t);
+  std::printf("SVD of 81 slices (128x128, n = 40, streamed): %.2f s, energy kept %.5f\n", svd, e->svd_energy_kept);
+
+  Image lum(128, 128, 1);
+  for (size_t i = 0; i < lum.pixel_count(); ++i) lum.data()[i] = e->preview.data()[3 * i + 1];
+  RollerOptions ro;
+  ro.tiles = 3;
+  RollerReport rr;
+  t = std::chrono::steady_clock::now();
+  auto tiles = AnalyseRoller(e->features, lum, ro, &rr);
+  std::printf("roller analysis, 81-slice view, 3 tiles: %.3f s (+ SVD %.2f s = %.2f s; target 5 s)\n", Since(t), svd, Since(t) + svd);
+
+  QuiltOptions qo;
+  qo.width = qo.height = 512;
+  QuiltReport qr;
+  t = std::chrono::steady_clock::now();
+  auto rgb = QuiltSynthesis(e->preview, qo, &qr);
+  std::printf("quilt 512x512 from RGB 128x128: %.2f s (target 3 s; %d patches, match %.2f s, cut %.2f s)\n", Since(t),
+              qr.patches, qr.seconds_matching, qr.seconds_cutting);
+  t = std::chrono::steady_clock::now();
+  auto btf = QuiltSynthesis(e->features, qo, &qr);
+  std::printf("quilt 512x512 from the 81-slice BTF (40 features): %.2f s + SVD %.2f s = %.2f s (target 15 s; %d patches)\n",
+              Since(t), svd, Since(t) + svd, qr.patches);
+
+  // Matching one 65x65 window (half synthesized) over the 128x128 sample, 40 channels.
+  Image out(192, 192, e->features.channels());
+  std::vector<uint8_t> synthesized(192 * 192, 0);
+  for (int y = 0; y < 192; ++y)
+    for (int x = 0; x < 192; ++x) {
+      std::copy_n(e->features.pixel(x % 128, y % 128), out.channels(), out.pixel(x, y));
+      synthesized[y * 192 + x] = x < 80;
+    }
+  std::vector<RotatedSample> copies{MakeRotatedSample(e->features, Image(), 0)};
+  PatchMatcher matcher(copies, {});
+  MatchWindow w{65, 65, &out, &synthesized, nullptr, 40, 40};
+  int vw, vh;
+  t = std::chrono::steady_clock::now();
+  for (int k = 0; k < 10; ++k) matcher.Costs(w, 0, &vw, &vh);
+  const double fft = Since(t) / 10;
+  t = std::chrono::steady_clock::now();
+  BruteForceCosts(copies[0], w, 0, &vw, &vh);
+  const double brute = Since(t);
+  std::printf("matching a 65x65 window, 40 channels: FFT %.4f s, brute force %.3f s, ratio %.0fx\n", fft, brute, brute / fft);
+  return tiles.ok() && rgb.ok() && btf.ok() ? 0 : 1;
+}
