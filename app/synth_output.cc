@@ -162,10 +162,11 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
     Json index = {{"format", "mesocap-btf"}, {"width", map.width}, {"height", map.height}, {"method", map.method},
                   {"exemplar", e.path.string()}, {"slices", list}};
     if (Status s2 = WriteJsonFile(staging / "index.json", index); !s2.ok()) return fail(s2);
+    auto lookup = SliceDirectionLookup::Create(e.slices);
+    if (!lookup.ok()) return fail(lookup.status());
     for (size_t i = 0; i < shown.size(); ++i) {
       if (shown_images[i].empty()) {  // not among the requested slices: make it for the preview
-        auto lookup = SliceDirectionLookup::Create(e.slices);
-        auto made = SynthesizedSlice(map, e, *lookup, e.slices[shown[i]], [&](int k) { return e.ReadSlice(k); });
+        auto made = SynthesizedSlice(map, *lookup, e.slices[shown[i]], [&](int k) { return e.ReadSlice(k); });
         if (!made.ok()) return fail(made.status());
         shown_images[i] = std::move(*made);
       }

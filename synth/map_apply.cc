@@ -111,7 +111,7 @@ class SliceCache {
 
 }  // namespace
 
-StatusOr<Image> SynthesizedSlice(const SynthMap& map, const Exemplar& exemplar, const SliceDirectionLookup& lookup,
+StatusOr<Image> SynthesizedSlice(const SynthMap& map, const SliceDirectionLookup& lookup,
                                  const ExemplarSlice& target, const std::function<StatusOr<Image>(int)>& read_slice) {
   // One source image per distinct rotation in the map.
   std::map<float, Image> sources;
@@ -136,7 +136,6 @@ StatusOr<Image> SynthesizedSlice(const SynthMap& map, const Exemplar& exemplar, 
       const Eigen::Vector2i s = map.SourceTexel(x, y);
       std::copy_n(source.pixel(s.x(), s.y()), 3, out.pixel(x, y));
     }
-  (void)exemplar;
   return out;
 }
 
@@ -159,7 +158,7 @@ Status ApplyMapToBtf(const SynthMap& map, const Exemplar& exemplar, const std::v
   std::atomic<bool> stop = false;
   ParallelFor(0, int(slices.size()), [&](int i) {
     if (stop) return;
-    auto slice = SynthesizedSlice(map, exemplar, *lookup, exemplar.slices[slices[i]], read);
+    auto slice = SynthesizedSlice(map, *lookup, exemplar.slices[slices[i]], read);
     errors[i] = slice.ok() ? write(slices[i], *slice) : slice.status();
     if (!errors[i].ok() || !ReportProgress(progress, ++done, int(slices.size()), "applying the map")) stop = true;
   }, options.num_threads);

@@ -54,7 +54,7 @@ Status ApplyMapToBtf(const SynthMap& map, const Exemplar& exemplar, const std::v
                      const ProgressFn& progress = nullptr);
 
 // One output slice of the map over a BTF exemplar (the unit ApplyMapToBtf runs per slice).
-StatusOr<Image> SynthesizedSlice(const SynthMap& map, const Exemplar& exemplar, const SliceDirectionLookup& lookup,
+StatusOr<Image> SynthesizedSlice(const SynthMap& map, const SliceDirectionLookup& lookup,
                                  const ExemplarSlice& target, const std::function<StatusOr<Image>(int)>& read_slice);
 
 // The PTM coefficients of a light polynomial turned by `rotation_deg` (exact: a quadratic in the
