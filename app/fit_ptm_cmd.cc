@@ -12,7 +12,10 @@
 #include <string>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 #include "app/commands.h"
+#include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "core/json.h"
@@ -73,9 +76,10 @@ int Run(const FitPtmArgs& args) {
   if (!entries.ok()) return Fail(verb, entries.status().message());
   std::vector<Eigen::Vector3d> lights;
   for (const LpEntry& e : *entries) lights.push_back(e.light_dir);
-  double condition = 0;
-  if (Status s = ValidatePtmLights(lights, fit, &condition); !s.ok())
+  PtmLightCheck light_check;
+  if (Status s = ValidatePtmLights(lights, fit, &light_check); !s.ok())
     return Fail(verb, args.lp + ": " + s.message());
+  for (const std::string& warning : light_check.warnings) spdlog::warn("{}: {}", args.lp, warning);
 
   // Decode all photos in parallel (decoding dominates the fitter's time otherwise). 8-bit photos
   // (JPEG, 8-bit PNG/TIFF) fitted as stored take the fast path: decoded straight to bytes and
@@ -159,17 +163,19 @@ int Run(const FitPtmArgs& args) {
     for (size_t k = 0; k < maps.normals.size(); ++k) maps.normals.data()[k] = 0.5f * (maps.normals.data()[k] + 1.f);
   }
 
-  // Write: the .ptm, then the optional maps, then the report (each file atomically).
+  // Write: the .ptm, the optional maps, then the report; all appear together or none does.
   const auto write_start = std::chrono::steady_clock::now();
   const double write_cpu_start = ProcessCpuSeconds();
+  OutputFileSet outputs;
   PtmQuantization quantization;
-  if (Status s = WritePtmFile(out, *ptm, {}, &quantization); !s.ok()) return Fail(verb, s.message());
-  if (!args.normals.empty())
-    if (Status s = WriteImage(args.normals, maps.normals, StoredValueOptions(args.normals)); !s.ok())
-      return Fail(verb, s.message());
-  if (!args.albedo.empty())
-    if (Status s = WriteImage(args.albedo, maps.albedo, StoredValueOptions(args.albedo)); !s.ok())
-      return Fail(verb, s.message());
+  if (Status s = outputs.Stage(out, [&](const fs::path& temp) { return WritePtmFile(temp, *ptm, {}, &quantization); });
+      !s.ok())
+    return Fail(verb, s.message());
+  for (const auto& [path, map] : {std::pair{args.normals, &maps.normals}, std::pair{args.albedo, &maps.albedo}}) {
+    if (path.empty()) continue;
+    const auto write_map = [&](const fs::path& temp) { return WriteImage(temp, *map, StoredValueOptions(path)); };
+    if (Status s = outputs.Stage(path, write_map); !s.ok()) return Fail(verb, s.message());
+  }
   const double write_seconds = SecondsSince(write_start);
   const double write_cpu_seconds = ProcessCpuSeconds() - write_cpu_start;
   const double total_seconds = SecondsSince(start);
@@ -185,6 +191,7 @@ int Run(const FitPtmArgs& args) {
               {"width", report.width},
               {"height", report.height},
               {"light_matrix_condition", report.light_matrix_condition},
+              {"warnings", report.warnings},
               {"rms_residual", report.rms_residual},
               {"units", args.linearize ? "linear" : "stored values (as read, not linearised)"}};
   j["quantization"] = {{"scale", quantization.scale}, {"bias", quantization.bias}};
@@ -202,7 +209,9 @@ int Run(const FitPtmArgs& args) {
   j["read_path"] = eight_bit ? "8-bit (decoded to bytes, fitted from bytes)" : "float";
   j["inputs"] = Json::array();
   for (const LpEntry& e : *entries) j["inputs"].push_back({{"image", e.image.string()}, {"light", ToJson(e.light_dir)}});
-  if (Status s = WriteJsonFile(json_path, j); !s.ok()) return Fail(verb, s.message());
+  if (Status s = outputs.Stage(json_path, [&](const fs::path& temp) { return WriteJsonFile(temp, j); }); !s.ok())
+    return Fail(verb, s.message());
+  if (Status s = outputs.Commit(); !s.ok()) return Fail(verb, s.message());
 
   std::printf("%s: %s %dx%d from %d lights, rms residual %.5f; decode %.3f s, fit %.3f s, write %.3f s, "
               "total %.3f s\n",

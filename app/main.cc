@@ -6,6 +6,7 @@
 #include <exception>
 
 #include "app/commands.h"
+#include "core/image_io.h"
 #include "core/logging.h"
 #include "core/provenance.h"
 
@@ -17,6 +18,12 @@ int main(int argc, char** argv) {
   int verbosity = 1;
   app.add_flag_callback("-q,--quiet", [&] { verbosity = 0; }, "Only warnings and errors");
   app.add_flag_callback("-v,--verbose", [&] { verbosity = 2; }, "Debug output");
+  double max_megapixels = double(mesocap::kDefaultMaxImagePixels) / 1e6;
+  app.add_option("--max-megapixels", max_megapixels,
+                 "Refuse images larger than this before allocating them (a crafted header cannot ask "
+                 "for gigabytes)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 
   std::vector<mesocap::app::Command> commands = mesocap::app::AllCommands();
   for (auto& command : commands) command.setup(app);
@@ -27,6 +34,7 @@ int main(int argc, char** argv) {
     return app.exit(e);  // usage errors: message and exit code 106+, --help: 0
   }
   mesocap::InitLogging(verbosity);
+  mesocap::SetMaxImagePixels(int64_t(max_megapixels * 1e6));
   try {
     for (auto& command : commands)
       if (app.got_subcommand(command.name)) return command.run();

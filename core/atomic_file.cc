@@ -114,6 +114,35 @@ Status AppendLineDurably(const fs::path& path, std::string_view line) {
   return st;
 }
 
+OutputFileSet::~OutputFileSet() {
+  std::error_code ec;
+  for (const auto& [temp, path] : staged_) fs::remove(temp, ec);
+}
+
+Status OutputFileSet::Stage(const fs::path& path, const std::function<Status(const fs::path&)>& write) {
+  const fs::path temp = TempPathFor(path);
+  staged_.emplace_back(temp, path);
+  Status st = write(temp);
+  if (st.ok()) st = SyncPath(temp);
+  if (st.ok()) return st;
+  std::string message = st.message();
+  for (size_t at = message.find(temp.string()); at != std::string::npos; at = message.find(temp.string(), at))
+    message.replace(at, temp.string().size(), path.string());
+  return Status::Error(message);
+}
+
+Status OutputFileSet::Commit() {
+  std::error_code ec;
+  while (!staged_.empty()) {
+    const auto [temp, path] = staged_.front();
+    fs::rename(temp, path, ec);
+    if (ec) return Status::Error(path.string() + ": cannot rename into place: " + ec.message());
+    staged_.erase(staged_.begin());
+    if (Status st = SyncPath(path.parent_path()); !st.ok()) return st;
+  }
+  return Status::Ok();
+}
+
 StatusOr<std::string> ReadTextFile(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return Status::Error(path.string() + ": cannot open");

@@ -6,6 +6,8 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/status.h"
 
@@ -33,5 +35,25 @@ Status SyncPath(const std::filesystem::path& path);
 // empty folder) and makes the rename durable. An interrupted run leaves nothing under `out`.
 std::filesystem::path StagingFolderFor(const std::filesystem::path& out);
 Status PublishStagingFolder(const std::filesystem::path& staging, const std::filesystem::path& out);
+
+// Several output files that appear together or not at all: Stage writes each to a hidden temp
+// beside its final name; Commit renames them into place in staging order (stage the report last:
+// it then marks a complete set even if the machine dies between renames). Files staged but not
+// committed are removed when the set is destroyed, so a failure leaves the old files untouched.
+class OutputFileSet {
+ public:
+  OutputFileSet() = default;
+  OutputFileSet(const OutputFileSet&) = delete;
+  OutputFileSet& operator=(const OutputFileSet&) = delete;
+  ~OutputFileSet();
+
+  // Calls write(temp); errors name `path`, not the temp.
+  Status Stage(const std::filesystem::path& path,
+               const std::function<Status(const std::filesystem::path& temp)>& write);
+  Status Commit();
+
+ private:
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;  // temp, final
+};
 
 }  // namespace mesocap

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 
@@ -18,7 +19,7 @@ float SrgbToLinear(float v) {
 }
 
 float LinearToSrgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
+  v = v > 0.0f ? std::min(v, 1.0f) : 0.0f;  // NaN -> 0
   return v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
@@ -43,6 +44,13 @@ const std::array<float, 256>& SrgbDecodeTable() {
     return t;
   }();
   return table;
+}
+
+// Total: NaN and values below 0 encode as 0, values above 1 as 255 (clamped before indexing).
+uint8_t EncodeSrgb8(float linear) {
+  if (!(linear > 0.0f)) return 0;
+  if (linear >= 1.0f) return 255;
+  return SrgbEncodeTable()[size_t(linear * 65535.0f + 0.5f)];
 }
 
 std::string Lower(std::string s) {
@@ -75,6 +83,23 @@ void ApplyAttributes(const ImageAttributes& attributes, oiio::ImageSpec* spec) {
 
 }  // namespace
 
+namespace {
+std::atomic<int64_t> max_image_pixels{kDefaultMaxImagePixels};
+}  // namespace
+
+void SetMaxImagePixels(int64_t pixels) { max_image_pixels = pixels; }
+int64_t MaxImagePixels() { return max_image_pixels; }
+
+Status CheckImageSize(const fs::path& path, int64_t width, int64_t height) {
+  if (width <= 0 || height <= 0) return Status::Error(path.string() + ": image has no pixels");
+  const int64_t limit = MaxImagePixels();
+  if (width > limit / height)
+    return Status::Error(path.string() + ": the image declares " + std::to_string(width) + "x" +
+                         std::to_string(height) + " pixels, more than the limit of " +
+                         std::to_string(limit / 1000000) + " megapixels (--max-megapixels)");
+  return Status::Ok();
+}
+
 PixelFormat DefaultFormatFor(const fs::path& path) {
   const std::string ext = Lower(path.extension().string());
   if (ext == ".jpg" || ext == ".jpeg") return PixelFormat::kUint8Srgb;
@@ -95,6 +120,7 @@ StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
     return Status::Error(path.string() + ": " + why);
   }
   const oiio::ImageSpec& spec = in->spec();
+  if (Status size = CheckImageSize(path, spec.width, spec.height); !size.ok()) return size;
   ImageInfo info;
   info.width = spec.width;
   info.height = spec.height;
@@ -117,8 +143,8 @@ StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options,
   auto in = oiio::ImageInput::open(path.string(), &config);
   if (!in) return Status::Error(path.string() + ": " + oiio::geterror());
   const oiio::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    return Status::Error(path.string() + ": image has no pixels");
+  if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
+  if (Status size = CheckImageSize(path, spec.width, spec.height); !size.ok()) return size;
   const int channels = std::min(spec.nchannels, options.max_channels);
   const bool is_8bit = spec.format == oiio::TypeDesc::UINT8;
   Image image(spec.width, spec.height, channels);
@@ -171,9 +197,7 @@ Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOpti
   if (options.format == PixelFormat::kUint8Srgb) {
     srgb.resize(image.size());
     const float* src = image.data();
-    const auto& table = SrgbEncodeTable();
-    for (size_t i = 0; i < srgb.size(); ++i)
-      srgb[i] = table[size_t(std::clamp(src[i], 0.0f, 1.0f) * 65535.0f + 0.5f)];
+    for (size_t i = 0; i < srgb.size(); ++i) srgb[i] = EncodeSrgb8(src[i]);
     pixels = srgb.data();
     pixel_type = oiio::TypeDesc::UINT8;
   }

@@ -3,6 +3,7 @@
 // hold linear values. Reading returns linear floats in [0,1] for integer files unless asked not to.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -24,8 +25,8 @@ struct ImageWriteOptions {
   PixelFormat format = PixelFormat::kUint8Srgb;
   int jpeg_quality = 95;
   std::string exr_compression = "zip";  // zip, piz, none
-  ImageAttributes attributes;           // EXR: stored as header attributes; others: metadata
-  std::vector<std::string> channel_names;  // EXR: names of the channels (empty: R, G, B, A, ...)
+  ImageAttributes attributes{};         // EXR: stored as header attributes; others: metadata
+  std::vector<std::string> channel_names{};  // EXR: names of the channels (empty: R, G, B, A, ...)
 };
 
 struct ImageReadOptions {
@@ -40,6 +41,16 @@ struct ImageInfo {
   ImageAttributes attributes;  // every header/EXIF attribute OpenImageIO reports
   std::vector<std::string> channel_names;
 };
+
+// The largest image, in pixels, any reader allocates: a header declaring more is refused before
+// a byte is allocated, so a tiny crafted file cannot ask for gigabytes. 256 MP is above every
+// camera sensor (150 MP medium format); 256 MP of 4 float channels is 4 GiB. Process-wide; the
+// CLI's --max-megapixels sets it.
+inline constexpr int64_t kDefaultMaxImagePixels = int64_t(256) << 20;
+void SetMaxImagePixels(int64_t pixels);
+int64_t MaxImagePixels();
+// Ok if a width x height image is within the limit; otherwise an error naming `path`.
+Status CheckImageSize(const std::filesystem::path& path, int64_t width, int64_t height);
 
 // Reads header only (cheap): size, format, EXIF. Error names the file.
 StatusOr<ImageInfo> ReadImageInfo(const std::filesystem::path& path);

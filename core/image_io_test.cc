@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
+
+#include "core/image_u8_io.h"
 
 #include "tests/testing.h"
 
@@ -71,6 +74,61 @@ TEST(ImageIO, MatBridgeSharesMemory) {
   EXPECT_EQ(im.at(2, 1, 1), 7.0f);
   const Image copy = Image::FromMat(m);
   EXPECT_EQ(copy, im);
+}
+
+
+// A small valid JPEG whose frame header (SOF0) is rewritten to declare width x height.
+std::string JpegDeclaring(const std::filesystem::path& path, int width, int height) {
+  EXPECT_TRUE(WriteImage(path, Ramp(16, 16, 3)).ok());
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const size_t sof = bytes.find("\xFF\xC0");
+  EXPECT_NE(sof, std::string::npos);
+  bytes[sof + 5] = char(height >> 8), bytes[sof + 6] = char(height & 255);
+  bytes[sof + 7] = char(width >> 8), bytes[sof + 8] = char(width & 255);
+  std::ofstream(path, std::ios::binary) << bytes;
+  return bytes;
+}
+
+TEST(ImageIO, HeadersDeclaringMoreThanTheCapAreRefusedBeforeAllocating) {
+  const auto dir = testing::MakeTempDir();
+  const auto path = dir / "huge.jpg";
+  const std::string bytes = JpegDeclaring(path, 60000, 60000);
+  EXPECT_LT(bytes.size(), 2000u);
+  auto info = ReadImageInfo(path);
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("huge.jpg"), std::string::npos) << info.status().message();
+  EXPECT_NE(info.status().message().find("60000x60000"), std::string::npos) << info.status().message();
+  EXPECT_FALSE(ReadImage(path).ok());
+  EXPECT_FALSE(ReadImage(path, {.linearize = false}).ok());
+  auto u8 = ReadImageU8(path);
+  ASSERT_FALSE(u8.ok());
+  EXPECT_NE(u8.status().message().find("megapixels"), std::string::npos) << u8.status().message();
+  // The cap is an option: below it the same kind of header is read as usual.
+  JpegDeclaring(dir / "small.jpg", 16, 16);
+  SetMaxImagePixels(255);
+  EXPECT_FALSE(ReadImageU8(dir / "small.jpg").ok());
+  EXPECT_FALSE(ReadImage(dir / "small.jpg").ok());
+  SetMaxImagePixels(256);
+  EXPECT_TRUE(ReadImageU8(dir / "small.jpg").ok());
+  EXPECT_TRUE(ReadImage(dir / "small.jpg").ok());
+  SetMaxImagePixels(kDefaultMaxImagePixels);
+}
+
+TEST(ImageIO, EightBitWritingIsTotalOnNanInfinityAndOutOfRange) {
+  const auto dir = testing::MakeTempDir();
+  Image im(4, 1, 1);
+  im.at(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  im.at(1, 0) = std::numeric_limits<float>::infinity();
+  im.at(2, 0) = -std::numeric_limits<float>::infinity();
+  im.at(3, 0) = 1e30f;
+  ASSERT_TRUE(WriteImage(dir / "a.png", im, {.format = PixelFormat::kUint8Srgb}).ok());
+  auto back = ReadImageU8(dir / "a.png");
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->at(0, 0), 0);
+  EXPECT_EQ(back->at(1, 0), 255);
+  EXPECT_EQ(back->at(2, 0), 0);
+  EXPECT_EQ(back->at(3, 0), 255);
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <string>
 
+#include "core/image_io.h"
+
 #ifdef __linux__
 #include <sys/mman.h>
 #endif
@@ -98,12 +100,12 @@ void JpegEmitMessage(j_common_ptr cinfo, int level) {
   if (level < 0) JpegErrorExit(cinfo);
 }
 
-enum class JpegResult { kOk, kError, kUnsupported };
+enum class JpegResult { kOk, kError, kUnsupported, kTooLarge };
 
 // Decodes a JPEG held in memory into *out. Kept free of objects with destructors between
 // setjmp and the calls that may longjmp; *out and *error belong to the caller.
 JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, ImageU8* out,
-                      std::string* error) {
+                      std::string* error, int64_t* width, int64_t* height) {
   jpeg_decompress_struct cinfo;
   JpegErrorManager err;
   cinfo.err = jpeg_std_error(&err.base);
@@ -118,6 +120,11 @@ JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, Image
   jpeg_create_decompress(&cinfo);
   jpeg_mem_src(&cinfo, bytes, static_cast<unsigned long>(size));
   jpeg_read_header(&cinfo, TRUE);
+  if (int64_t(cinfo.image_width) > MaxImagePixels() / std::max<int64_t>(1, cinfo.image_height)) {
+    *width = cinfo.image_width, *height = cinfo.image_height;
+    jpeg_destroy_decompress(&cinfo);
+    return JpegResult::kTooLarge;
+  }
   if (cinfo.data_precision != 8 || (cinfo.jpeg_color_space != JCS_GRAYSCALE &&
                                     cinfo.jpeg_color_space != JCS_YCbCr &&
                                     cinfo.jpeg_color_space != JCS_RGB)) {
@@ -149,8 +156,8 @@ StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
     return Status::Error(path.string() + ": " + why);
   }
   const oiio::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    return Status::Error(path.string() + ": image has no pixels");
+  if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
+  if (Status size = CheckImageSize(path, spec.width, spec.height); !size.ok()) return size;
   int bits = int(spec.format.size()) * 8;
   if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0) bits = bps;
   if (spec.format != oiio::TypeDesc::UINT8 || bits != 8)
@@ -188,9 +195,12 @@ StatusOr<ImageU8> ReadImageU8(const fs::path& path, int max_channels) {
   if (is_jpeg) {
     ImageU8 image;
     std::string error;
-    switch (DecodeJpeg(bytes.get(), file_size, max_channels, &image, &error)) {
+    int64_t width = 0, height = 0;
+    switch (DecodeJpeg(bytes.get(), file_size, max_channels, &image, &error, &width, &height)) {
       case JpegResult::kOk:
         return image;
+      case JpegResult::kTooLarge:
+        return CheckImageSize(path, width, height);
       case JpegResult::kError:
         return Status::Error(path.string() + ": " + (error.empty() ? "corrupt JPEG" : error));
       case JpegResult::kUnsupported:

@@ -105,6 +105,20 @@ bool ParseFloat(const std::string& token, float* value) {
   return true;
 }
 
+// Relighting sums six coefficients times terms of magnitude <= 1 and a colour: decoded values
+// beyond this (in file units) would overflow float arithmetic into inf and NaN.
+constexpr double kMaxDecodedCoefficient = 1e30;
+
+// The first coefficient index whose bytes 0..255 decode outside +-kMaxDecodedCoefficient, or -1.
+int FirstUnboundedCoefficient(const PtmQuantization& q) {
+  for (int k = 0; k < 6; ++k) {
+    const double reach = std::max(std::abs(double(q.bias[k])), std::abs(255.0 - q.bias[k])) *
+                         std::abs(double(q.scale[k]));
+    if (!(reach <= kMaxDecodedCoefficient)) return k;
+  }
+  return -1;
+}
+
 }  // namespace
 
 PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
@@ -282,6 +296,10 @@ StatusOr<Ptm> ReadPtmFile(const fs::path& path, PtmQuantization* quantization) {
   if (!reader.EndOfHeader())
     return Status::Error(name +
                          ": malformed PTM header: the line of biases must end with a newline");
+  if (const int k = FirstUnboundedCoefficient(q); k >= 0)
+    return Status::Error(name + ": malformed PTM header: scale " + std::to_string(k) + " " +
+                         Quote(std::to_string(q.scale[k])) + " with bias " + std::to_string(q.bias[k]) +
+                         " decodes to coefficients beyond " + Quote(std::to_string(kMaxDecodedCoefficient)));
 
   const int w = int(size[0]), h = int(size[1]);
   const size_t pixels = size_t(w) * size_t(h);

@@ -394,6 +394,17 @@ TEST_F(PtmFileErrors, MalformedHeaders) {
   ExpectError(b, "must end with a newline");
 }
 
+TEST_F(PtmFileErrors, ScalesWhoseDecodedRangeIsNotFiniteAreRefused) {
+  // Every scale finite, every bias in range, but byte 255 would decode to 255 * 3e38: relighting
+  // such a file made inf and NaN.
+  size_t line4 = 0;
+  for (int i = 0; i < 4; ++i) line4 = bytes_.find('\n', line4) + 1;
+  std::string s = bytes_;
+  s.replace(line4, bytes_.find('\n', line4) - line4, "1 1 3e38 1 1 1");
+  ExpectError(s, "scale 2");
+  ExpectError(s, "decodes to coefficients beyond");
+}
+
 TEST(PtmFile, MissingFileAndUnwritablePath) {
   const fs::path dir = testing::MakeTempDir();
   const StatusOr<Ptm> read = ReadPtmFile(dir / "nope.ptm");

@@ -12,6 +12,7 @@
 
 #include "core/directions.h"
 #include "core/parallel.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 
@@ -47,8 +48,8 @@ bool Ptm::IsConsistent() const {
 }
 
 bool PtmFitOptions::Check() const {
-  return min_light_separation_deg >= 0 && min_light_separation_deg < 90 &&
-         min_reciprocal_condition > 0 && min_reciprocal_condition < 1 && black_level >= 0 &&
+  return near_duplicate_light_deg >= 0 && near_duplicate_light_deg < 90 && warn_condition >= 1 &&
+         max_condition >= warn_condition && black_level >= 0 &&
          (num_threads == -1 || num_threads >= 1);
 }
 
@@ -91,8 +92,53 @@ inline double EvalPoly(const double a[6], double u, double v) {
 
 }  // namespace
 
+namespace {
+
+// Where the light set leaves the hemisphere empty, for the message that refuses it: the span of
+// elevations and the largest gap in azimuth (degrees).
+std::string MissingLightDirections(const std::vector<Eigen::Vector3d>& light_dirs) {
+  double lowest = 90, highest = -90;
+  std::vector<double> azimuths;
+  for (const Eigen::Vector3d& d : light_dirs) {
+    const Eigen::Vector3d n = d.normalized();
+    const double elevation = std::asin(std::clamp(n.z(), -1.0, 1.0)) * 180 / std::numbers::pi;
+    lowest = std::min(lowest, elevation), highest = std::max(highest, elevation);
+    if (std::hypot(n.x(), n.y()) > 1e-6) azimuths.push_back(std::atan2(n.y(), n.x()) * 180 / std::numbers::pi);
+  }
+  std::sort(azimuths.begin(), azimuths.end());
+  double gap = 360, gap_from = 0;
+  for (size_t i = 0; i < azimuths.size(); ++i) {
+    const double next = i + 1 < azimuths.size() ? azimuths[i + 1] : azimuths[0] + 360;
+    if (i == 0 || next - azimuths[i] > gap) gap = next - azimuths[i], gap_from = azimuths[i];
+  }
+  std::string hint;
+  if (highest - lowest < 15)
+    hint = Format("all lights lie at elevations %.1f to %.1f deg: add lights at other elevations "
+                  "(above %.0f or below %.0f deg)", lowest, highest, std::min(highest + 15, 85.0),
+                  std::max(lowest - 15, 5.0));
+  if (!azimuths.empty() && gap > 120) {
+    if (!hint.empty()) hint += "; ";
+    const auto wrap = [](double a) { return std::fmod(a + 720, 360); };
+    hint += Format("no light between azimuths %.0f and %.0f deg: add lights there", wrap(gap_from),
+                   wrap(gap_from + gap));
+  }
+  if (hint.empty()) hint = "add lights at other elevations and azimuths";
+  return hint;
+}
+
+// The light matrix with each column scaled to unit length: its condition number no longer
+// depends on the units of the basis (lu^2 is small near the zenith, 1 is not).
+Eigen::MatrixXd NormalisedLightMatrix(const std::vector<Eigen::Vector3d>& light_dirs) {
+  Eigen::MatrixXd a = LightMatrix(light_dirs);
+  for (int k = 0; k < a.cols(); ++k)
+    if (const double norm = a.col(k).norm(); norm > 0) a.col(k) /= norm;
+  return a;
+}
+
+}  // namespace
+
 Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
-                         const PtmFitOptions& options, double* condition) {
+                         const PtmFitOptions& options, PtmLightCheck* check) {
   const int n = int(light_dirs.size());
   if (n < kPtmCoefficients)
     return Status::Error(
@@ -103,20 +149,6 @@ Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
     if (!d.allFinite() || d.norm() < 1e-12)
       return Status::Error("light " + std::to_string(i + 1) + " of " + std::to_string(n) +
                            ": direction " + VecText(d) + " is not a valid direction");
-  }
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      const double angle = AngleBetweenDeg(light_dirs[i], light_dirs[j]);
-      if (angle < options.min_light_separation_deg) {
-        char buf[256];
-        std::snprintf(buf, sizeof buf,
-                      "lights %d and %d of %d are duplicates: %s and %s are %.3g deg apart "
-                      "(minimum separation %.3g deg)",
-                      i + 1, j + 1, n, VecText(light_dirs[i]).c_str(),
-                      VecText(light_dirs[j]).c_str(), angle, options.min_light_separation_deg);
-        return Status::Error(buf);
-      }
-    }
   }
   // Collinear in the (lu, lv) plane: the affine part [lu, lv, 1] already loses rank.
   Eigen::MatrixXd affine(n, 3);
@@ -130,23 +162,31 @@ Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
         "all " + std::to_string(n) +
         " light directions are collinear in the (lu, lv) plane (e.g. all in one "
         "vertical plane): a biquadratic PTM cannot be fitted; add lights off that line");
-  const Eigen::MatrixXd a = LightMatrix(light_dirs);
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(a).singularValues();
-  const double rcond = s(s.size() - 1) / s(0);
-  if (!(rcond >= options.min_reciprocal_condition)) {
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(NormalisedLightMatrix(light_dirs)).singularValues();
+  const double condition = s(0) / s(s.size() - 1);
+  if (!(condition <= options.max_condition)) {
     int rank = 0;
     for (int k = 0; k < s.size(); ++k) rank += s(k) > 1e-9 * s(0);
-    char buf[512];
-    std::snprintf(
-        buf, sizeof buf,
-        "the %d light directions are degenerate for a biquadratic PTM: the light matrix "
-        "[lu^2, lv^2, lu*lv, lu, lv, 1] has numerical rank %d of 6 (reciprocal condition "
-        "%.3g < %.3g); the lights lie on (or near) one conic of the (lu, lv) plane, e.g. "
-        "all at one elevation, where lu^2 + lv^2 is constant. Add lights at other elevations",
-        n, rank, rcond, options.min_reciprocal_condition);
-    return Status::Error(buf);
+    return Status::Error(Format(
+        "the %d light directions are too poorly spread for a biquadratic PTM: the light matrix "
+        "[lu^2, lv^2, lu*lv, lu, lv, 1] has condition number %.3g (limit %.3g, numerical rank %d "
+        "of 6), so the fit would amplify photo noise into the coefficients; %s",
+        n, condition, options.max_condition, rank, MissingLightDirections(light_dirs).c_str()));
   }
-  if (condition) *condition = 1.0 / rcond;
+  if (!check) return Status::Ok();
+  check->condition = condition;
+  check->warnings.clear();
+  if (condition > options.warn_condition)
+    check->warnings.push_back(Format(
+        "the light matrix has condition number %.3g (above %.3g): expect noisy coefficients; %s",
+        condition, options.warn_condition, MissingLightDirections(light_dirs).c_str()));
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      if (const double angle = AngleBetweenDeg(light_dirs[i], light_dirs[j]);
+          angle < options.near_duplicate_light_deg)
+        check->warnings.push_back(Format(
+            "lights %d and %d of %d are %.3g deg apart (a repeated shot?): both are used",
+            i + 1, j + 1, n, angle));
   return Status::Ok();
 }
 
@@ -264,8 +304,8 @@ StatusOr<Ptm> FitPtmImpl(const std::vector<ImageT>& images, float scale,
     return Status::Error("PTM fit: " + std::to_string(images.size()) + " images but " +
                          std::to_string(light_dirs.size()) +
                          " light directions; they must pair up");
-  double condition = 0;
-  MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options, &condition));
+  PtmLightCheck light_check;
+  MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options, &light_check));
   MESOCAP_RETURN_IF_ERROR(CheckPtmImages(images));
   const int n = int(images.size());
   const int width = images[0].width(), height = images[0].height(),
@@ -416,7 +456,8 @@ StatusOr<Ptm> FitPtmImpl(const std::vector<ImageT>& images, float scale,
     report->num_lights = n;
     report->width = width;
     report->height = height;
-    report->light_matrix_condition = condition;
+    report->light_matrix_condition = light_check.condition;
+    report->warnings = light_check.warnings;
     report->rms_residual =
         options.compute_residual ? std::sqrt(sse / (double(width) * height * n * 3)) : -1.0;
     report->fit_seconds =
@@ -547,7 +588,7 @@ Image RelightPtm(const Ptm& ptm, const Eigen::Vector3d& light_dir, bool clamp, i
             }
           }
           for (int c = 0; c < 3; ++c)
-            dst[x * 3 + c] = clamp ? std::clamp(value[c], 0.0f, 1.0f) : value[c];
+            dst[x * 3 + c] = clamp ? (value[c] > 0.0f ? std::min(value[c], 1.0f) : 0.0f) : value[c];
         }
       },
       num_threads);

@@ -57,11 +57,19 @@ struct Ptm {
 
 struct PtmFitOptions {
   PtmFormat format = PtmFormat::kLrgb;
-  // Two lights closer than this (angle between directions) count as duplicates: an error.
-  double min_light_separation_deg = 0.5;
-  // The light matrix (one row [lu^2, lv^2, lu lv, lu, lv, 1] per light) must have
-  // sigma_min / sigma_max at least this, or the light set is rejected as degenerate.
-  double min_reciprocal_condition = 1e-6;
+  // Lights closer than this (angle between directions) are reported as near-duplicates, in a
+  // warning only: a repeated shot weighs its direction twice, which least squares takes in its
+  // stride. Only an ill-conditioned light set is refused.
+  double near_duplicate_light_deg = 0.5;
+  // Condition number (sigma_max / sigma_min) of the light matrix, one row [lu^2, lv^2, lu lv,
+  // lu, lv, 1] per light with each column scaled to unit length. Least squares amplifies photo
+  // noise into the coefficients by up to this factor. Well-spread sets measure 3-10 (a dome,
+  // random directions), sparse or one-sided ones up to 70 (lights in one azimuth quadrant); one
+  // ring at a single elevation is singular. At 1000, 8-bit quantisation noise (1/(255 sqrt 12)
+  // of full scale) grows to full scale along the weakest direction: the fit is then noise there
+  // and the quantised .ptm relights its own photos wrongly, so the set is refused.
+  double max_condition = 1000;
+  double warn_condition = 100;  // above this, a warning names the missing directions
   // Below this, a pixel counts as black in the LRGB model (its polynomial and colour are zero).
   float black_level = 1e-6f;
   // Evaluate the fit at every light to report the RMS residual; costs about as much as the
@@ -75,7 +83,8 @@ struct PtmFitOptions {
 struct PtmFitReport {
   int num_lights = 0;
   int width = 0, height = 0;
-  double light_matrix_condition = 0;  // sigma_max / sigma_min of the light matrix
+  double light_matrix_condition = 0;  // of the column-normalised light matrix (PtmFitOptions)
+  std::vector<std::string> warnings;  // near-duplicate lights, a poorly spread set
   double rms_residual =
       -1;  // over all pixels, channels and lights, in input units; -1: not computed
   double fit_seconds = 0;
@@ -87,12 +96,17 @@ struct PtmFitReport {
 // (lu, lv) are the x and y of the normalised direction).
 Eigen::Matrix<double, 1, 6> PtmBasis(const Eigen::Vector3d& light_dir);
 
-// Checks a light set can be fitted: at least 6 lights, all finite and non-zero, no duplicates,
-// not collinear in (lu, lv), and a full-rank light matrix (e.g. not all at one elevation,
-// where lu^2 + lv^2 is constant). The message says which lights are at fault. On success
-// *condition (if given) receives sigma_max / sigma_min.
+struct PtmLightCheck {
+  double condition = 0;               // of the column-normalised light matrix
+  std::vector<std::string> warnings;  // near-duplicate lights, a poorly spread set
+};
+
+// Checks a light set can be fitted: at least 6 lights, all finite and non-zero, not collinear in
+// (lu, lv), and a light matrix conditioned within options.max_condition (e.g. not all at one
+// elevation, where lu^2 + lv^2 is constant). A refusal says which directions are missing. On
+// success *check (if given) receives the condition number and the warnings.
 Status ValidatePtmLights(const std::vector<Eigen::Vector3d>& light_dirs,
-                         const PtmFitOptions& options, double* condition = nullptr);
+                         const PtmFitOptions& options, PtmLightCheck* check = nullptr);
 
 // Fits a PTM to `images[i]` photographed under `light_dirs[i]` (surface frame, z = normal),
 // one shared least-squares solve for all pixels: coefficients = pinv(A) * observations with A

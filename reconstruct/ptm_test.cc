@@ -311,7 +311,7 @@ TEST(Ptm, FormatNamesRoundTrip) {
   EXPECT_FALSE(StringToPtmFormat("hsh", &f));
   PtmFitOptions options;
   EXPECT_TRUE(options.Check());
-  options.min_reciprocal_condition = 0;
+  options.max_condition = 0;
   EXPECT_FALSE(options.Check());
   options = {};
   options.num_threads = 0;
@@ -335,11 +335,20 @@ TEST(Ptm, RejectsFewerThanSixLights) {
               "at least 6 light directions (6 coefficients per pixel), got 5");
 }
 
-TEST(Ptm, RejectsDuplicateLights) {
+TEST(Ptm, AcceptsNearDuplicateLightsWithAWarning) {
+  // A repeated shot (0.23 deg apart, and one exactly repeated) is normal in a real capture.
   auto lights = DomeLights();
-  lights[7] = lights[3] + Eigen::Vector3d(1e-4, 0, 0);
-  ExpectError(FitPtm(FlatImages(int(lights.size())), lights),
-              "lights 4 and 8 of 19 are duplicates");
+  lights.push_back(lights[3]);
+  lights[7] = DirectionFromAnglesDeg(40.23, 60.0 * 1 + 40);  // light 8 is 0.23 deg from light 9
+  lights[8] = DirectionFromAnglesDeg(40, 60.0 * 1 + 40);
+  PtmLightCheck check;
+  ASSERT_TRUE(ValidatePtmLights(lights, {}, &check).ok());
+  ASSERT_EQ(check.warnings.size(), 2u);
+  EXPECT_NE(check.warnings[0].find("lights 4 and 20 of 20 are 0 deg apart"), std::string::npos) << check.warnings[0];
+  EXPECT_NE(check.warnings[1].find("lights 8 and 9 of 20 are 0.23 deg apart"), std::string::npos) << check.warnings[1];
+  PtmFitReport report;
+  ASSERT_TRUE(FitPtm(FlatImages(int(lights.size())), lights, {}, &report).ok());
+  EXPECT_EQ(report.warnings, check.warnings);
 }
 
 TEST(Ptm, RejectsCollinearLights) {
@@ -352,8 +361,38 @@ TEST(Ptm, RejectsCollinearLights) {
 TEST(Ptm, RejectsLightsAllAtOneElevation) {
   std::vector<Eigen::Vector3d> lights;
   for (int k = 0; k < 12; ++k) lights.push_back(DirectionFromAnglesDeg(45, 30.0 * k));
-  ExpectError(FitPtm(FlatImages(12), lights), "one elevation");
-  ExpectError(FitPtm(FlatImages(12), lights), "rank 5 of 6");
+  ExpectError(FitPtm(FlatImages(12), lights), "numerical rank 5 of 6");
+  ExpectError(FitPtm(FlatImages(12), lights), "all lights lie at elevations 45.0 to 45.0 deg: add lights at other elevations");
+}
+
+TEST(Ptm, RejectsANearlySingularRingWrittenWithFourDecimals) {
+  // One ring at 30 deg elevation as a .lp file stores it: rounding to 4 decimals breaks the exact
+  // rank deficiency (the raw light matrix's reciprocal condition is 4e-6), not the ill-conditioning.
+  std::vector<Eigen::Vector3d> lights;
+  for (int k = 0; k < 36; ++k) {
+    Eigen::Vector3d d = DirectionFromAnglesDeg(60, 10.0 * k);
+    for (int i = 0; i < 3; ++i) d[i] = std::round(d[i] * 1e4) / 1e4;
+    lights.push_back(d);
+  }
+  ExpectError(FitPtm(FlatImages(36), lights), "too poorly spread");
+  ExpectError(FitPtm(FlatImages(36), lights), "add lights at other elevations");
+  // One light at the zenith makes the same ring well conditioned.
+  lights.push_back({0, 0, 1});
+  PtmLightCheck check;
+  ASSERT_TRUE(ValidatePtmLights(lights, {}, &check).ok());
+  EXPECT_LT(check.condition, 100);
+  EXPECT_TRUE(check.warnings.empty());
+}
+
+TEST(Ptm, NamesTheMissingElevationsAndAzimuths) {
+  // Part of one ring: on the conic lu^2 + lv^2 = const, and a quarter of the azimuths.
+  std::vector<Eigen::Vector3d> lights;
+  for (double phi = 0; phi <= 90.01; phi += 10) lights.push_back(DirectionFromAnglesDeg(50, phi));
+  const Status st = ValidatePtmLights(lights, {});
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("all lights lie at elevations 40.0 to 40.0 deg"), std::string::npos) << st.message();
+  EXPECT_NE(st.message().find("no light between azimuths 90 and 0 deg: add lights there"), std::string::npos)
+      << st.message();
 }
 
 TEST(Ptm, RejectsInvalidDirectionAndMismatchedInputs) {

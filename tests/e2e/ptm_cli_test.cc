@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <numbers>
 
 #include "core/image_io.h"
@@ -174,6 +175,63 @@ TEST(PtmCli, BadOptionIsUsageError) {
   EXPECT_EQ(RunFitPtm(dir, "--format xyz", &out), 2);
   EXPECT_EQ(Lines(out), 1) << out;
   EXPECT_FALSE(fs::exists(dir / "out.ptm"));
+}
+
+TEST(PtmCli, AnIllConditionedRingIsRefusedNamingTheMissingElevations) {
+  // One ring at 45 deg written with 4 decimals, as the review's .lp was: the rounding hides the
+  // exact rank deficiency, and the .ptm fitted from it relit its own photos as noise.
+  const auto dir = testing::MakeTempDir();
+  std::string lp = "36\n";
+  for (int k = 0; k < 36; ++k) {
+    const Eigen::Vector3d l = Direction(45, 10.0 * k);
+    const std::string image = "img_" + std::to_string(k) + ".png";
+    ASSERT_TRUE(WriteStored(dir / image, Render(l)).ok());
+    char line[128];
+    std::snprintf(line, sizeof line, "%s %.4f %.4f %.4f\n", image.c_str(), l.x(), l.y(), l.z());
+    lp += line;
+  }
+  std::ofstream(dir / "capture.lp") << lp;
+  std::string out;
+  EXPECT_EQ(RunFitPtm(dir, "", &out), 1);
+  ExpectOneLineFailureWritingNothing(dir, out);
+  EXPECT_NE(out.find("capture.lp"), std::string::npos) << out;
+  EXPECT_NE(out.find("add lights at other elevations"), std::string::npos) << out;
+}
+
+TEST(PtmCli, NearDuplicateLightsAreFittedWithAWarning) {
+  // 40 well-spread lights of which two are 0.23 deg apart (a repeated shot): the fit must go on,
+  // and the .ptm relight its own training photos.
+  const auto dir = testing::MakeTempDir();
+  auto lights = HemisphereLights();
+  for (int k = 0; k < 15; ++k) lights.push_back(Direction(45 + 10 * (k % 2), 24.0 * k + 7));
+  lights.push_back(Direction(55.23, 15.0 * 1 + 45.0 * 2));  // beside light 11: 55 deg, 105 deg
+  ASSERT_EQ(lights.size(), 40u);
+  MakeSet(dir, lights);
+  std::string out;
+  ASSERT_EQ(RunFitPtm(dir, "", &out), 0) << out;
+  EXPECT_NE(out.find("are 0.23 deg apart"), std::string::npos) << out;
+  for (int i : {10, 39}) {
+    const Eigen::Vector3d l = lights[i];
+    char light_arg[128];
+    std::snprintf(light_arg, sizeof light_arg, "--light=%.6f,%.6f,%.6f", l.x(), l.y(), l.z());
+    const fs::path relit = dir / "relit.png";
+    ASSERT_EQ(testing::RunMesocap("relight " + (dir / "out.ptm").string() + " " + light_arg + " --out " + relit.string(),
+                                  &out), 0) << out;
+    auto got = ReadImage(relit, {.linearize = false});
+    ASSERT_TRUE(got.ok());
+    EXPECT_LT(Rms(*got, Render(l)), 4.0 / 255) << "light " << i;
+  }
+}
+
+TEST(PtmCli, AFailingLaterOutputLeavesNoPtmBehind) {
+  const auto dir = testing::MakeTempDir();
+  MakeSet(dir, HemisphereLights());
+  std::string out;
+  EXPECT_EQ(RunFitPtm(dir, "--albedo " + (dir / "no-such-folder" / "albedo.png").string(), &out), 1);
+  ExpectOneLineFailureWritingNothing(dir, out);
+  EXPECT_NE(out.find("albedo.png"), std::string::npos) << out;
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().rfind(".", 0), std::string::npos) << "temp left: " << e.path();
 }
 
 }  // namespace
