@@ -15,7 +15,8 @@ std::vector<TagDetection> DetectTags(const Image& im, const TagDetectOptions& op
   std::vector<float> lum(size_t(W) * H);
   for (size_t i = 0; i < lum.size(); ++i) {
     const float* p = im.data() + i * C;
-    lum[i] = C >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
+    const float l = C >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
+    lum[i] = std::isfinite(l) && l > 0.0f ? l : 0.0f;  // an EXR may hold NaN, inf or negatives
   }
   std::vector<float> sample;
   for (size_t i = 0; i < lum.size(); i += 97) sample.push_back(lum[i]);
