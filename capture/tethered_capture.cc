@@ -433,6 +433,10 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
     if (Status st = TidyAfterCrash(&*session, kind, &report); !st.ok()) return st;
   }
   int next_index = session->NextIndex(kind);
+  if (next_index - 1 + std::max(options.shots, 1) > kMaxShotIndex)
+    return Status::Error(root.string() + ": no room for " + std::to_string(std::max(options.shots, 1)) + " more " + kind +
+                         " files after index " + std::to_string(next_index - 1) + " (at most " +
+                         std::to_string(kMaxShotIndex) + ")");
   report.first_index = next_index;
 
   // 3. One shot: place the file from the card, journal it.
@@ -446,6 +450,10 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
                   int retries_so_far) -> bool {
     const std::string time_utc = UtcNowIso8601();
     const int index = next_index;
+    if (index > kMaxShotIndex) {
+      finish("session_full", "no shot index left after " + std::to_string(kMaxShotIndex));
+      return false;
+    }
     const std::string file = Session::ShotFileName(kind, index, ExtensionFor(on_card.name));
     const fs::path dest = root / file;
     double camera_s = camera_s_so_far;

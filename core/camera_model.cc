@@ -53,10 +53,20 @@ Json CameraModel::ToJson() const {
 
 CameraModel CameraModel::FromJson(const Json& j) {
   CameraModel c;
-  c.width = j.at("width").get<int>();
-  c.height = j.at("height").get<int>();
-  c.K = Matrix3dFromJson(j.at("K"));
-  for (int i = 0; i < 5; ++i) c.dist[i] = j.at("dist").at(i).get<double>();
+  c.width = JsonInteger(JsonField(j, "", "width"), "width", 1, 1 << 17);
+  c.height = JsonInteger(JsonField(j, "", "height"), "height", 1, 1 << 17);
+  const Json& k = JsonArray(JsonField(j, "", "K"), "K", 3, 3);
+  for (int r = 0; r < 3; ++r) {
+    const std::string row = JsonIndexPath("K", r);
+    JsonArray(k[r], row, 3, 3);
+    for (int col = 0; col < 3; ++col) c.K(r, col) = JsonNumber(k[r][col], JsonIndexPath(row, col), -1e7, 1e7);
+  }
+  // A pinhole matrix: positive focal lengths, [0 0 1] last row; the principal point may lie
+  // outside the image (cropped sensors) but not absurdly far.
+  if (!(c.K(0, 0) > 0 && c.K(1, 1) > 0) || c.K(1, 0) != 0 || c.K(2, 0) != 0 || c.K(2, 1) != 0 || c.K(2, 2) != 1)
+    throw JsonFieldError("K must be [[fx, s, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0");
+  const Json& dist = JsonArray(JsonField(j, "", "dist"), "dist", 5, 5);
+  for (int i = 0; i < 5; ++i) c.dist[i] = JsonNumber(dist[i], JsonIndexPath("dist", i), -1e3, 1e3);
   return c;
 }
 

@@ -26,6 +26,7 @@ struct CameraModel {
   Eigen::Vector3d PixelToRay(const Eigen::Vector2d& pixel) const;
 
   Json ToJson() const;
+  // Throws JsonFieldError (naming the field) on a missing, mistyped or out-of-range field.
   static CameraModel FromJson(const Json& j);
 };
 

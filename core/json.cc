@@ -1,6 +1,7 @@
 #include "core/json.h"
 
 #include "core/atomic_file.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 
@@ -26,6 +27,77 @@ Eigen::Vector3d Vector3dFromJson(const Json& j) {
 Eigen::Vector2d Vector2dFromJson(const Json& j) {
   MESOCAP_CHECK(j.is_array() && j.size() == 2, "expected a 2-vector");
   return {j[0].get<double>(), j[1].get<double>()};
+}
+
+std::string JsonFieldPath(const std::string& path, const std::string& name) {
+  return path.empty() ? name : path + "." + name;
+}
+
+std::string JsonIndexPath(const std::string& path, size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+const Json& JsonField(const Json& parent, const std::string& path, const std::string& name) {
+  if (!parent.is_object())
+    throw JsonFieldError((path.empty() ? std::string("the file") : path) + " must be a JSON object, not " +
+                         parent.type_name());
+  const auto it = parent.find(name);
+  if (it == parent.end()) throw JsonFieldError(JsonFieldPath(path, name) + " is missing");
+  return *it;
+}
+
+double JsonNumber(const Json& j, const std::string& path, double lo, double hi) {
+  if (!j.is_number()) throw JsonFieldError(path + " must be a number, not " + std::string(j.type_name()));
+  const double v = j.get<double>();
+  if (!(v >= lo && v <= hi))
+    throw JsonFieldError(Format("%s = %s is outside [%g, %g]", path, j.dump(), lo, hi));
+  return v;
+}
+
+int JsonInteger(const Json& j, const std::string& path, int lo, int hi) {
+  if (!j.is_number_integer())
+    throw JsonFieldError(path + " must be an integer, not " + (j.is_number() ? j.dump() : std::string(j.type_name())));
+  const auto within = [&](auto v) { return v >= decltype(v)(lo) && v <= decltype(v)(hi); };
+  if (j.is_number_unsigned() ? !within(j.get<uint64_t>()) : !within(j.get<int64_t>()))
+    throw JsonFieldError(path + " = " + j.dump() + " is outside [" + std::to_string(lo) + ", " +
+                         std::to_string(hi) + "]");
+  return j.get<int>();
+}
+
+std::string JsonString(const Json& j, const std::string& path) {
+  if (!j.is_string()) throw JsonFieldError(path + " must be a string, not " + std::string(j.type_name()));
+  return j.get<std::string>();
+}
+
+const Json& JsonArray(const Json& j, const std::string& path, size_t min_size, size_t max_size) {
+  if (!j.is_array()) throw JsonFieldError(path + " must be an array, not " + std::string(j.type_name()));
+  if (j.size() < min_size || j.size() > max_size)
+    throw JsonFieldError(path + " has " + std::to_string(j.size()) + " entries; " +
+                         (min_size == max_size ? "exactly " + std::to_string(min_size)
+                                               : "from " + std::to_string(min_size) + " to " + std::to_string(max_size)) +
+                         " expected");
+  return j;
+}
+
+std::filesystem::path JsonRelativePath(const Json& j, const std::string& path) {
+  const std::filesystem::path p = JsonString(j, path);
+  if (p.empty() || p.has_root_path())
+    throw JsonFieldError(path + " = " + j.dump() + " must be a relative path");
+  for (const auto& part : p)
+    if (part == "..") throw JsonFieldError(path + " = " + j.dump() + " must not leave its folder (\"..\")");
+  return p;
+}
+
+Eigen::Vector2d JsonVector2d(const Json& j, const std::string& path, double bound) {
+  JsonArray(j, path, 2, 2);
+  return {JsonNumber(j[0], JsonIndexPath(path, 0), -bound, bound), JsonNumber(j[1], JsonIndexPath(path, 1), -bound, bound)};
+}
+
+Eigen::Vector3d JsonVector3d(const Json& j, const std::string& path, double bound) {
+  JsonArray(j, path, 3, 3);
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) v[i] = JsonNumber(j[i], JsonIndexPath(path, i), -bound, bound);
+  return v;
 }
 
 StatusOr<Json> ReadJsonFile(const std::filesystem::path& path) {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <stdexcept>
+#include <string>
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -19,6 +21,26 @@ Json ToJson(const Eigen::Vector2d& v);
 Eigen::Matrix3d Matrix3dFromJson(const Json& j);
 Eigen::Vector3d Vector3dFromJson(const Json& j);
 Eigen::Vector2d Vector2dFromJson(const Json& j);
+
+// Reading manifests written by people: each accessor checks the field's presence, type and range
+// and throws JsonFieldError naming its path ("boards[2].size_m") and what was expected. A
+// manifest's FromJson catches it once and returns a Status naming the file.
+struct JsonFieldError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// The member `name` of object `parent` (whose own path is `path`, "" at the top).
+const Json& JsonField(const Json& parent, const std::string& path, const std::string& name);
+std::string JsonFieldPath(const std::string& path, const std::string& name);
+std::string JsonIndexPath(const std::string& path, size_t index);
+double JsonNumber(const Json& j, const std::string& path, double lo, double hi);
+int JsonInteger(const Json& j, const std::string& path, int lo, int hi);
+std::string JsonString(const Json& j, const std::string& path);
+// An array whose size lies in [min_size, max_size].
+const Json& JsonArray(const Json& j, const std::string& path, size_t min_size, size_t max_size);
+// A relative path inside the folder it is read from: no root, no "..", not empty.
+std::filesystem::path JsonRelativePath(const Json& j, const std::string& path);
+Eigen::Vector2d JsonVector2d(const Json& j, const std::string& path, double bound);
+Eigen::Vector3d JsonVector3d(const Json& j, const std::string& path, double bound);
 
 // Parses a JSON file; the error names the file and the parser's position.
 StatusOr<Json> ReadJsonFile(const std::filesystem::path& path);

@@ -17,13 +17,15 @@ Json ShotRecord::ToJson() const {
 
 ShotRecord ShotRecord::FromJson(const Json& j) {
   ShotRecord r;
-  r.index = j.at("index").get<int>();
-  r.kind = j.at("kind").get<std::string>();
-  r.file = j.at("file").get<std::string>();
-  r.time_utc = j.value("time_utc", "");
+  r.index = JsonInteger(JsonField(j, "", "index"), "index", 1, kMaxShotIndex);
+  r.kind = JsonString(JsonField(j, "", "kind"), "kind");
+  if (r.kind != "shot" && r.kind != "calib") throw JsonFieldError("kind '" + r.kind + "' must be shot or calib");
+  r.file = JsonRelativePath(JsonField(j, "", "file"), "file").string();
+  if (j.contains("time_utc")) r.time_utc = JsonString(j["time_utc"], "time_utc");
   r.settings = j.value("settings", Json::object());
   r.exif = j.value("exif", Json::object());
-  r.flags = j.value("flags", std::vector<std::string>{});
+  if (j.contains("flags"))
+    for (const Json& flag : JsonArray(j["flags"], "flags", 0, 64)) r.flags.push_back(JsonString(flag, "flags[]"));
   return r;
 }
 
@@ -57,6 +59,11 @@ StatusOr<Session> Session::Open(const fs::path& root) {
     return Status::Error(root.string() + ": not a mesocap session (no " + kManifestName + ")");
   auto manifest = ReadJsonFile(manifest_path);
   if (!manifest.ok()) return manifest.status();
+  if (!manifest->is_object())
+    return Status::Error(manifest_path.string() + ": must be a JSON object, not " + manifest->type_name());
+  if (manifest->contains("format") && (*manifest)["format"] != "mesocap-session")
+    return Status::Error(manifest_path.string() + ": format is " + (*manifest)["format"].dump() +
+                         ", not \"mesocap-session\"");
   s.manifest_ = std::move(*manifest);
   const fs::path journal = root / kJournalName;
   if (fs::exists(journal)) {
@@ -64,13 +71,20 @@ StatusOr<Session> Session::Open(const fs::path& root) {
     if (!text.ok()) return text.status();
     std::istringstream lines(*text);
     std::string line;
-    while (std::getline(lines, line)) {
+    for (int number = 1; std::getline(lines, line); ++number) {
       if (line.empty()) continue;
+      Json j;
       try {
-        const Json j = Json::parse(line);
-        if (j.value("event", "") == "shot") s.shots_.push_back(ShotRecord::FromJson(j));
+        j = Json::parse(line);
       } catch (const std::exception&) {
         ++s.torn_lines_;  // a crash mid-append cuts at most the last line
+        continue;
+      }
+      if (!j.is_object() || j.value("event", Json()) != "shot") continue;
+      try {
+        s.shots_.push_back(ShotRecord::FromJson(j));
+      } catch (const std::exception& e) {
+        return Status::Error(journal.string() + " line " + std::to_string(number) + ": " + e.what());
       }
     }
   }
@@ -111,9 +125,11 @@ int Session::NextIndex(const std::string& kind) const {
   // Files present but never journaled (a crash between rename and append) also block reuse.
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(DirFor(kind), ec)) {
-    int n = 0;
     const std::string name = entry.path().filename().string();
-    if (std::sscanf(name.c_str(), (kind + "_%d").c_str(), &n) == 1) highest = std::max(highest, n);
+    if (name.rfind(kind + "_", 0) != 0) continue;
+    const std::string digits = name.substr(kind.size() + 1, name.find('.') - kind.size() - 1);
+    if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    highest = std::max(highest, std::stoi(digits));
   }
   return highest + 1;
 }

@@ -12,6 +12,9 @@
 
 namespace mesocap {
 
+// Shot indices are 1-based and below this bound (file names hold 4 to 6 digits).
+inline constexpr int kMaxShotIndex = 999999;
+
 struct ShotRecord {
   int index = 0;              // 1-based, per kind, never reused
   std::string kind = "shot";  // "shot" (lit by the flash) or "calib" (checkerboard)
@@ -22,6 +25,8 @@ struct ShotRecord {
   std::vector<std::string> flags;  // e.g. "flash_not_fired"
 
   Json ToJson() const;
+  // Throws JsonFieldError on a missing or out-of-range field, or a file path that is absolute or
+  // leaves the session ("..").
   static ShotRecord FromJson(const Json& j);
 };
 

@@ -56,5 +56,45 @@ TEST(Session, RefusesANonEmptyFolder) {
   EXPECT_NE(s.status().message().find("not empty"), std::string::npos);
 }
 
+void WriteFile(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+TEST(Session, AManifestThatIsNotAnObjectIsRefusedNamingTheFile) {
+  const auto dir = testing::MakeTempDir();
+  for (const char* manifest : {"[1, 2]", "\"text\"", "42", "{\"format\": \"mesocap-btf\"}"}) {
+    WriteFile(dir / "session.json", manifest);
+    auto s = Session::Open(dir);
+    ASSERT_FALSE(s.ok()) << manifest;
+    EXPECT_NE(s.status().message().find("session.json"), std::string::npos) << s.status().message();
+  }
+}
+
+TEST(Session, JournalIndicesAndPathsAreValidated) {
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(Session::Create(dir, Json::object()).ok());
+  const std::string good = R"({"event":"shot","index":1,"kind":"shot","file":"shots/shot_0001.jpg"})";
+  const std::pair<std::string, std::string> bad[] = {
+      {R"({"event":"shot","index":2147483647,"kind":"shot","file":"shots/x.jpg"})", "index = 2147483647 is outside [1, 999999]"},
+      {R"({"event":"shot","index":0,"kind":"shot","file":"shots/x.jpg"})", "index = 0"},
+      {R"({"event":"shot","index":2,"kind":"shot","file":"/etc/passwd"})", "must be a relative path"},
+      {R"({"event":"shot","index":2,"kind":"shot","file":"shots/../../x.jpg"})", "must not leave its folder"},
+      {R"({"event":"shot","index":2,"kind":"flash","file":"shots/x.jpg"})", "kind 'flash'"},
+      {R"({"event":"shot","index":"2","kind":"shot","file":"shots/x.jpg"})", "index must be an integer"},
+  };
+  for (const auto& [line, fragment] : bad) {
+    WriteFile(dir / "journal.jsonl", good + "\n" + line + "\n" + good + "\n");
+    auto s = Session::Open(dir);
+    ASSERT_FALSE(s.ok()) << line;
+    EXPECT_NE(s.status().message().find("journal.jsonl line 2: "), std::string::npos) << s.status().message();
+    EXPECT_NE(s.status().message().find(fragment), std::string::npos) << s.status().message();
+  }
+  WriteFile(dir / "journal.jsonl", good + "\n");
+  std::filesystem::create_directories(dir / "shots");
+  WriteFile(dir / "shots" / "shot_99999999999.jpg", "");
+  WriteFile(dir / "shots" / "shot_-5.jpg", "");
+  auto s = Session::Open(dir);
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_EQ(s->NextIndex("shot"), 2) << "names that are not valid indices do not move the next index";
+}
+
 }  // namespace
 }  // namespace mesocap

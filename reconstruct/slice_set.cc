@@ -11,6 +11,7 @@
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/parallel.h"
+#include "core/slice_index.h"
 
 namespace mesocap {
 namespace {
@@ -38,35 +39,24 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
                                             SliceSetReport* report, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   if (!options.Check()) return Status::Error("invalid slice-set options (size must be a power of two)");
-  auto index = ReadJsonFile(index_json);
+  auto index = ReadSliceIndex(index_json);
   if (!index.ok()) return index.status();
-  const Json& list = index->is_object() && index->contains("slices") ? (*index)["slices"] : *index;
-  if (!list.is_array()) return Status::Error(index_json.string() + ": expected a list of slices (or {\"slices\": [...]})");
   SliceSetReport local;
   SliceSetReport& rep = report ? *report : local;
 
   // Group by board; drop near-duplicate lights within a board.
   std::map<int, std::vector<IndexedSlice>> boards;
-  for (size_t k = 0; k < list.size(); ++k) {
-    const Json& e = list[k];
-    try {
-      IndexedSlice s;
-      s.file = index_json.parent_path() / e.at("file").get<std::string>();
-      s.board = e.at("board").get<int>();
-      s.light = DirectionFromAnglesDeg(e.at("theta_i_deg").get<double>(), e.at("phi_i_deg").get<double>());
-      s.view = DirectionFromAnglesDeg(e.at("theta_o_deg").get<double>(), e.at("phi_o_deg").get<double>());
-      auto& kept = boards[s.board];
-      bool duplicate = false;
-      for (const auto& other : kept) duplicate |= AngleBetweenDeg(other.light, s.light) < options.duplicate_light_deg;
-      if (duplicate) {
-        rep.skipped.push_back(s.file.filename().string() + ": light within " + std::to_string(options.duplicate_light_deg) +
-                              " deg of another slice of board " + std::to_string(s.board));
-        continue;
-      }
-      kept.push_back(s);
-    } catch (const std::exception& ex) {
-      return Status::Error(index_json.string() + ": slice entry " + std::to_string(k) + " is malformed: " + ex.what());
+  for (const SliceIndexEntry& entry : index->slices) {
+    IndexedSlice s{entry.file, entry.board, entry.light, entry.view};
+    auto& kept = boards[s.board];
+    bool duplicate = false;
+    for (const auto& other : kept) duplicate |= AngleBetweenDeg(other.light, s.light) < options.duplicate_light_deg;
+    if (duplicate) {
+      rep.skipped.push_back(s.file.filename().string() + ": light within " + std::to_string(options.duplicate_light_deg) +
+                            " deg of another slice of board " + std::to_string(s.board));
+      continue;
     }
+    kept.push_back(s);
   }
   if (boards.empty()) return Status::Error(index_json.string() + ": no slices");
 

@@ -9,6 +9,7 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/json.h"
+#include "core/slice_index.h"
 #include "core/parallel.h"
 #include "export/ptm_file.h"
 
@@ -220,44 +221,12 @@ StatusOr<Exemplar> BtfExemplar(std::vector<ExemplarSlice> slices, const Exemplar
 
 namespace {
 
-StatusOr<fs::path> SafeRelative(const fs::path& index, const Json& entry) {
-  const fs::path file = entry.at("file").get<std::string>();
-  if (file.is_absolute() || std::any_of(file.begin(), file.end(), [](const fs::path& p) { return p == ".."; }))
-    return Status::Error(index.string() + ": slice file '" + file.string() + "' must be relative and stay inside the folder");
-  return file;
-}
-
 StatusOr<std::vector<ExemplarSlice>> SlicesFromIndex(const fs::path& index_path, int board) {
-  auto index = ReadJsonFile(index_path);
+  auto index = ReadSliceIndex(index_path);
   if (!index.ok()) return index.status();
-  if (!index->is_object() || !index->contains("slices") || !(*index)["slices"].is_array())
-    return Status::Error(index_path.string() + ": not a slice index (no \"slices\" list)");
-  const std::string format = index->value("format", "");
-  const bool session = format == "mesocap-slices";
   std::map<int, std::vector<ExemplarSlice>> by_board;
-  const Json& list = (*index)["slices"];
-  for (size_t k = 0; k < list.size(); ++k) {
-    try {
-      const Json& e = list[k];
-      auto file = SafeRelative(index_path, e);
-      if (!file.ok()) return file.status();
-      ExemplarSlice s;
-      s.file = index_path.parent_path() / *file;
-      s.theta_i_deg = e.at("theta_i_deg").get<double>();
-      s.phi_i_deg = e.at("phi_i_deg").get<double>();
-      s.theta_o_deg = e.at("theta_o_deg").get<double>();
-      s.phi_o_deg = e.at("phi_o_deg").get<double>();
-      for (double t : {s.theta_i_deg, s.theta_o_deg})
-        if (!(t >= 0 && t <= 90)) return Status::Error(index_path.string() + ": slice " + std::to_string(k) + ": theta out of [0, 90]");
-      for (double p : {s.phi_i_deg, s.phi_o_deg})
-        if (!std::isfinite(p)) return Status::Error(index_path.string() + ": slice " + std::to_string(k) + ": phi is not finite");
-      s.light = DirectionFromAnglesDeg(s.theta_i_deg, s.phi_i_deg);
-      s.view = DirectionFromAnglesDeg(s.theta_o_deg, s.phi_o_deg);
-      by_board[session ? e.at("board").get<int>() : 0].push_back(std::move(s));
-    } catch (const std::exception& ex) {
-      return Status::Error(index_path.string() + ": slice entry " + std::to_string(k) + " is malformed: " + ex.what());
-    }
-  }
+  for (const SliceIndexEntry& e : index->slices)
+    by_board[e.board].push_back({e.file, e.light, e.view, e.theta_i_deg, e.phi_i_deg, e.theta_o_deg, e.phi_o_deg});
   if (by_board.empty()) return Status::Error(index_path.string() + ": lists no slices");
   if (board >= 0) {
     auto it = by_board.find(board);
