@@ -76,10 +76,10 @@ int Run(CalibrateArgs& a) {
   ProgressBar bar("calibrate", !a.no_progress);
   auto result = CalibrateSession(a.options, *layout, *camera, bar.AsCallback());
   if (!result.ok()) return Fail("calibrate", result.status().message());
-  const fs::path out = a.options.session / "calibration";
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) return Fail("calibrate", out.string() + ": cannot create: " + ec.message());
+  // calibration/ appears whole: a re-run swaps the new folder in only once every file is written.
+  auto staging = StagingFolder::Begin(a.options.session / "calibration");
+  if (!staging.ok()) return Fail("calibrate", staging.status().message());
+  const fs::path out = staging->path();
   Json rig = result->RigJson();
   rig["provenance"] = MakeProvenance({{"session", a.options.session.string()}, {"pose_shots", a.options.pose_shots},
                                       {"camera_file", a.camera_file.string()}, {"layout", a.layout_file.string()}});
@@ -103,7 +103,8 @@ int Run(CalibrateArgs& a) {
     if (Status st = WriteImage(out / "lights.png", plot, {.format = PixelFormat::kUint8Srgb}); !st.ok())
       return Fail("calibrate", st.message());
   }
-  std::printf("calibrate: %s -> %s\n", result->Brief().c_str(), (out / "rig.json").string().c_str());
+  if (Status st = staging->Publish(/*replace=*/true); !st.ok()) return Fail("calibrate", st.message());
+  std::printf("calibrate: %s -> %s\n", result->Brief().c_str(), (staging->out() / "rig.json").string().c_str());
   for (const auto& r : result->rejected) std::printf("  rejected: %s\n", r.c_str());
   if (a.no_resample) return kExitOk;
   ProgressBar rbar("resample", !a.no_progress);

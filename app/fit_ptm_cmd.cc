@@ -99,7 +99,6 @@ int Run(const FitPtmArgs& args) {
   else images.resize(n);
   std::vector<std::string> errors(n);
   ProgressBar bar("fit-ptm", !args.no_progress);
-  std::mutex bar_mutex;
   std::atomic<int> decoded{0};
   ImageReadOptions read;
   read.linearize = args.linearize;
@@ -118,9 +117,7 @@ int Run(const FitPtmArgs& args) {
           if (image.ok()) images[i] = std::move(*image);
           else errors[i] = image.status().message();
         }
-        const int done = ++decoded;
-        std::lock_guard<std::mutex> lock(bar_mutex);
-        bar.Update(done, n + 1, (*entries)[i].image.filename().string());
+        bar.Update(++decoded, n + 1, (*entries)[i].image.filename().string());
       },
       args.threads);
   const double decode_seconds = SecondsSince(decode_start);

@@ -2,20 +2,23 @@
 // Reads SESSION/slices/index.json (or --slices INDEX), reconstructs the requested direction
 // pairs (default: the Bonn 81 x 81 grid) and writes one OpenEXR slice per pair plus an index.
 #include <atomic>
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
-#include <sstream>
-
 
 #include "app/commands.h"
-#include "core/directions.h"
 #include "core/atomic_file.h"
+#include "core/directions.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/text_format.h"
 #include "reconstruct/slice_set.h"
 
 namespace mesocap::app {
@@ -29,11 +32,36 @@ struct ReconstructArgs {
   bool no_progress = false;
 };
 
-bool ParsePair(const std::string& text, std::array<double, 4>* pair) {
-  std::stringstream s(text);
-  char comma;
-  s >> (*pair)[0] >> comma >> (*pair)[1] >> comma >> (*pair)[2] >> comma >> (*pair)[3];
-  return !s.fail() && (*pair)[0] >= 0 && (*pair)[0] < 90 && (*pair)[2] >= 0 && (*pair)[2] < 90;
+// "theta_i,phi_i,theta_o,phi_o": exactly four numbers separated by commas, nothing else; theta in
+// [0, 90), phi normalised into [0, 360). An empty string means the text was valid.
+std::string ParsePair(const std::string& text, std::array<double, 4>* pair) {
+  const std::string usage = "--pair '" + text + "' is not theta_i,phi_i,theta_o,phi_o (degrees, theta in [0, 90))";
+  size_t start = 0;
+  for (int k = 0; k < 4; ++k) {
+    const size_t end = k < 3 ? text.find(',', start) : text.size();
+    if (end == std::string::npos) return usage;
+    const std::string field = text.substr(start, end - start);
+    char* stop = nullptr;
+    errno = 0;
+    const double value = field.empty() || std::isspace(static_cast<unsigned char>(field[0]))
+                             ? NAN : std::strtod(field.c_str(), &stop);
+    if (errno != 0 || !std::isfinite(value) || stop != field.c_str() + field.size()) return usage;
+    (*pair)[k] = value;
+    start = end + 1;
+  }
+  for (int k : {0, 2})
+    if (!((*pair)[k] >= 0 && (*pair)[k] < 90)) return usage;
+  for (int k : {1, 3}) {
+    (*pair)[k] = std::fmod((*pair)[k], 360.0);
+    if ((*pair)[k] < 0) (*pair)[k] += 360.0;
+    if ((*pair)[k] >= 359.95) (*pair)[k] = 0.0;  // would print as 360.0: the same azimuth as 0
+  }
+  return "";
+}
+
+// The slice file of a direction pair: angles to 0.1 deg, so distinct pairs may share a name.
+std::string SliceName(const std::array<double, 4>& p) {
+  return Format("slices/ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]);
 }
 
 int Run(ReconstructArgs& a) {
@@ -41,9 +69,14 @@ int Run(ReconstructArgs& a) {
   if (!std::filesystem::exists(index))
     return Fail("reconstruct", index.string() + " not found: run `mesocap calibrate` first or pass --slices");
   std::vector<std::array<double, 4>> pairs;
+  std::map<std::string, std::string> named;  // slice file -> the --pair that asked for it
   for (const std::string& text : a.pairs) {
     std::array<double, 4> p;
-    if (!ParsePair(text, &p)) return Fail("reconstruct", "--pair '" + text + "' is not theta_i,phi_i,theta_o,phi_o (degrees, theta < 90)", kExitUsage);
+    if (std::string why = ParsePair(text, &p); !why.empty()) return Fail("reconstruct", why, kExitUsage);
+    const auto [it, added] = named.emplace(SliceName(p), text);
+    if (!added)
+      return Fail("reconstruct", "--pair '" + text + "' and --pair '" + it->second + "' both name " + it->first +
+                                     " (angles are kept to 0.1 deg): give distinct directions", kExitUsage);
     pairs.push_back(p);
   }
   if (pairs.empty())
@@ -63,18 +96,13 @@ int Run(ReconstructArgs& a) {
   if (!btf.ok()) return Fail("reconstruct", btf.status().message());
 
   // Everything goes to a staging folder published at the end: an interrupted or failed run
-  // leaves nothing under the output's name.
-  std::filesystem::path out = std::filesystem::absolute(a.out);
-  if (out.filename().empty()) out = out.parent_path();  // "out/" names "out"
-  const std::filesystem::path staging = StagingFolderFor(out);
+  // (a worker's exception included) leaves nothing under the output's name.
+  auto staging = StagingFolder::Begin(a.out);
+  if (!staging.ok()) return Fail("reconstruct", staging.status().message());
   std::error_code ec;
-  std::filesystem::remove_all(staging, ec);
-  std::filesystem::create_directories(staging / "slices", ec);
-  if (ec) return Fail("reconstruct", staging.string() + ": cannot create: " + ec.message());
-  auto fail = [&](const std::string& message, int code = kExitFailure) {
-    std::filesystem::remove_all(staging, ec);
-    return Fail("reconstruct", message, code);
-  };
+  std::filesystem::create_directories(staging->path() / "slices", ec);
+  if (ec) return Fail("reconstruct", staging->path().string() + ": cannot create: " + ec.message());
+  const auto fail = [](const std::string& message, int code = kExitFailure) { return Fail("reconstruct", message, code); };
   std::vector<Json> entries(pairs.size());
   std::vector<std::string> errors(pairs.size());
   ProgressBar bar("reconstruct", !a.no_progress);
@@ -85,8 +113,7 @@ int Run(ReconstructArgs& a) {
     if (cancelled) return;
     const auto& p = pairs[k];
     const Image slice = btf->Reconstruct(DirectionFromAnglesDeg(p[0], p[1]), DirectionFromAnglesDeg(p[2], p[3]));
-    char name[96];
-    std::snprintf(name, sizeof name, "slices/ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]);
+    const std::string name = SliceName(p);
     ImageWriteOptions w;
     w.format = PixelFormat::kHalf;
     w.attributes["mesocap:theta_i_deg"] = float(p[0]);
@@ -95,7 +122,7 @@ int Run(ReconstructArgs& a) {
     w.attributes["mesocap:phi_o_deg"] = float(p[3]);
     w.attributes["mesocap:quantity"] = std::string("BTF: radiance per unit perpendicular irradiance (includes cos theta_i)");
     w.attributes["mesocap:method"] = std::string(a.pixel_only ? "statistical (pixel histogram)" : "statistical (Ngan & Durand 2006)");
-    if (Status st = WriteImage(staging / name, slice, w); !st.ok()) errors[k] = st.message();
+    if (Status st = WriteImage(staging->path() / name, slice, w); !st.ok()) errors[k] = st.message();
     entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
     if (!bar.Update(++done, int(pairs.size()), name)) cancelled = true;
   }, a.options.btf.num_threads);
@@ -110,12 +137,12 @@ int Run(ReconstructArgs& a) {
             {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", seconds},
             {"ms_per_slice", 1000 * seconds / pairs.size()}, {"slices", entries}};
   j["provenance"] = MakeProvenance({{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}});
-  if (Status st = WriteJsonFile(staging / "index.json", j); !st.ok()) return fail(st.message());
-  if (Status st = PublishStagingFolder(staging, out); !st.ok()) return fail(st.message());
+  if (Status st = WriteJsonFile(staging->path() / "index.json", j); !st.ok()) return fail(st.message());
+  if (Status st = staging->Publish(); !st.ok()) return fail(st.message());
   std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views: statistics %.1f s, reconstruction "
               "%.1f s (%.1f ms per slice, written) -> %s\n",
               pairs.size(), btf->width(), btf->height(), loaded.slices_used, loaded.views, loaded.seconds, seconds,
-              1000 * seconds / pairs.size(), out.string().c_str());
+              1000 * seconds / pairs.size(), staging->out().string().c_str());
   return kExitOk;
 }
 

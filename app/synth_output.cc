@@ -93,19 +93,13 @@ Json SeamJson(const SynthMap& map, const Image& output, const Image& sample, con
 
 Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutputRequest request, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
-  fs::path out = fs::absolute(request.out);
-  if (out.filename().empty()) out = out.parent_path();
-  const fs::path staging = StagingFolderFor(out);
+  auto staged = StagingFolder::Begin(request.out);
+  if (!staged.ok()) return staged.status();
+  const fs::path staging = staged->path();
   std::error_code ec;
-  fs::remove_all(staging, ec);
-  fs::create_directories(staging, ec);
-  if (ec) return Status::Error(staging.string() + ": cannot create: " + ec.message());
-  auto fail = [&](Status st) {
-    fs::remove_all(staging, ec);
-    return st;
-  };
-  if (Status st = WriteSynthMap(staging / "map.exr", map); !st.ok()) return fail(st);
-  if (Status st = WriteImage(staging / "patches.png", PatchPicture(map)); !st.ok()) return fail(st);
+  // On any failure below, `staged` removes the staging folder as it goes out of scope.
+  if (Status st = WriteSynthMap(staging / "map.exr", map); !st.ok()) return st;
+  if (Status st = WriteImage(staging / "patches.png", PatchPicture(map)); !st.ok()) return st;
 
   Json seams = Json::array();
   std::vector<Image> previews;
@@ -114,13 +108,13 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
     const Image synthesized = ApplyMapToImage(map, e.image);
     ImageWriteOptions exr;
     exr.format = PixelFormat::kFloat;
-    if (Status st = WriteImage(staging / "synth.exr", synthesized, exr); !st.ok()) return fail(st);
+    if (Status st = WriteImage(staging / "synth.exr", synthesized, exr); !st.ok()) return st;
     previews = {synthesized};
     preview_names = {"preview.png"};
     seams.push_back(SeamJson(map, synthesized, e.image, "image"));
   } else if (e.kind == ExemplarKind::kPtm) {
     const Ptm synthesized = ApplyMapToPtm(map, e.ptm);
-    if (Status st = WritePtmFile(staging / "synth.ptm", synthesized); !st.ok()) return fail(st);
+    if (Status st = WritePtmFile(staging / "synth.ptm", synthesized); !st.ok()) return st;
     int k = 0;
     for (const Eigen::Vector3d& light : {Eigen::Vector3d(0, 0, 1), DirectionFromAnglesDeg(45, 0), DirectionFromAnglesDeg(60, 135)}) {
       previews.push_back(RelightPtm(synthesized, light));
@@ -156,24 +150,24 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
         if (shown[i] == k) shown_images[i] = slice;
       return Status::Ok();
     }, apply, progress);
-    if (!st.ok()) return fail(st);
+    if (!st.ok()) return st;
     Json list = Json::array();
     for (int k : slices) list.push_back(entries[k]);
     Json index = {{"format", "mesocap-btf"}, {"width", map.width}, {"height", map.height}, {"method", map.method},
                   {"exemplar", e.path.string()}, {"slices", list}};
-    if (Status s2 = WriteJsonFile(staging / "index.json", index); !s2.ok()) return fail(s2);
+    if (Status s2 = WriteJsonFile(staging / "index.json", index); !s2.ok()) return s2;
     auto lookup = SliceDirectionLookup::Create(e.slices);
-    if (!lookup.ok()) return fail(lookup.status());
+    if (!lookup.ok()) return lookup.status();
     for (size_t i = 0; i < shown.size(); ++i) {
       if (shown_images[i].empty()) {  // not among the requested slices: make it for the preview
         auto made = SynthesizedSlice(map, *lookup, e.slices[shown[i]], [&](int k) { return e.ReadSlice(k); });
-        if (!made.ok()) return fail(made.status());
+        if (!made.ok()) return made.status();
         shown_images[i] = std::move(*made);
       }
       previews.push_back(shown_images[i]);
       preview_names.push_back("preview_light" + std::to_string(i + 1) + ".png");
       auto sample = e.ReadSlice(shown[i]);
-      if (!sample.ok()) return fail(sample.status());
+      if (!sample.ok()) return sample.status();
       Json j = SeamJson(map, shown_images[i], *sample, preview_names.back());
       j["slice"] = e.slices[shown[i]].file.filename().string();
       seams.push_back(j);
@@ -181,7 +175,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
   }
   const std::vector<Image> exposed = ExposeTogether(previews);
   for (size_t i = 0; i < exposed.size(); ++i)
-    if (Status st = WriteImage(staging / preview_names[i], exposed[i]); !st.ok()) return fail(st);
+    if (Status st = WriteImage(staging / preview_names[i], exposed[i]); !st.ok()) return st;
 
   Json& report = request.report;
   report["exemplar"] = {{"path", e.path.string()}, {"kind", ExemplarKindToString(e.kind)}, {"width", e.width},
@@ -192,8 +186,8 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
   report["seconds_writing"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report["memory_peak_mib"] = PeakMemoryMiB();
   report["provenance"] = MakeProvenance(report.value("parameters", Json::object()));
-  if (Status st = WriteJsonFile(staging / "report.json", report); !st.ok()) return fail(st);
-  if (Status st = PublishStagingFolder(staging, out); !st.ok()) return fail(st);
+  if (Status st = WriteJsonFile(staging / "report.json", report); !st.ok()) return st;
+  if (Status st = staged->Publish(); !st.ok()) return st;
   return Status::Ok();
 }
 

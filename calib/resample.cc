@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "core/directions.h"
+#include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
@@ -396,6 +397,12 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
   // Resampling, one photo per thread at a time. With smoothing, a first pass finds the slice
   // means (photos are cheap to decode again; slices are too big to keep).
   const int passes = options.brdf_smoothing ? 2 : 1;
+  // A re-run builds a fresh slices/ beside the old one and swaps it in at the end: a crash never
+  // leaves an index.json describing slices half overwritten, and no slice of an earlier run is
+  // taken for a current one.
+  auto staging = StagingFolder::Begin(session / "slices");
+  if (!staging.ok()) return staging.status();
+  const fs::path slices_dir = staging->path();
   std::atomic<int> done{0};
   std::atomic<bool> cancelled{false};
   std::vector<std::string> shot_error(ns);
@@ -452,8 +459,8 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
                          {"mesocap:light_distance_m", float(r.light_distance_m)}};
         const auto t_write = std::chrono::steady_clock::now();
         std::error_code ec;
-        fs::create_directories((session / "slices" / r.file).parent_path(), ec);
-        if (Status st = WriteImage(session / "slices" / r.file, slice, wo); !st.ok()) slice_error[s][k] = st.message();
+        fs::create_directories((slices_dir / r.file).parent_path(), ec);
+        if (Status st = WriteImage(slices_dir / r.file, slice, wo); !st.ok()) slice_error[s][k] = st.message();
         ns_write += since(t_write);
       }
       if (!ReportProgress(progress, ++done, passes * ns, calibration.shots[s].file)) cancelled = true;
@@ -508,16 +515,6 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
     report.scale_rms_deviation = std::sqrt(sq / report.slices.size());
   }
 
-  // Slices of an earlier run that this one did not write would be taken for current ones.
-  std::set<std::string> current;
-  for (const auto& r : report.slices) current.insert(r.file);
-  std::error_code ec;
-  if (fs::is_directory(session / "slices", ec))
-    for (const auto& e : fs::recursive_directory_iterator(session / "slices", ec))
-      if (e.is_regular_file() && e.path().extension() == ".exr" &&
-          !current.count(fs::relative(e.path(), session / "slices").generic_string()))
-        fs::remove(e.path(), ec);
-
   report.seconds_read = 1e-9 * double(ns_read);
   report.seconds_sample = 1e-9 * double(ns_sample);
   report.seconds_write = 1e-9 * double(ns_write);
@@ -525,8 +522,8 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
   Json index = report.IndexJson();
   index["material"] = material;
   index["provenance"] = MakeProvenance(options.ToJson());
-  fs::create_directories(session / "slices", ec);
-  if (Status st = WriteJsonFile(session / "slices" / "index.json", index); !st.ok()) return st;
+  if (Status st = WriteJsonFile(slices_dir / "index.json", index); !st.ok()) return st;
+  if (Status st = staging->Publish(/*replace=*/true); !st.ok()) return st;
   return report;
 }
 

@@ -63,6 +63,48 @@ Status PublishStagingFolder(const fs::path& staging, const fs::path& out) {
   return SyncPath(out.parent_path());
 }
 
+StagingFolder::StagingFolder(fs::path out, fs::path staging) : out_(std::move(out)), staging_(std::move(staging)) {}
+
+StagingFolder::StagingFolder(StagingFolder&& other) noexcept
+    : out_(std::move(other.out_)), staging_(std::move(other.staging_)), published_(other.published_) {
+  other.published_ = true;  // the moved-from object owns nothing
+}
+
+StagingFolder::~StagingFolder() {
+  if (published_ || staging_.empty()) return;
+  std::error_code ec;
+  fs::remove_all(staging_, ec);
+}
+
+StatusOr<StagingFolder> StagingFolder::Begin(const fs::path& out_path) {
+  fs::path out = fs::absolute(out_path).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();  // "dir/" names "dir"
+  StagingFolder folder(out, StagingFolderFor(out));
+  std::error_code ec;
+  fs::remove_all(folder.staging_, ec);  // left by an earlier run of this process id
+  fs::create_directories(folder.staging_, ec);
+  if (ec) return Status::Error(folder.staging_.string() + ": cannot create: " + ec.message());
+  return folder;
+}
+
+Status StagingFolder::Publish(bool replace) {
+  std::error_code ec;
+  fs::path old;
+  if (replace && fs::exists(out_, ec) && !(fs::is_directory(out_, ec) && fs::is_empty(out_, ec))) {
+    old = out_.parent_path() / ("." + out_.filename().string() + ".old-" + std::to_string(::getpid()));
+    fs::remove_all(old, ec);
+    fs::rename(out_, old, ec);
+    if (ec) return Status::Error(out_.string() + ": cannot move the previous folder aside: " + ec.message());
+  }
+  if (Status st = PublishStagingFolder(staging_, out_); !st.ok()) {
+    if (!old.empty()) fs::rename(old, out_, ec);  // put the previous outputs back
+    return st;
+  }
+  published_ = true;
+  if (!old.empty()) fs::remove_all(old, ec);
+  return Status::Ok();
+}
+
 Status WriteFileAtomically(const fs::path& path, const std::function<Status(const fs::path&)>& write) {
   const fs::path temp = TempPathFor(path);
   std::error_code ec;

@@ -36,6 +36,28 @@ Status SyncPath(const std::filesystem::path& path);
 std::filesystem::path StagingFolderFor(const std::filesystem::path& out);
 Status PublishStagingFolder(const std::filesystem::path& staging, const std::filesystem::path& out);
 
+// The same as an object: Begin makes an empty staging folder for `out` (absolute, a trailing "/"
+// dropped); Publish moves it into place; the destructor removes it unless published, also when
+// an exception unwinds or a worker fails, so no exit path leaves a half-built folder behind.
+class StagingFolder {
+ public:
+  static StatusOr<StagingFolder> Begin(const std::filesystem::path& out);
+  StagingFolder(StagingFolder&& other) noexcept;
+  StagingFolder& operator=(StagingFolder&&) = delete;
+  ~StagingFolder();
+
+  const std::filesystem::path& path() const { return staging_; }  // write here
+  const std::filesystem::path& out() const { return out_; }
+  // `out` must be missing or empty; with `replace`, an existing `out` is swapped out and removed
+  // (a re-run's outputs: readers see the old folder or the new one, never a mixture).
+  Status Publish(bool replace = false);
+
+ private:
+  StagingFolder(std::filesystem::path out, std::filesystem::path staging);
+  std::filesystem::path out_, staging_;
+  bool published_ = false;
+};
+
 // Several output files that appear together or not at all: Stage writes each to a hidden temp
 // beside its final name; Commit renames them into place in staging order (stage the report last:
 // it then marks a complete set even if the machine dies between renames). Files staged but not

@@ -16,6 +16,10 @@ ProgressBar::~ProgressBar() {
 
 bool ProgressBar::Update(int done, int total, const std::string& what) {
   if (!enabled_ || total <= 0) return true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (total != last_total_) last_total_ = total, highest_done_ = -1;  // a new phase
+  if (done < highest_done_) return true;
+  highest_done_ = done;
   const double frac = double(done) / total;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

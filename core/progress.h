@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <functional>
+#include <mutex>
 #include <string>
 
 namespace mesocap {
@@ -14,7 +15,9 @@ inline bool ReportProgress(const ProgressFn& fn, int done, int total, const std:
   return fn ? fn(done, total, what) : true;
 }
 
-// Draws a one-line bar on stderr (redrawn in place on a terminal, every 10% otherwise).
+// Draws a one-line bar on stderr (redrawn in place on a terminal, every 10% otherwise). Update
+// may be called from parallel workers: calls are serialised, and a report older than one already
+// drawn (workers finish out of order) does not move the bar back.
 class ProgressBar {
  public:
   explicit ProgressBar(std::string label, bool enabled = true);
@@ -23,8 +26,10 @@ class ProgressBar {
   ProgressFn AsCallback();
 
  private:
+  std::mutex mutex_;
   std::string label_;
   bool enabled_, tty_;
+  int highest_done_ = -1, last_total_ = 0;
   int last_decile_ = -1;
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_;
