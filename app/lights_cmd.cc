@@ -40,14 +40,6 @@ bool ParseCircle(const std::string& text, SphereCircle* circle) {
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(r) && r > 2;
 }
 
-bool IsPhoto(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-  for (const char* e : {".jpg", ".jpeg", ".png", ".tif", ".tiff", ".exr"})
-    if (ext == e) return true;
-  return false;
-}
-
 int Run(const LightsArgs& a) {
   const std::string verb = "lights";
   if (a.sphere_mask.empty() == a.sphere.empty()) return Fail(verb, "give exactly one of --sphere-mask and --sphere", kExitUsage);
@@ -75,7 +67,7 @@ int Run(const LightsArgs& a) {
   std::vector<fs::path> photos;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(folder, ec))
-    if (e.is_regular_file() && IsPhoto(e.path()) &&
+    if (e.is_regular_file() && HasReadableImageExtension(e.path()) &&
         (a.sphere_mask.empty() || !fs::equivalent(e.path(), a.sphere_mask, ec)))
       photos.push_back(e.path());
   if (ec) return Fail(verb, folder.string() + ": " + ec.message());

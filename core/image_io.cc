@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <set>
 
 #include "core/atomic_file.h"
 
@@ -98,6 +99,29 @@ Status CheckImageSize(const fs::path& path, int64_t width, int64_t height) {
                          std::to_string(height) + " pixels, more than the limit of " +
                          std::to_string(limit / 1000000) + " megapixels (--max-megapixels)");
   return Status::Ok();
+}
+
+bool HasReadableImageExtension(const fs::path& path) {
+  // OIIO's "extension_list" is "format:ext,ext;format:ext...", over every reader plugin.
+  static const std::set<std::string> extensions = [] {
+    std::set<std::string> all;
+    std::string list = oiio::get_string_attribute("extension_list");
+    for (size_t start = 0; start < list.size();) {
+      size_t end = list.find(';', start);
+      if (end == std::string::npos) end = list.size();
+      const std::string entry = list.substr(start, end - start);
+      std::string exts = entry.substr(entry.find(':') + 1);
+      for (size_t a = 0; a <= exts.size();) {
+        size_t b = exts.find(',', a);
+        if (b == std::string::npos) b = exts.size();
+        if (b > a) all.insert("." + Lower(exts.substr(a, b - a)));
+        a = b + 1;
+      }
+      start = end + 1;
+    }
+    return all;
+  }();
+  return extensions.count(Lower(path.extension().string())) > 0;
 }
 
 PixelFormat DefaultFormatFor(const fs::path& path) {

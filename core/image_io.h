@@ -52,6 +52,10 @@ int64_t MaxImagePixels();
 // Ok if a width x height image is within the limit; otherwise an error naming `path`.
 Status CheckImageSize(const std::filesystem::path& path, int64_t width, int64_t height);
 
+// True when OpenImageIO has a reader for the file's extension (any case): JPEG, PNG, TIFF, EXR,
+// camera RAW, TGA, BMP, ... Lists of photos in a folder are filtered with it.
+bool HasReadableImageExtension(const std::filesystem::path& path);
+
 // Reads header only (cheap): size, format, EXIF. Error names the file.
 StatusOr<ImageInfo> ReadImageInfo(const std::filesystem::path& path);
 // Reads the whole image. Error names the file and what was wrong (truncated, not an image ...).

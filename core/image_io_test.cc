@@ -131,5 +131,16 @@ TEST(ImageIO, EightBitWritingIsTotalOnNanInfinityAndOutOfRange) {
   EXPECT_EQ(back->at(3, 0), 255);
 }
 
+TEST(ImageIO, EveryFormatOpenImageIOReadsCountsAsAnImage) {
+  for (const char* name : {"a.jpg", "a.JPEG", "a.png", "a.tif", "a.exr", "a.tga", "a.BMP", "a.cr2", "a.dng"})
+    EXPECT_TRUE(HasReadableImageExtension(name)) << name;
+  for (const char* name : {"a.txt", "a.json", "a.lp", "a.ptm", "noextension"})
+    EXPECT_FALSE(HasReadableImageExtension(name)) << name;
+  // And such a file reads: a TGA written by OpenImageIO comes back.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "a.tga", Ramp(8, 4, 3)).ok());
+  EXPECT_TRUE(ReadImage(dir / "a.tga").ok());
+}
+
 }  // namespace
 }  // namespace mesocap
