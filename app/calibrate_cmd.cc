@@ -64,6 +64,8 @@ int Run(CalibrateArgs& a) {
   a.resample.brdf_smoothing = !a.no_brdf_smoothing;
   a.resample.num_threads = a.options.num_threads;
   if (std::string why = a.resample.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
+  // The session first: a wrong path is named as such, not as a missing layout inside it.
+  if (auto session = Session::Open(a.options.session); !session.ok()) return Fail("calibrate", session.status().message());
   if (a.layout_file.empty()) a.layout_file = a.options.session / "rig_layout.json";
   auto layout_json = ReadJsonFile(a.layout_file);
   if (!layout_json.ok()) return Fail("calibrate", layout_json.status().message() + " (give the rig's layout with --layout)");

@@ -11,7 +11,7 @@
 namespace mesocap::app {
 
 // 0 success; 1 the work failed on bad data or I/O (message names the file); 2 a bad option;
-// 3 interrupted or cancelled; 70 an internal error (a bug). CLI11 parse errors keep CLI11's codes.
+// 3 interrupted or cancelled; 70 an internal error (a bug). Unknown or missing options are 2 too.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;

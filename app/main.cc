@@ -30,8 +30,16 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);  // usage errors: message and exit code 106+, --help: 0
+    // A bad option: one line and exit code 2, like every other usage error.
+    std::fprintf(stderr, "mesocap: %s (see --help)\n", e.what());
+    return mesocap::app::kExitUsage;
   }
   mesocap::InitLogging(verbosity);
   mesocap::SetMaxImagePixels(int64_t(max_megapixels * 1e6));
