@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "core/atomic_file.h"
 #include "calib/intrinsics.h"
 #include "calib/intrinsics_plot.h"
 #include "core/image_io.h"
@@ -73,13 +74,19 @@ int Run(CalibrateCameraArgs& a) {
   j["provenance"] = MakeProvenance(resolved);
   std::error_code ec;
   if (!a.out.parent_path().empty()) std::filesystem::create_directories(a.out.parent_path(), ec);
-  if (Status st = WriteJsonFile(a.out, j); !st.ok()) return Fail(verb, st.message());
+  OutputFileSet outputs;  // camera.json and its plot appear together or not at all
   if (!a.no_plot) {
     const Image plot = PlotIntrinsicsResiduals(*result);
     ImageWriteOptions w;
     w.format = PixelFormat::kUint8Srgb;
-    if (Status st = WriteImage(a.plot, plot, w); !st.ok()) return Fail(verb, st.message());
+    if (Status st = outputs.Stage(a.plot, [&](const std::filesystem::path& temp) { return WriteImage(temp, plot, w); });
+        !st.ok())
+      return Fail(verb, st.message());
   }
+  if (Status st = outputs.Stage(a.out, [&](const std::filesystem::path& temp) { return WriteJsonFile(temp, j); });
+      !st.ok())
+    return Fail(verb, st.message());
+  if (Status st = outputs.Commit(); !st.ok()) return Fail(verb, st.message());
   std::string written = a.out.string();
   if (!a.no_plot) written += ", " + a.plot.string();
   std::printf("%s\n-> %s\n", result->Brief().c_str(), written.c_str());

@@ -56,7 +56,9 @@ int Run(const EvaluateArgs& a) {
   if (!material.ok()) return Fail("evaluate", material.status().message(), kExitUsage);
   if (a.size < 16 || (a.size & (a.size - 1)) != 0) return Fail("evaluate", "--size must be a power of two >= 16", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("evaluate", a.out.string() + ": exists and is not empty", kExitUsage);
-  std::filesystem::create_directories(a.out);
+  auto staging = StagingFolder::Begin(a.out);  // the folder appears whole, at the end
+  if (!staging.ok()) return Fail("evaluate", staging.status().message());
+  const std::filesystem::path out = staging->path();
 
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
     const TrueBtfRequest r = TrueBtfRequestFor(light, view, a.size, a.samples_per_axis);
@@ -77,7 +79,7 @@ int Run(const EvaluateArgs& a) {
   j["material"] = a.material;
   j["size"] = a.size;
   j["provenance"] = MakeProvenance({{"material", a.material}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only}});
-  if (Status st = WriteJsonFile(a.out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";
   for (int m = 0; m < kBtfMethods; ++m)
     for (const char* s : {"rmse", "w_pixels", "w_bands"}) csv += "," + BtfMethodToString(BtfMethod(m)) + "_" + s;
@@ -89,10 +91,10 @@ int Run(const EvaluateArgs& a) {
       csv += Format(",%.6g,%.6g,%.6g", p.rmse[m], p.wasserstein_pixels[m], p.wasserstein_bands[m]);
     csv += "\n";
   }
-  if (Status st = WriteTextAtomically(a.out / "evaluation.csv", csv); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = WriteTextAtomically(out / "evaluation.csv", csv); !st.ok()) return Fail("evaluate", st.message());
   ImageWriteOptions png;
   png.format = PixelFormat::kUint8Srgb;
-  if (Status st = WriteImage(a.out / "sheet.png", PictureSheet(*model, truth), png); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = WriteImage(out / "sheet.png", PictureSheet(*model, truth), png); !st.ok()) return Fail("evaluate", st.message());
 
   Report report("mesocap evaluate: " + a.material);
   report.Paragraph(Format("Statistical BTF reconstruction (Ngan & Durand 2006) from the rig's 13 views under 81 lights, "
@@ -109,7 +111,8 @@ int Run(const EvaluateArgs& a) {
                           100 * eval->FractionBeatingBoth(false), 100 * eval->FractionBeatingBoth(true),
                           eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
-  if (Status st = report.Write(a.out); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = staging->Publish(); !st.ok()) return Fail("evaluate", st.message());
   std::printf("%s\n", eval->Brief().c_str());
   return kExitOk;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "core/atomic_file.h"
 #include "calib/sphere_lights.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -110,11 +111,18 @@ int Run(const LightsArgs& a) {
                                                 {"max_blob_radius", a.options.max_blob_radius},
                                                 {"max_rim_radius", a.options.max_rim_radius}})}};
   if (!out.parent_path().empty()) fs::create_directories(out.parent_path(), ec);
-  if (Status s = WriteJsonFile(report_path, report); !s.ok()) return Fail(verb, s.message());
+  // The report is written even when too few photos are lit: it holds the reasons. Otherwise the
+  // .lp and its report appear together.
+  OutputFileSet outputs;
+  if (entries.size() >= 3)
+    if (Status s = outputs.Stage(out, [&](const fs::path& temp) { return WriteLpFile(temp, entries); }); !s.ok())
+      return Fail(verb, s.message());
+  if (Status s = outputs.Stage(report_path, [&](const fs::path& temp) { return WriteJsonFile(temp, report); }); !s.ok())
+    return Fail(verb, s.message());
+  if (Status s = outputs.Commit(); !s.ok()) return Fail(verb, s.message());
   if (entries.size() < 3)
     return Fail(verb, "only " + std::to_string(entries.size()) + " of " + std::to_string(photos.size()) +
                           " photos show a usable highlight (need 3); reasons in " + report_path.string());
-  if (Status s = WriteLpFile(out, entries); !s.ok()) return Fail(verb, s.message());
   std::printf("lights: sphere at (%.2f, %.2f) r %.2f px; %zu of %zu photos lit, %d skipped -> %s (report %s)\n",
               circle.centre_px.x(), circle.centre_px.y(), circle.radius_px, entries.size(), photos.size(), skipped,
               out.string().c_str(), report_path.string().c_str());

@@ -48,7 +48,9 @@ void CheckSessionAgainstTruth(const std::string& material, uint64_t seed) {
   EXPECT_LT(score.light_direction_median_deg, 0.5);
 }
 
+// Two materials and two seeds: different textures under the tags and balls, different poses and lights.
 TEST(Calibrate, WeaveSessionMatchesTruth) { CheckSessionAgainstTruth("weave", 21); }
+TEST(Calibrate, StonesSessionMatchesTruth) { CheckSessionAgainstTruth("stones", 7); }
 
 }  // namespace
 }  // namespace mesocap
