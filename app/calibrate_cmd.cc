@@ -133,6 +133,8 @@ Command CalibrateCommand() {
     sub->add_option("--camera", args->camera_file, "Intrinsics (camera.json from calibrate-camera); default: from the session's calib/ shots");
     sub->add_option("--layout", args->layout_file, "Rig layout (default SESSION/rig_layout.json)");
     sub->add_option("--pose-shots", args->options.pose_shots, "Shots searched for AprilTags")->capture_default_str();
+    sub->add_option("--marked-corners", args->options.marked_corners,
+                    "Hand-marked board corners (JSON, docs/formats.md) for boards whose tags are never decoded");
     sub->add_option("--threads", args->options.num_threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_option("--slice-size", args->resample.slice_size, "Texels per side of each resampled BTF slice")->capture_default_str();
     sub->add_flag("--no-resample", args->no_resample, "Calibrate only; do not write SESSION/slices/");

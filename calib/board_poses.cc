@@ -84,7 +84,12 @@ std::vector<BoardPose> EstimateBoardPoses(const CameraModel& camera, const std::
         for (int c = 0; c < 4; ++c) obs.push_back({it->second->corners_m[c], d.corners_px[c], int(s)});
         per_shot[int(s)] += 4;
       }
-    if (int(obs.size()) < options.min_corners) {
+    // A hand-marked outline (a negative pseudo-tag id, calib/marked_corners.h) spans the whole
+    // board: its four corners alone fix the pose better than two small tags.
+    bool outline = false;
+    for (const auto& detections_of_shot : detections)
+      for (const TagDetection& d : detections_of_shot) outline |= d.id < 0 && tag_by_id.count(d.id);
+    if (int(obs.size()) < (outline ? 4 : options.min_corners)) {
       pose.why_not = obs.empty() ? "no tag of this board was detected in any shot (hidden or unlit)"
                                  : "too few tag corners detected (" + std::to_string(obs.size()) + ")";
       return;

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <mutex>
 
+#include "calib/marked_corners.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/session.h"
@@ -81,6 +83,14 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
   result.camera = camera;
   const int n = int(records.size());
 
+  std::map<std::string, std::vector<TagDetection>> marked;
+  if (!options.marked_corners.empty()) {
+    auto read = ReadMarkedCorners(options.marked_corners, layout.boards, camera.width, camera.height);
+    if (!read.ok()) return read.status();
+    marked = std::move(*read);
+  }
+  const std::vector<LayoutBoard> boards = marked.empty() ? layout.boards : WithOutlineTags(layout.boards);
+
   // Pass 1: decode every shot once for the per-pixel maximum; detect tags on a spread subset.
   const int step = std::max(1, n / options.pose_shots);
   std::vector<std::vector<TagDetection>> detections(n);
@@ -95,6 +105,8 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
       return;
     }
     if (s % step == 0) detections[s] = DetectTags(*im, options.tags);
+    if (auto it = marked.find(fs::path(records[s].file).generic_string()); it != marked.end())
+      detections[s].insert(detections[s].end(), it->second.begin(), it->second.end());
     {
       std::lock_guard<std::mutex> lock(mutex);
       if (max_image.empty()) {
@@ -113,7 +125,7 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
   for (int s = 0; s < n; ++s)
     if (!unreadable[s].empty()) result.rejected.push_back(unreadable[s]);
 
-  result.boards = EstimateBoardPoses(camera, layout.boards, detections, options.poses);
+  result.boards = EstimateBoardPoses(camera, boards, detections, options.poses);
   for (const auto& b : result.boards)
     if (!b.found) result.rejected.push_back("board " + std::to_string(b.id) + ": " + b.why_not);
   SphereOptions sphere_options;

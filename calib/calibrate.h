@@ -23,6 +23,8 @@ namespace mesocap {
 struct CalibrateOptions {
   std::filesystem::path session;
   int pose_shots = 16;  // shots searched for tags (the boards never move; spread over the session)
+  // Hand-marked board corners (calib/marked_corners.h), for boards whose tags are never decoded.
+  std::filesystem::path marked_corners;
   int num_threads = -1;
   TagDetectOptions tags;
   BoardPoseOptions poses;

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <random>
+
 #include "calib/truth_comparison.h"
 #include "capture/simulate.h"
 #include "tests/testing.h"
@@ -51,6 +55,59 @@ void CheckSessionAgainstTruth(const std::string& material, uint64_t seed) {
 // Two materials and two seeds: different textures under the tags and balls, different poses and lights.
 TEST(Calibrate, WeaveSessionMatchesTruth) { CheckSessionAgainstTruth("weave", 21); }
 TEST(Calibrate, StonesSessionMatchesTruth) { CheckSessionAgainstTruth("stones", 7); }
+
+TEST(Calibrate, HandMarkedBoardCornersPoseBoardsWhoseTagsAreNeverDecoded) {
+  const auto dir = testing::MakeTempDir();
+  SimulateOptions sim;
+  sim.rig.seed = 3;
+  sim.rig.shots = 4;
+  sim.rig.calib_shots = 0;
+  sim.out = dir / "session";
+  ASSERT_TRUE(SimulateSession(sim).ok());
+  auto scene = MakeRigScene(sim.rig);
+  ASSERT_TRUE(scene.ok());
+  CalibrateOptions options;
+  options.session = sim.out;
+  options.tags.min_decision_margin = 1e9;  // no tag is ever accepted, as on a glaring sample
+  auto blind = CalibrateSession(options, LayoutOf(*scene), scene->camera);
+  ASSERT_FALSE(blind.ok() && std::any_of(blind->boards.begin(), blind->boards.end(), [](const BoardPose& b) { return b.found; }));
+
+  // A person marks each board's four corners in the first shot, to within about half a pixel.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> click(0, 0.5);
+  Json boards = Json::array();
+  for (const RigBoard& b : scene->boards) {
+    const double h = b.size_m / 2;
+    Json corners = Json::array();
+    for (const Eigen::Vector2d c : {Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, -h), Eigen::Vector2d(h, h), Eigen::Vector2d(-h, h)}) {
+      const Eigen::Vector2d px = scene->camera.Project(b.R * Eigen::Vector3d(c.x(), c.y(), 0) + b.t);
+      corners.push_back({px.x() + click(rng), px.y() + click(rng)});
+    }
+    boards.push_back({{"id", b.id}, {"corners_px", corners}});
+  }
+  const Json marked = {{"format", "mesocap-marked-corners"}, {"shots", {{{"file", scene->shots[0].file}, {"boards", boards}}}}};
+  ASSERT_TRUE(WriteJsonFile(dir / "marked.json", marked).ok());
+  options.marked_corners = dir / "marked.json";
+  auto result = CalibrateSession(options, LayoutOf(*scene), scene->camera);
+  ASSERT_TRUE(result.ok()) << result.status().message();
+  ASSERT_EQ(result->boards.size(), scene->boards.size());
+  for (size_t k = 0; k < scene->boards.size(); ++k) {
+    const BoardPose& pose = result->boards[k];
+    ASSERT_TRUE(pose.found) << pose.why_not;
+    const double angle = Eigen::AngleAxisd(pose.R * scene->boards[k].R.transpose()).angle() * 180 / M_PI;
+    EXPECT_LT(angle, 1.0) << "board " << pose.id;
+    EXPECT_LT(1000 * (pose.t - scene->boards[k].t).norm(), 3.0) << "board " << pose.id;
+  }
+  // A marked board the layout does not have is refused, naming the file and the field.
+  Json wrong = marked;
+  wrong["shots"][0]["boards"][0]["id"] = 999;
+  ASSERT_TRUE(WriteJsonFile(dir / "wrong.json", wrong).ok());
+  options.marked_corners = dir / "wrong.json";
+  auto refused = CalibrateSession(options, LayoutOf(*scene), scene->camera);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("wrong.json: shots[0].boards[0].id = 999 is not a board"), std::string::npos)
+      << refused.status().message();
+}
 
 }  // namespace
 }  // namespace mesocap
