@@ -105,7 +105,7 @@ StatusOr<Json> ReadJsonFile(const std::filesystem::path& path) {
   if (!text.ok()) return text.status();
   try {
     return Json::parse(*text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse errors, and numbers too large for a double (406)
     return Status::Error(path.string() + ": invalid JSON: " + e.what());
   }
 }

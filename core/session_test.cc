@@ -96,5 +96,14 @@ TEST(Session, JournalIndicesAndPathsAreValidated) {
   EXPECT_EQ(s->NextIndex("shot"), 2) << "names that are not valid indices do not move the next index";
 }
 
+TEST(Json, ANumberTooLargeForADoubleIsAnErrorNamingTheFile) {
+  // Found by fuzz/fuzz_camera_json: nlohmann throws out_of_range (406), not parse_error.
+  const auto dir = testing::MakeTempDir();
+  WriteFile(dir / "big.json", "{\"width\": 55555555555555555555555555e55555555555555}");
+  auto j = ReadJsonFile(dir / "big.json");
+  ASSERT_FALSE(j.ok());
+  EXPECT_NE(j.status().message().find("big.json: invalid JSON"), std::string::npos) << j.status().message();
+}
+
 }  // namespace
 }  // namespace mesocap
