@@ -43,10 +43,10 @@ struct ImageInfo {
 };
 
 // The largest image, in pixels, any reader allocates: a header declaring more is refused before
-// a byte is allocated, so a tiny crafted file cannot ask for gigabytes. 256 MP is above every
-// camera sensor (150 MP medium format); 256 MP of 4 float channels is 4 GiB. Process-wide; the
+// a byte is allocated, so a tiny crafted file cannot ask for gigabytes. 250 MP is above every
+// camera sensor (150 MP medium format); 250 MP of 4 float channels is 4 GB. Process-wide; the
 // CLI's --max-megapixels sets it.
-inline constexpr int64_t kDefaultMaxImagePixels = int64_t(256) << 20;
+inline constexpr int64_t kDefaultMaxImagePixels = 250000000;
 void SetMaxImagePixels(int64_t pixels);
 int64_t MaxImagePixels();
 // Ok if a width x height image is within the limit; otherwise an error naming `path`.
