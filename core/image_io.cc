@@ -7,6 +7,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <cstring>
 #include <set>
 
 #include "core/atomic_file.h"
@@ -124,6 +126,50 @@ bool HasReadableImageExtension(const fs::path& path) {
   return extensions.count(Lower(path.extension().string())) > 0;
 }
 
+namespace {
+
+// OpenEXR sizes its line-offset table from the header's data window while opening the file,
+// before OpenImageIO hands us the size: a 400-byte file can make it allocate gigabytes. So the
+// data window is read here first, and so are the attributes' sizes, which it allocates as
+// declared. Layout: magic, version, then attributes (name\0 type\0
+// int32 size, value) up to an empty name; dataWindow is a box2i of four int32.
+Status CheckExrDeclaredSize(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff file_size = in.tellg();
+  in.seekg(0);
+  char magic[8];
+  if (!in.read(magic, 8) || std::memcmp(magic, "\x76\x2f\x31\x01", 4) != 0) return Status::Ok();
+  const auto read_string = [&](std::string* out) {
+    out->clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return true;
+      if (out->size() > 255) return false;
+      out->push_back(c);
+    }
+    return false;
+  };
+  std::string name, type;
+  while (read_string(&name) && !name.empty() && read_string(&type)) {
+    int32_t size = 0;
+    if (!in.read(reinterpret_cast<char*>(&size), 4) || size < 0) break;
+    // OpenEXR allocates an attribute's declared size before reading it.
+    if (std::streamoff(size) > file_size - std::streamoff(in.tellg()))
+      return Status::Error(path.string() + ": malformed OpenEXR header: attribute '" + name + "' declares " +
+                           std::to_string(size) + " bytes, more than the file holds");
+    if (name == "dataWindow" && type == "box2i" && size == 16) {
+      int32_t box[4];
+      if (!in.read(reinterpret_cast<char*>(box), 16)) break;
+      return CheckImageSize(path, int64_t(box[2]) - box[0] + 1, int64_t(box[3]) - box[1] + 1);
+    }
+    in.seekg(size, std::ios::cur);
+  }
+  return Status::Ok();  // malformed: OpenEXR's own reader says what is wrong
+}
+
+}  // namespace
+
+Status CheckDeclaredImageSize(const fs::path& path) { return CheckExrDeclaredSize(path); }
+
 PixelFormat DefaultFormatFor(const fs::path& path) {
   const std::string ext = Lower(path.extension().string());
   if (ext == ".jpg" || ext == ".jpeg") return PixelFormat::kUint8Srgb;
@@ -135,6 +181,7 @@ StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   if (fs::file_size(path, ec) == 0) return Status::Error(path.string() + ": empty file");
+  if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
   oiio::ImageSpec config;
   config.attribute("raw:ColorSpace", "linear");
   auto in = oiio::ImageInput::open(path.string(), &config);

@@ -51,6 +51,9 @@ void SetMaxImagePixels(int64_t pixels);
 int64_t MaxImagePixels();
 // Ok if a width x height image is within the limit; otherwise an error naming `path`.
 Status CheckImageSize(const std::filesystem::path& path, int64_t width, int64_t height);
+// The same from the file's own header, read before any decoder opens it, for the formats whose
+// decoders allocate from the declared size while opening (OpenEXR's line-offset table).
+Status CheckDeclaredImageSize(const std::filesystem::path& path);
 
 // True when OpenImageIO has a reader for the file's extension (any case): JPEG, PNG, TIFF, EXR,
 // camera RAW, TGA, BMP, ... Lists of photos in a folder are filtered with it.

@@ -149,6 +149,7 @@ JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, Image
 }
 
 StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
+  if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
   auto in = oiio::ImageInput::open(path.string());
   if (!in) {
     std::string why = oiio::geterror();

@@ -12,6 +12,7 @@ packages=(
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
   libmaxflow-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
 )
 
 missing=()
