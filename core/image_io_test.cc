@@ -142,5 +142,24 @@ TEST(ImageIO, EveryFormatOpenImageIOReadsCountsAsAnImage) {
   EXPECT_TRUE(ReadImage(dir / "a.tga").ok());
 }
 
+TEST(ImageIO, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) {
+  // Found by fuzz/fuzz_image: OpenEXR allocated an attribute's declared size (2 GB) first.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
+  std::ifstream in(dir / "a.exr", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const size_t at = bytes.find(std::string("channels\0chlist\0", 16));
+  ASSERT_NE(at, std::string::npos);
+  const int32_t huge = 0x7fffff00;
+  bytes.replace(at + 16, 4, reinterpret_cast<const char*>(&huge), 4);
+  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  auto info = ReadImageInfo(dir / "b.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("b.exr: malformed OpenEXR header: attribute 'channels' declares"),
+            std::string::npos) << info.status().message();
+  EXPECT_FALSE(ReadImageU8(dir / "b.exr").ok());
+  EXPECT_TRUE(ReadImageInfo(dir / "a.exr").ok());
+}
+
 }  // namespace
 }  // namespace mesocap
