@@ -12,6 +12,7 @@
 #include <set>
 
 #include "core/atomic_file.h"
+#include "core/exr_header_check.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -93,13 +94,19 @@ std::atomic<int64_t> max_image_pixels{kDefaultMaxImagePixels};
 void SetMaxImagePixels(int64_t pixels) { max_image_pixels = pixels; }
 int64_t MaxImagePixels() { return max_image_pixels; }
 
-Status CheckImageSize(const fs::path& path, int64_t width, int64_t height) {
+Status CheckImageSize(const fs::path& path, int64_t width, int64_t height, int64_t channels) {
   if (width <= 0 || height <= 0) return Status::Error(path.string() + ": image has no pixels");
   const int64_t limit = MaxImagePixels();
   if (width > limit / height)
     return Status::Error(path.string() + ": the image declares " + std::to_string(width) + "x" +
                          std::to_string(height) + " pixels, more than the limit of " +
                          std::to_string(limit / 1000000) + " megapixels (--max-megapixels)");
+  // Decoders buffer every declared channel: beyond 4, channels count against the limit too.
+  if (channels > 4 && width * height / 4 > limit / channels)
+    return Status::Error(path.string() + ": the image declares " + std::to_string(width) + "x" +
+                         std::to_string(height) + " pixels of " + std::to_string(channels) +
+                         " channels, more than the limit of " + std::to_string(limit / 1000000) +
+                         " megapixels of 4 channels (--max-megapixels)");
   return Status::Ok();
 }
 
@@ -126,49 +133,8 @@ bool HasReadableImageExtension(const fs::path& path) {
   return extensions.count(Lower(path.extension().string())) > 0;
 }
 
-namespace {
 
-// OpenEXR sizes its line-offset table from the header's data window while opening the file,
-// before OpenImageIO hands us the size: a 400-byte file can make it allocate gigabytes. So the
-// data window is read here first, and so are the attributes' sizes, which it allocates as
-// declared. Layout: magic, version, then attributes (name\0 type\0
-// int32 size, value) up to an empty name; dataWindow is a box2i of four int32.
-Status CheckExrDeclaredSize(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  const std::streamoff file_size = in.tellg();
-  in.seekg(0);
-  char magic[8];
-  if (!in.read(magic, 8) || std::memcmp(magic, "\x76\x2f\x31\x01", 4) != 0) return Status::Ok();
-  const auto read_string = [&](std::string* out) {
-    out->clear();
-    for (char c; in.get(c);) {
-      if (c == '\0') return true;
-      if (out->size() > 255) return false;
-      out->push_back(c);
-    }
-    return false;
-  };
-  std::string name, type;
-  while (read_string(&name) && !name.empty() && read_string(&type)) {
-    int32_t size = 0;
-    if (!in.read(reinterpret_cast<char*>(&size), 4) || size < 0) break;
-    // OpenEXR allocates an attribute's declared size before reading it.
-    if (std::streamoff(size) > file_size - std::streamoff(in.tellg()))
-      return Status::Error(path.string() + ": malformed OpenEXR header: attribute '" + name + "' declares " +
-                           std::to_string(size) + " bytes, more than the file holds");
-    if (name == "dataWindow" && type == "box2i" && size == 16) {
-      int32_t box[4];
-      if (!in.read(reinterpret_cast<char*>(box), 16)) break;
-      return CheckImageSize(path, int64_t(box[2]) - box[0] + 1, int64_t(box[3]) - box[1] + 1);
-    }
-    in.seekg(size, std::ios::cur);
-  }
-  return Status::Ok();  // malformed: OpenEXR's own reader says what is wrong
-}
-
-}  // namespace
-
-Status CheckDeclaredImageSize(const fs::path& path) { return CheckExrDeclaredSize(path); }
+Status CheckDeclaredImageSize(const fs::path& path) { return CheckExrHeader(path); }
 
 PixelFormat DefaultFormatFor(const fs::path& path) {
   const std::string ext = Lower(path.extension().string());
@@ -191,7 +157,7 @@ StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
     return Status::Error(path.string() + ": " + why);
   }
   const oiio::ImageSpec& spec = in->spec();
-  if (Status size = CheckImageSize(path, spec.width, spec.height); !size.ok()) return size;
+  if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
   ImageInfo info;
   info.width = spec.width;
   info.height = spec.height;
@@ -215,7 +181,7 @@ StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options,
   if (!in) return Status::Error(path.string() + ": " + oiio::geterror());
   const oiio::ImageSpec& spec = in->spec();
   if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
-  if (Status size = CheckImageSize(path, spec.width, spec.height); !size.ok()) return size;
+  if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
   const int channels = std::min(spec.nchannels, options.max_channels);
   const bool is_8bit = spec.format == oiio::TypeDesc::UINT8;
   Image image(spec.width, spec.height, channels);

@@ -161,5 +161,65 @@ TEST(ImageIO, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) 
   EXPECT_TRUE(ReadImageInfo(dir / "a.exr").ok());
 }
 
+std::string FileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Overwrites the int32 that follows `key` (an attribute's name\0type\0) in `bytes`.
+void PatchInt32After(std::string* bytes, const std::string& key, int32_t value) {
+  const size_t at = bytes->find(key);
+  ASSERT_NE(at, std::string::npos) << key;
+  bytes->replace(at + key.size(), 4, reinterpret_cast<const char*>(&value), 4);
+}
+
+TEST(ImageIO, EveryExrAttributeIsCheckedNotOnlyThoseBeforeTheDataWindow) {
+  // Found by fuzz/fuzz_image: the check stopped at dataWindow; OpenEXR allocates later ones too.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
+  std::string bytes = FileBytes(dir / "a.exr");
+  PatchInt32After(&bytes, std::string("pixelAspectRatio\0float\0", 23), 0x7fffff00);
+  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  auto info = ReadImageInfo(dir / "b.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("attribute 'pixelAspectRatio' declares"), std::string::npos)
+      << info.status().message();
+}
+
+TEST(ImageIO, AnExrWhoseOffsetTableCannotFitInTheFileIsRefused) {
+  // A data window of 1 x 10 million rows is within the pixel cap, but its uncompressed offset
+  // table (one 8-byte entry per row) would be 80 MB, allocated before any pixel is read.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(1, 4, 1), {.format = PixelFormat::kHalf, .exr_compression = "none"}).ok());
+  std::string bytes = FileBytes(dir / "a.exr");
+  const std::string key("dataWindow\0box2i\0", 17);
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const int32_t window[4] = {0, 0, 0, 9999999};
+  bytes.replace(at + key.size() + 4, 16, reinterpret_cast<const char*>(window), 16);
+  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  auto info = ReadImageInfo(dir / "b.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("b.exr: malformed OpenEXR file: its headers declare 10000000 pixel blocks"),
+            std::string::npos) << info.status().message();
+  EXPECT_FALSE(ReadImage(dir / "b.exr").ok());
+  EXPECT_TRUE(ReadImage(dir / "a.exr").ok());
+}
+
+TEST(ImageIO, ChannelsBeyondFourCountAgainstTheCap) {
+  // Decoders buffer every declared channel even when only 4 are kept.
+  const auto dir = testing::MakeTempDir();
+  const std::vector<std::string> names = {"a", "b", "c", "d", "e", "f", "g", "h"};
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 8), {.format = PixelFormat::kHalf, .channel_names = names}).ok());
+  SetMaxImagePixels(63);  // 32 pixels of 8 channels weigh as 64 pixels of 4
+  auto info = ReadImageInfo(dir / "a.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("8x4 pixels of 8 channels"), std::string::npos) << info.status().message();
+  EXPECT_FALSE(ReadImage(dir / "a.exr").ok());
+  SetMaxImagePixels(64);
+  EXPECT_TRUE(ReadImage(dir / "a.exr").ok());
+  SetMaxImagePixels(kDefaultMaxImagePixels);
+}
+
 }  // namespace
 }  // namespace mesocap

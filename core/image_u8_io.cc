@@ -158,7 +158,7 @@ StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
   }
   const oiio::ImageSpec& spec = in->spec();
   if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
-  if (Status size = CheckImageSize(path, spec.width, spec.height); !size.ok()) return size;
+  if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
   int bits = int(spec.format.size()) * 8;
   if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0) bits = bps;
   if (spec.format != oiio::TypeDesc::UINT8 || bits != 8)

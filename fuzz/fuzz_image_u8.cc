@@ -1,8 +1,18 @@
 // 8-bit images through core/image_u8_io.h ReadImageU8, the fast path of fit-ptm: JPEG decoded by
 // libjpeg(-turbo) from memory (colour, and converted to grey when fewer than 3 channels are
 // asked for), anything else through OpenImageIO. Inputs are named .jpg, as RTI photos are.
+#include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "fuzz/fuzz_support.h"
+
+// The pixel cap scaled to libFuzzer's 2 GB RSS limit: a legitimate image at the default 250 MP
+// cap is 4 GB of floats, which would be reported as out-of-memory without being a bug. At 16 MP
+// every image the readers accept fits (256 MB of floats plus the decoder's buffers), so any
+// out-of-memory left is an allocation the cap failed to bound.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  mesocap::SetMaxImagePixels(16000000);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const auto path = mesocap::fuzz::ScratchDir() / "input.jpg";

@@ -3,15 +3,15 @@
 # Debian source package) as a port library, so the real libgphoto2 capture path can be tested
 # without a camera.
 #
-#   bash scripts/build-vusb.sh [CACHE_DIR]      (default: build/vusb; as root the first time)
+#   bash scripts/build-vusb.sh [CACHE_DIR]      (default: build/vusb)
 #
 # Leaves in CACHE_DIR:
 #   iolibs/vusb.so          run mesocap with IOLIBS=CACHE_DIR/iolibs (that folder holds only it)
 #   vcamera/DCIM/100TEST/   the photos the camera serves; a capture duplicates the first JPEG
 # and prints CACHE_DIR/iolibs on stdout. Idempotent: a second run only checks the cache.
 #
-# The source comes from `apt-get source libgphoto2` (the installed version), with a deb-src entry
-# derived from the machine's own apt sources in /etc/apt/sources.list.d/mesocap-deb-src.*.
+# The source comes from `apt-get source libgphoto2` (the installed version) through
+# scripts/debian-source.sh, on a private apt state: the machine's apt configuration is not changed.
 # Known facts about 2.5.30 (issue 3): vcamera.h must say `#define FUZZ_PTP 1` instead of
 # `#undef FUZZ_PTP` or the port never matches a camera; the .c files are compiled beside the
 # patched header; -DVCAMERADIR must name a folder with DCIM/<folder>/*.jpg (without one the
@@ -48,27 +48,9 @@ pkg-config --exists libgphoto2_port libexif || die "libgphoto2-dev / libexif-dev
 upstream="${version%%-*}"
 src="$cache/src/libgphoto2-$upstream"
 if [[ ! -f "$src/libgphoto2_port/vusb/vcamera.c" ]]; then
-  command -v dpkg-source >/dev/null || die "dpkg-dev is missing (needed by apt-get source; bash scripts/install-deps.sh)"
-  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  if ! apt-get source --print-uris "libgphoto2=$version" >/dev/null 2>&1; then
-    # No deb-src entry yet: derive one from the machine's own deb entries.
-    if [[ -f /etc/apt/sources.list.d/debian.sources ]]; then
-      log "adding /etc/apt/sources.list.d/mesocap-deb-src.sources (from debian.sources)"
-      sed -e 's/^Types:.*$/Types: deb-src/' /etc/apt/sources.list.d/debian.sources |
-        $SUDO tee /etc/apt/sources.list.d/mesocap-deb-src.sources >/dev/null
-    elif [[ -f /etc/apt/sources.list ]] && grep -q '^deb ' /etc/apt/sources.list; then
-      log "adding /etc/apt/sources.list.d/mesocap-deb-src.list (from sources.list)"
-      grep '^deb ' /etc/apt/sources.list | sed 's/^deb /deb-src /' |
-        $SUDO tee /etc/apt/sources.list.d/mesocap-deb-src.list >/dev/null
-    else
-      die "no apt sources found to derive a deb-src entry from"
-    fi
-    $SUDO apt-get update -qq || die "apt-get update failed"
-  fi
-  mkdir -p "$cache/src"
   log "fetching libgphoto2 $version source"
-  (cd "$cache/src" && apt-get source -qq "libgphoto2=$version" >/dev/null 2>"$cache/src/apt-source.log") ||
-    die "apt-get source libgphoto2=$version failed (see $cache/src/apt-source.log)"
+  bash "$repo/scripts/debian-source.sh" libgphoto2 "$version" "$cache/src" >/dev/null ||
+    die "could not fetch the libgphoto2 $version source"
   [[ -f "$src/libgphoto2_port/vusb/vcamera.c" ]] || die "$src/libgphoto2_port/vusb/vcamera.c not found in the source"
 fi
 

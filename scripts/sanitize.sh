@@ -49,21 +49,22 @@ TSAN_TESTS='^(core/progress_test|reconstruct/(ptm|steerable_pyramid|statistical_
 
 # thread: TSan sees synchronisation only in instrumented code, and Debian's libtbb12 is not: its
 # task hand-offs are invisible, so every ParallelFor looks like a race (hundreds of false reports
-# in our code and in TBB's headers). The thread build therefore uses oneTBB v2021.8.0 (Debian 12's
-# version) built with TSan into build-tsan/tbb-tsan (once, ~30 s on 2 cores; kept across runs). Source:
-# $TBB_SRC if set, else a shallow clone from GitHub. OpenCV and OpenImageIO load libtbb.so.12 by
-# soname, so they share the instrumented one.
-TBB_VERSION=v2021.8.0
+# in our code and in TBB's headers). The thread build therefore uses the installed oneTBB's own
+# Debian source (scripts/debian-source.sh, a private apt state) built with TSan into
+# build-tsan/tbb-tsan (once, about 1 min on 2 cores; kept across runs); $TBB_SRC overrides the
+# source tree. OpenCV and OpenImageIO load libtbb.so.12 by soname, so they share the instrumented one.
 tbb_args=()
 if [[ $kind == thread ]]; then
   TBB_TSAN=$BUILD/tbb-tsan
   if [[ ! -f $TBB_TSAN/lib/cmake/TBB/TBBConfig.cmake ]]; then
-    echo "== build oneTBB $TBB_VERSION with TSan into $TBB_TSAN"
     start=$SECONDS
-    src=${TBB_SRC:-$BUILD/tbb-src}
-    if [[ ! -f $src/CMakeLists.txt ]]; then
-      git clone --quiet --depth 1 --branch "$TBB_VERSION" https://github.com/oneapi-src/oneTBB.git "$src"
+    src=${TBB_SRC:-}
+    if [[ -z $src ]]; then
+      tbb_version=$(dpkg-query -W -f='${Version}' libtbb12 2>/dev/null) ||
+        { echo "sanitize.sh: libtbb12 is not installed (bash scripts/install-deps.sh)" >&2; exit 1; }
+      src=$(bash scripts/debian-source.sh onetbb "$tbb_version" "$BUILD/tbb-src")
     fi
+    echo "== build oneTBB from $src with TSan into $TBB_TSAN"
     cmake -S "$src" -B "$BUILD/tbb-build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" -DTBB_SANITIZE=thread \
       -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBB_STRICT=OFF -DTBBMALLOC_BUILD=OFF -DTBB_ENABLE_IPO=OFF \
@@ -74,29 +75,6 @@ if [[ $kind == thread ]]; then
   fi
   tbb_args=(-DTBB_DIR="$TBB_TSAN/lib/cmake/TBB")
 fi
-
-if [[ -n $build ]]; then
-  echo "== configure + build $BUILD (MESOCAP_SANITIZE=$kind)"
-  start=$SECONDS
-  cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" \
-    -DMESOCAP_SANITIZE="$kind" -DMESOCAP_FUZZ=OFF -DMESOCAP_BUILD_TESTS=ON -DMESOCAP_BUILD_BENCH=OFF \
-    "${tbb_args[@]}" >/dev/null
-  cmake --build "$BUILD" -j2
-  echo "== build took $((SECONDS - start)) s"
-fi
-
-# Reports fail the test that made them; leaks and races in third-party libraries only are
-# suppressed (the .supp files say which and why).
-export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=0:strict_string_checks=1
-export LSAN_OPTIONS=suppressions=$ROOT/scripts/lsan.supp:print_suppressions=0
-export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/scripts/tsan.supp:print_suppressions=0
-# OpenImageIO's thread pool (libOpenImageIO_Util) and OpenEXR's (IlmThread) are not instrumented
-# either: their hand-offs look like races inside those libraries (a buffer allocated by a pool
-# thread read by the caller, ~ScanLineInputFile freeing what a pool thread's inflate read). Under
-# TSan, image I/O runs on the calling thread instead; mesocap's own ParallelFor stays parallel.
-[[ $kind == thread ]] && export OPENIMAGEIO_OPTIONS=threads=1,exr_threads=-1
 
 # capture/gphoto2_camera_test drives libgphoto2's own virtual camera (vcamera, built from
 # Debian's libgphoto2 source into build/vusb/iolibs/vusb.so by scripts/build-vusb.sh), which
@@ -113,6 +91,40 @@ elif [[ $kind == address ]]; then
 else
   runs=("-R $TSAN_TESTS")
 fi
+# Only the selected tests' binaries are built (and mesocap, when an end-to-end test runs it).
+if [[ -n $build ]]; then
+  echo "== configure + build $BUILD (MESOCAP_SANITIZE=$kind)"
+  start=$SECONDS
+  cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" \
+    -DMESOCAP_SANITIZE="$kind" -DMESOCAP_FUZZ=OFF -DMESOCAP_BUILD_TESTS=ON -DMESOCAP_BUILD_BENCH=OFF \
+    "${tbb_args[@]}" >/dev/null
+  targets=()
+  for args in "${runs[@]}"; do
+    read -r flag regex <<<"$args"
+    while read -r name; do
+      targets+=("${name//\//_}")
+      [[ $name == e2e/* ]] && targets+=(mesocap)
+    done < <(cd "$BUILD" && ctest -N "$flag" "$regex" | sed -n 's/^ *Test *#[0-9]*: *//p')
+  done
+  [[ ${#targets[@]} -gt 0 ]] || { echo "sanitize.sh: no test matches the selection" >&2; exit 2; }
+  mapfile -t targets < <(printf '%s\n' "${targets[@]}" | sort -u)
+  cmake --build "$BUILD" -j2 --target "${targets[@]}"
+  echo "== build of ${#targets[@]} targets took $((SECONDS - start)) s"
+fi
+
+# Reports fail the test that made them; leaks and races in third-party libraries only are
+# suppressed (the .supp files say which and why).
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=0:strict_string_checks=1
+export LSAN_OPTIONS=suppressions=$ROOT/scripts/lsan.supp:print_suppressions=0
+export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/scripts/tsan.supp:print_suppressions=0
+# OpenImageIO's thread pool (libOpenImageIO_Util) and OpenEXR's (IlmThread) are not instrumented
+# either: their hand-offs look like races inside those libraries (a buffer allocated by a pool
+# thread read by the caller, ~ScanLineInputFile freeing what a pool thread's inflate read). Under
+# TSan, image I/O runs on the calling thread instead; mesocap's own ParallelFor stays parallel.
+[[ $kind == thread ]] && export OPENIMAGEIO_OPTIONS=threads=1,exr_threads=-1
+
 start=$SECONDS
 rc=0
 for args in "${runs[@]}"; do

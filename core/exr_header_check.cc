@@ -1,0 +1,151 @@
+#include "core/exr_header_check.h"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "core/image_io.h"
+
+namespace mesocap {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Scanlines per compressed block, by the header's compression byte (OpenEXR's Compression enum:
+// none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab).
+int64_t LinesPerChunk(int compression) {
+  static constexpr int64_t kLines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+  return compression >= 0 && compression < 10 ? kLines[compression] : 1;
+}
+
+int64_t CeilDiv(int64_t a, int64_t b) { return b > 0 ? (a + b - 1) / b : 0; }
+
+// One part's header as far as the sizes go. Layout (OpenEXR file format): attributes of
+// name\0 type\0 int32 size, value; an empty name ends the header.
+struct PartHeader {
+  int64_t width = 0, height = 0, channels = 0;
+  int compression = 0;
+  int64_t tile_width = 0, tile_height = 0;  // 0: scanline part
+  int64_t declared_chunks = -1;             // "chunkCount" of multi-part files
+
+  int64_t Chunks() const {
+    if (width <= 0 || height <= 0) return 0;
+    // Tiled: at least the level-0 tiles (mipmap levels only add to it).
+    if (tile_width > 0 && tile_height > 0) return CeilDiv(width, tile_width) * CeilDiv(height, tile_height);
+    return std::max(declared_chunks, CeilDiv(height, LinesPerChunk(compression)));
+  }
+};
+
+class HeaderReader {
+ public:
+  HeaderReader(const fs::path& path, std::ifstream& in, std::streamoff file_size)
+      : path_(path), in_(in), file_size_(file_size) {}
+
+  // Reads one header; false when the file ends or is too malformed to walk (OpenEXR's reader
+  // then reports it), with *error set when a declared size is refused.
+  bool Read(PartHeader* part, bool* empty, Status* error) {
+    std::string name, type;
+    *empty = true;
+    while (ReadName(&name)) {
+      if (name.empty()) return true;
+      *empty = false;
+      if (!ReadName(&type)) return false;
+      int32_t size = 0;
+      if (!in_.read(reinterpret_cast<char*>(&size), 4) || size < 0) return false;
+      const std::streamoff value_start = in_.tellg();
+      if (std::streamoff(size) > file_size_ - value_start) {
+        *error = Status::Error(path_.string() + ": malformed OpenEXR header: attribute '" + name + "' declares " +
+                               std::to_string(size) + " bytes, more than the file holds");
+        return false;
+      }
+      if (!ReadValue(name, type, size, part)) return false;
+      in_.seekg(value_start + size);
+    }
+    return false;
+  }
+
+ private:
+  bool ReadName(std::string* out) {
+    out->clear();
+    for (char c; in_.get(c);) {
+      if (c == '\0') return true;
+      if (out->size() > 255) return false;
+      out->push_back(c);
+    }
+    return false;
+  }
+
+  template <typename T>
+  bool ReadInt(T* value) { return bool(in_.read(reinterpret_cast<char*>(value), sizeof(T))); }
+
+  bool ReadValue(const std::string& name, const std::string& type, int32_t size, PartHeader* part) {
+    if (name == "dataWindow" && type == "box2i" && size == 16) {
+      int32_t box[4];
+      if (!in_.read(reinterpret_cast<char*>(box), 16)) return false;
+      part->width = int64_t(box[2]) - box[0] + 1;
+      part->height = int64_t(box[3]) - box[1] + 1;
+    } else if (name == "compression" && size == 1) {
+      uint8_t c = 0;
+      if (!ReadInt(&c)) return false;
+      part->compression = c;
+    } else if (name == "tiles" && type == "tiledesc" && size == 9) {
+      uint32_t tile[2];
+      if (!ReadInt(&tile[0]) || !ReadInt(&tile[1])) return false;
+      part->tile_width = tile[0];
+      part->tile_height = tile[1];
+    } else if (name == "chunkCount" && size == 4) {
+      int32_t count = 0;
+      if (!ReadInt(&count)) return false;
+      part->declared_chunks = count;
+    } else if (name == "channels" && type == "chlist") {
+      // name\0 then 16 bytes (pixel type, pLinear, reserved, x and y sampling) per channel.
+      std::string channel;
+      for (int32_t left = size; left > 1 && ReadName(&channel) && !channel.empty();) {
+        in_.seekg(16, std::ios::cur);
+        left -= int32_t(channel.size()) + 17;
+        ++part->channels;
+      }
+    }
+    return bool(in_);
+  }
+
+  const fs::path& path_;
+  std::ifstream& in_;
+  std::streamoff file_size_;
+};
+
+}  // namespace
+
+Status CheckExrHeader(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff file_size = in.tellg();
+  in.seekg(0);
+  unsigned char start[8];
+  if (!in.read(reinterpret_cast<char*>(start), 8) || std::memcmp(start, "\x76\x2f\x31\x01", 4) != 0)
+    return Status::Ok();
+  const bool multi_part = start[5] & 0x10;  // version flags, bit 12
+  HeaderReader reader(path, in, file_size);
+  int64_t chunks = 0;  // offset-table entries over all parts
+  for (int part_index = 0;; ++part_index) {
+    PartHeader part;
+    bool empty = true;
+    Status error;
+    const bool complete = reader.Read(&part, &empty, &error);
+    if (!error.ok()) return error;
+    if (!complete || empty) break;
+    if (Status size = CheckImageSize(path, part.width, part.height, std::max<int64_t>(part.channels, 1));
+        !size.ok())
+      return size;
+    chunks += part.Chunks();
+    if (!multi_part) break;
+  }
+  // The offset table (8 bytes per chunk) follows the headers; OpenEXR allocates it whole.
+  if (chunks > file_size / 8)
+    return Status::Error(path.string() + ": malformed OpenEXR file: its headers declare " +
+                         std::to_string(chunks) + " pixel blocks, whose offset table alone needs more than the " +
+                         std::to_string(file_size) + " bytes the file holds");
+  return Status::Ok();
+}
+
+}  // namespace mesocap
