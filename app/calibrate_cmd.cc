@@ -110,11 +110,10 @@ int Run(CalibrateArgs& a) {
   for (const auto& r : result->rejected) std::printf("  rejected: %s\n", r.c_str());
   if (a.no_resample) return kExitOk;
   ProgressBar rbar("resample", !a.no_progress);
-  auto slices = ResampleSession(a.resample, a.options.session, *layout, *result, rbar.AsCallback());
+  auto slices = ResampleSession(a.resample, a.options.session, *layout, *result, rbar.AsCallback(), WriteBoardLightFiles);
   if (!slices.ok()) return Fail("calibrate", slices.status().message());
   std::printf("resample: %s -> %s\n", slices->Brief().c_str(),
               (a.options.session / "slices" / "index.json").string().c_str());
-  if (Status st = WriteBoardLightFiles(a.options.session / "slices", *slices); !st.ok()) return Fail("calibrate", st.message());
   std::map<std::string, int> skipped_by_reason;  // the full list is in index.json
   for (const auto& s : slices->skipped) ++skipped_by_reason[s.reason.substr(0, std::min(s.reason.find(" ("), s.reason.find(" by ")))];
   for (const auto& [reason, count] : skipped_by_reason) std::printf("  skipped %d: %s\n", count, reason.c_str());

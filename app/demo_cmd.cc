@@ -167,7 +167,7 @@ int RunDemo(DemoArgs& a) {
     ResampleOptions ro;
     ro.slice_size = 256;
     ProgressBar rbar("resample", !a.no_progress);
-    auto res = ResampleSession(ro, session_dir, *layout, *cal, rbar.AsCallback());
+    auto res = ResampleSession(ro, session_dir, *layout, *cal, rbar.AsCallback(), WriteBoardLightFiles);
     if (!res.ok()) return Fail("demo", res.status().message());
     std::vector<const SliceRecord*> top_slices;
     for (const auto& r : res->slices)
@@ -219,7 +219,6 @@ int RunDemo(DemoArgs& a) {
       report.Picture("slices_vs_truth.jpg", "Top board: resampled slice (left) and true BTF slice (right) of each pair, one exposure per pair");
     }
     std::printf("demo: resample: %s\n", res->Brief().c_str());
-    if (Status st = WriteBoardLightFiles(session_dir / "slices", *res); !st.ok()) return Fail("demo", st.message());
 
     DemoReconstructionInputs rec;
     rec.out = a.out;

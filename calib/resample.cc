@@ -270,7 +270,8 @@ struct Plan {
 
 StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const fs::path& session,
                                          const RigLayout& layout, const CalibrationResult& calibration,
-                                         const ProgressFn& progress) {
+                                         const ProgressFn& progress,
+                                         const SliceFolderWriter& also_write) {
   const auto t0 = std::chrono::steady_clock::now();
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
   std::string material;
@@ -523,6 +524,8 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
   index["material"] = material;
   index["provenance"] = MakeProvenance(options.ToJson());
   if (Status st = WriteJsonFile(slices_dir / "index.json", index); !st.ok()) return st;
+  if (also_write)
+    if (Status st = also_write(slices_dir, report); !st.ok()) return st;
   if (Status st = staging->Publish(/*replace=*/true); !st.ok()) return st;
   return report;
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -112,8 +113,12 @@ std::vector<double> BrdfSmoothingScales(const std::vector<double>& mean, const s
 // SESSION/slices/index.json (provenance included). Skips, with the reason: boards not posed or
 // hidden from the camera, shots without a flash position or with a flag, lights behind a board
 // (theta_i >= 90), patches shadowed by a ball, card or other board, saturated slices.
+// slices/ appears whole: it is built beside the old one and swapped in at the end, after
+// `also_write` (if given) has added its files to the new folder (e.g. the boards' .lp files).
+using SliceFolderWriter = std::function<Status(const std::filesystem::path& slices_dir, const ResampleReport&)>;
 StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const std::filesystem::path& session,
                                          const RigLayout& layout, const CalibrationResult& calibration,
-                                         const ProgressFn& progress = nullptr);
+                                         const ProgressFn& progress = nullptr,
+                                         const SliceFolderWriter& also_write = nullptr);
 
 }  // namespace mesocap

@@ -393,16 +393,11 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
   // 3. Assemble the session in a staging folder.
   fs::path out_clean = fs::absolute(options.out).lexically_normal();
   if (out_clean.filename().empty()) out_clean = out_clean.parent_path();  // "dir/" -> "dir"
-  const fs::path staging = StagingFolderFor(out_clean);
+  // Any early return or exception removes the staging folder (StagingFolder's destructor).
+  auto staged = StagingFolder::Begin(out_clean);
+  if (!staged.ok()) return staged.status();
+  const fs::path staging = staged->path();
   std::error_code ec;
-  fs::create_directories(out_clean.parent_path(), ec);
-  if (ec) return Status::Error(out_clean.parent_path().string() + ": cannot create folder: " + ec.message());
-  fs::remove_all(staging, ec);
-  auto fail = [&](const Status& st) -> Status {
-    std::error_code ignore;
-    fs::remove_all(staging, ignore);
-    return st;
-  };
 
   Json camera = {{"model", "unknown"}, {"port", "import"}};
   {
@@ -412,10 +407,10 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
   }
   Json manifest = {{"source", "import"}, {"camera", camera}, {"provenance", MakeProvenance(options.ToJson())}};
   auto session = Session::Create(staging, manifest);
-  if (!session.ok()) return fail(session.status());
+  if (!session.ok()) return session.status();
   fs::create_directories(staging / "shots", ec);
   if (!ec) fs::create_directories(staging / "calib", ec);
-  if (ec) return fail(Status::Error(staging.string() + ": cannot create folders: " + ec.message()));
+  if (ec) return Status::Error(staging.string() + ": cannot create folders: " + ec.message());
 
   total = done + int(calib.size() + shots.size());
   const auto t_place = std::chrono::steady_clock::now();
@@ -426,12 +421,12 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
       const std::string file = Session::ShotFileName(c.kind, index, SessionExtension(c.info, c.source));
       const fs::path dest = staging / file;
       auto method = PlaceOriginal(c.source, dest, options.link_mode);
-      if (!method.ok()) return fail(method.status());
+      if (!method.ok()) return method.status();
       std::error_code e_source, e_dest;
       const uintmax_t source_bytes = fs::file_size(c.source, e_source), dest_bytes = fs::file_size(dest, e_dest);
       if (e_source || e_dest || source_bytes != dest_bytes)
-        return fail(Status::Error(dest.string() + ": size differs from the original " + c.source.string() +
-                                  " after " + *method + " (was it changed while importing?)"));
+        return Status::Error(dest.string() + ": size differs from the original " + c.source.string() +
+                             " after " + *method + " (was it changed while importing?)");
 
       ShotRecord record;
       record.index = index;
@@ -443,7 +438,7 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
       if (c.time.source == "file_mtime") record.flags.push_back("time_from_file_mtime");
       if (c.kind == "shot" && record.exif.contains("Flash") && (record.exif["Flash"].get<int>() & 1) == 0)
         record.flags.push_back("flash_not_fired");
-      if (Status st = session->RecordShot(record); !st.ok()) return fail(st);
+      if (Status st = session->RecordShot(record); !st.ok()) return st;
 
       ImportedPhoto photo;
       photo.source = c.source;
@@ -457,20 +452,20 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
       report.imported.push_back(photo);
       (*method == "hardlink" ? report.hardlinked : report.copied)++;
       (c.kind == "calib" ? report.calib_shots_imported : report.shots_imported)++;
-      if (!ReportProgress(progress, ++done, total, file)) return fail(Status::Error("cancelled"));
+      if (!ReportProgress(progress, ++done, total, file)) return Status::Error("cancelled");
     }
   }
   // Hard links are new folder entries: make them durable before the session appears.
   for (const char* dir : {"shots", "calib"})
-    if (Status st = SyncPath(staging / dir); !st.ok()) return fail(st);
+    if (Status st = SyncPath(staging / dir); !st.ok()) return st;
 
   report.out = out_clean;
   report.per_image_s = SecondsSince(t_place) / std::max(1, report.imported_count());
   report.total_s = SecondsSince(t0);
-  if (Status st = WriteJsonFile(staging / "import_report.json", report.ToJson()); !st.ok()) return fail(st);
+  if (Status st = WriteJsonFile(staging / "import_report.json", report.ToJson()); !st.ok()) return st;
 
   // Only now does the session appear under its name.
-  if (Status st = PublishStagingFolder(staging, out_clean); !st.ok()) return fail(st);
+  if (Status st = staged->Publish(); !st.ok()) return st;
   return report;
 }
 

@@ -101,23 +101,19 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   for (auto& s : scene.calib_shots) s.file = WithExtension(s.file, ext);
 
   const fs::path out = fs::absolute(options.out).lexically_normal();
-  const fs::path staging = StagingFolderFor(out);
+  // The session appears whole at the end; any early return or exception removes the staging.
+  auto staged = StagingFolder::Begin(out);
+  if (!staged.ok()) return staged.status();
+  const fs::path staging = staged->path();
   std::error_code ec;
-  fs::create_directories(out.parent_path(), ec);
-  fs::remove_all(staging, ec);
-  auto fail = [&](const Status& st) -> Status {
-    std::error_code ignore;
-    fs::remove_all(staging, ignore);
-    return st;
-  };
 
   Json manifest = {{"source", "virtual"}, {"camera", {{"model", "mesocap virtual rig"}, {"port", "virtual"}}},
                    {"material", options.rig.material}, {"provenance", MakeProvenance(options.ToJson())}};
   auto session = Session::Create(staging, manifest);
-  if (!session.ok()) return fail(session.status());
+  if (!session.ok()) return session.status();
   fs::create_directories(staging / "shots", ec);
   fs::create_directories(staging / "calib", ec);
-  if (ec) return fail(Status::Error(staging.string() + ": cannot create folders: " + ec.message()));
+  if (ec) return Status::Error(staging.string() + ": cannot create folders: " + ec.message());
 
   RigRenderer renderer(scene, *material, options.render);
   renderer.Prepare();
@@ -144,9 +140,9 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   for (size_t k = 0; k < scene.calib_shots.size(); ++k) {
     Status st = write_shot(renderer.RenderCalibLinear(int(k)), scene.calib_shots[k].file, "calib", int(k) + 1,
                            int(k), false, 1'000'000 + k);
-    if (!st.ok()) return fail(st);
+    if (!st.ok()) return st;
     if (!ReportProgress(progress, ++done, total, scene.calib_shots[k].file))
-      return fail(Status::Error("cancelled"));
+      return Status::Error("cancelled");
   }
   report.calib_shots_written = int(scene.calib_shots.size());
   if (report.calib_shots_written) report.per_calib_shot_s = SecondsSince(t_calib) / report.calib_shots_written;
@@ -155,20 +151,20 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   for (size_t k = 0; k < scene.shots.size(); ++k) {
     Status st = write_shot(renderer.RenderShotLinear(int(k)), scene.shots[k].file, "shot", int(k) + 1,
                            int(scene.calib_shots.size() + k), true, k);
-    if (!st.ok()) return fail(st);
-    if (!ReportProgress(progress, ++done, total, scene.shots[k].file)) return fail(Status::Error("cancelled"));
+    if (!st.ok()) return st;
+    if (!ReportProgress(progress, ++done, total, scene.shots[k].file)) return Status::Error("cancelled");
   }
   report.shots_written = int(scene.shots.size());
   report.per_shot_s = SecondsSince(t_shots) / report.shots_written;
 
-  if (Status st = WriteJsonFile(staging / "truth.json", TruthToJson(scene)); !st.ok()) return fail(st);
-  if (Status st = WriteJsonFile(staging / "rig_layout.json", LayoutOf(scene).ToJson()); !st.ok()) return fail(st);
+  if (Status st = WriteJsonFile(staging / "truth.json", TruthToJson(scene)); !st.ok()) return st;
+  if (Status st = WriteJsonFile(staging / "rig_layout.json", LayoutOf(scene).ToJson()); !st.ok()) return st;
   report.out = out;
   report.total_s = SecondsSince(t0);
-  if (Status st = WriteJsonFile(staging / "simulate_report.json", report.ToJson()); !st.ok()) return fail(st);
+  if (Status st = WriteJsonFile(staging / "simulate_report.json", report.ToJson()); !st.ok()) return st;
 
   // Only now does the session appear under its name.
-  if (Status st = PublishStagingFolder(staging, out); !st.ok()) return fail(st);
+  if (Status st = staged->Publish(); !st.ok()) return st;
   return report;
 }
 

@@ -13,11 +13,10 @@ namespace mesocap {
 
 Status WriteTrueBtfFolder(const Material& material, const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& pairs,
                           const TrueBtfFolderOptions& options, const std::filesystem::path& out_path) {
-  std::filesystem::path out = std::filesystem::absolute(out_path);
-  if (out.filename().empty()) out = out.parent_path();
-  const std::filesystem::path staging = StagingFolderFor(out);
+  auto staged = StagingFolder::Begin(out_path);  // removed on any early return
+  if (!staged.ok()) return staged.status();
+  const std::filesystem::path staging = staged->path();
   std::error_code ec;
-  std::filesystem::remove_all(staging, ec);
   std::filesystem::create_directories(staging / "slices", ec);
   if (ec) return Status::Error(staging.string() + ": cannot create: " + ec.message());
   Json entries = Json::array();
@@ -37,21 +36,15 @@ Status WriteTrueBtfFolder(const Material& material, const std::vector<std::pair<
     w.attributes["mesocap:patch_m"] = float(options.patch_m);
     w.attributes["mesocap:material"] = material.name();
     w.attributes["mesocap:method"] = std::string("true BTF (virtual rig)");
-    if (Status st = WriteImage(staging / name, slice, w); !st.ok()) {
-      std::filesystem::remove_all(staging, ec);
-      return st;
-    }
+    if (Status st = WriteImage(staging / name, slice, w); !st.ok()) return st;
     entries.push_back({{"file", name}, {"theta_i_deg", request.theta_i_deg}, {"phi_i_deg", request.phi_i_deg},
                        {"theta_o_deg", request.theta_o_deg}, {"phi_o_deg", request.phi_o_deg}});
   }
   Json index = {{"format", "mesocap-btf"}, {"width", options.size}, {"height", options.size}, {"material", material.name()},
                 {"patch_m", options.patch_m}, {"slices", entries}};
   index["provenance"] = MakeProvenance({{"size", options.size}, {"samples_per_axis", options.samples_per_axis}});
-  if (Status st = WriteJsonFile(staging / "index.json", index); !st.ok()) {
-    std::filesystem::remove_all(staging, ec);
-    return st;
-  }
-  return PublishStagingFolder(staging, out);
+  if (Status st = WriteJsonFile(staging / "index.json", index); !st.ok()) return st;
+  return staged->Publish();
 }
 
 }  // namespace mesocap
