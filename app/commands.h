@@ -29,6 +29,17 @@ int Fail(const std::string& verb, const std::string& message, int code = kExitFa
 
 std::vector<Command> AllCommands();
 
+// Options before the subcommand.
+struct GlobalOptions {
+  int verbosity = 1;  // 0 quiet, 1 normal, 2 verbose
+  double max_megapixels = 250;
+};
+
+// The whole command line: program name, version flag, global options and every subcommand's
+// options. The mesocap-commands executable parses with it; the build writes its help texts
+// from it for the light `mesocap` launcher (app/launcher.cc).
+void DefineCommandLine(CLI::App& app, GlobalOptions& globals, std::vector<Command>& commands);
+
 // One factory per <verb>_cmd.cc.
 Command SimulateCommand();
 Command DemoCommand();

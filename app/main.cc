@@ -1,5 +1,6 @@
-// mesocap: one executable, one subcommand per stage. Each <verb>_cmd.cc registers its options
-// and runs one library entry point; this file only dispatches and turns failures into exit codes.
+// mesocap-commands: one subcommand per stage, run by the `mesocap` launcher (app/launcher.cc).
+// Each <verb>_cmd.cc registers its options and runs one library entry point; this file only
+// dispatches and turns failures into exit codes.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -11,22 +12,14 @@
 #include "core/provenance.h"
 
 int main(int argc, char** argv) {
+  // Results are printed line by line as stages finish; piped into a log or `tee`, stdout would
+  // otherwise hold them all until exit.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   mesocap::SetCommandLine(argc, argv);
-  CLI::App app{"mesocap: photographs of a material sample -> a relightable, tileable material"};
-  app.set_version_flag("--version", std::string("mesocap ") + mesocap::Version());
-  app.require_subcommand(1);
-  int verbosity = 1;
-  app.add_flag_callback("-q,--quiet", [&] { verbosity = 0; }, "Only warnings and errors");
-  app.add_flag_callback("-v,--verbose", [&] { verbosity = 2; }, "Debug output");
-  double max_megapixels = double(mesocap::kDefaultMaxImagePixels) / 1e6;
-  app.add_option("--max-megapixels", max_megapixels,
-                 "Refuse images larger than this before allocating them (a crafted header cannot ask "
-                 "for gigabytes)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-
-  std::vector<mesocap::app::Command> commands = mesocap::app::AllCommands();
-  for (auto& command : commands) command.setup(app);
+  CLI::App app;
+  mesocap::app::GlobalOptions globals;
+  std::vector<mesocap::app::Command> commands;
+  mesocap::app::DefineCommandLine(app, globals, commands);
 
   try {
     app.parse(argc, argv);
@@ -41,8 +34,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mesocap: %s (see --help)\n", e.what());
     return mesocap::app::kExitUsage;
   }
-  mesocap::InitLogging(verbosity);
-  mesocap::SetMaxImagePixels(int64_t(max_megapixels * 1e6));
+  mesocap::InitLogging(globals.verbosity);
+  mesocap::SetMaxImagePixels(int64_t(globals.max_megapixels * 1e6));
   try {
     for (auto& command : commands)
       if (app.got_subcommand(command.name)) return command.run();

@@ -79,7 +79,7 @@ TEST(Calibrate, HandMarkedBoardCornersPoseBoardsWhoseTagsAreNeverDecoded) {
   for (const RigBoard& b : scene->boards) {
     const double h = b.size_m / 2;
     Json corners = Json::array();
-    for (const Eigen::Vector2d c : {Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, -h), Eigen::Vector2d(h, h), Eigen::Vector2d(-h, h)}) {
+    for (const Eigen::Vector2d& c : {Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, -h), Eigen::Vector2d(h, h), Eigen::Vector2d(-h, h)}) {
       const Eigen::Vector2d px = scene->camera.Project(b.R * Eigen::Vector3d(c.x(), c.y(), 0) + b.t);
       corners.push_back({px.x() + click(rng), px.y() + click(rng)});
     }

@@ -1,5 +1,7 @@
 #include "core/atomic_file.h"
 
+#include <fmt/format.h>
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -18,9 +20,9 @@ std::string ErrnoText() { return std::strerror(errno); }
 
 fs::path TempPathFor(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
-  const std::string name = "." + path.stem().string() + ".tmp" + std::to_string(::getpid()) + "_" +
-                           std::to_string(counter++) + path.extension().string();
-  return path.parent_path() / name;
+  // {fmt}, not string operator+: GCC 12 warns falsely (-Wrestrict) on "." + std::string.
+  return path.parent_path() /
+         fmt::format(".{}.tmp{}_{}{}", path.stem().string(), ::getpid(), counter++, path.extension().string());
 }
 
 Status WriteAll(int fd, std::string_view text, const fs::path& path) {
@@ -51,9 +53,12 @@ Status SyncPath(const fs::path& path) {
   return Status::Ok();
 }
 
-fs::path StagingFolderFor(const fs::path& out) {
-  return out.parent_path() / ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
+// `.NAME.TAG-PID` beside `path`: hidden, and unique to this process.
+static fs::path HiddenSibling(const fs::path& path, const char* tag) {
+  return path.parent_path() / fmt::format(".{}.{}-{}", path.filename().string(), tag, ::getpid());
 }
+
+fs::path StagingFolderFor(const fs::path& out) { return HiddenSibling(out, "partial"); }
 
 Status PublishStagingFolder(const fs::path& staging, const fs::path& out) {
   std::error_code ec;
@@ -91,7 +96,7 @@ Status StagingFolder::Publish(bool replace) {
   std::error_code ec;
   fs::path old;
   if (replace && fs::exists(out_, ec) && !(fs::is_directory(out_, ec) && fs::is_empty(out_, ec))) {
-    old = out_.parent_path() / ("." + out_.filename().string() + ".old-" + std::to_string(::getpid()));
+    old = HiddenSibling(out_, "old");
     fs::remove_all(old, ec);
     fs::rename(out_, old, ec);
     if (ec) return Status::Error(out_.string() + ": cannot move the previous folder aside: " + ec.message());

@@ -13,12 +13,6 @@ namespace {
 
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-// > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc.
-double InCircle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
-  const Eigen::Vector2d ad = a - d, bd = b - d, cd = c - d;
-  return ad.squaredNorm() * Cross(bd, cd) - bd.squaredNorm() * Cross(ad, cd) + cd.squaredNorm() * Cross(ad, bd);
-}
-
 // Barycentric coordinates of p in triangle abc.
 Eigen::Vector3d Barycentric(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
                             const Eigen::Vector2d& p) {
@@ -45,45 +39,6 @@ std::vector<WeightedIndex> MergeWeights(std::vector<WeightedIndex> weights) {
   std::vector<WeightedIndex> out;
   for (const auto& [index, weight] : sum)
     if (weight != 0.0) out.push_back({index, weight});
-  return out;
-}
-
-std::vector<std::array<int, 3>> DelaunayTriangulation(const std::vector<Eigen::Vector2d>& points) {
-  const int n = static_cast<int>(points.size());
-  if (n < 3) return {};
-  // A super-triangle far outside every point; its vertices are n, n+1, n+2.
-  Eigen::Vector2d lo = points[0], hi = points[0];
-  for (const auto& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector2d mid = (lo + hi) / 2;
-  const double span = std::max((hi - lo).maxCoeff(), 1e-9) * 1e3;
-  std::vector<Eigen::Vector2d> v = points;
-  v.push_back(mid + Eigen::Vector2d(-span, -span));
-  v.push_back(mid + Eigen::Vector2d(span, -span));
-  v.push_back(mid + Eigen::Vector2d(0, span));
-  std::vector<std::array<int, 3>> tris = {{n, n + 1, n + 2}};
-
-  for (int i = 0; i < n; ++i) {
-    std::vector<std::array<int, 3>> keep;
-    std::map<std::pair<int, int>, int> edge_count;
-    std::vector<std::pair<int, int>> cavity_edges;
-    for (const auto& t : tris) {
-      if (InCircle(v[t[0]], v[t[1]], v[t[2]], v[i]) > 1e-14) {
-        for (int e = 0; e < 3; ++e) {
-          const int a = t[e], b = t[(e + 1) % 3];
-          cavity_edges.push_back({a, b});
-          ++edge_count[{std::min(a, b), std::max(a, b)}];
-        }
-      } else {
-        keep.push_back(t);
-      }
-    }
-    for (const auto& [a, b] : cavity_edges)
-      if (edge_count[{std::min(a, b), std::max(a, b)}] == 1) keep.push_back({a, b, i});  // stays CCW
-    tris = std::move(keep);
-  }
-  std::vector<std::array<int, 3>> out;
-  for (const auto& t : tris)
-    if (t[0] < n && t[1] < n && t[2] < n && Cross(v[t[1]] - v[t[0]], v[t[2]] - v[t[0]]) > 1e-12) out.push_back(t);
   return out;
 }
 

@@ -23,8 +23,10 @@ struct WeightedIndex {
   double weight = 0;
 };
 
-// Delaunay triangulation (Bowyer-Watson) of 2-D points; each triangle's vertices in
-// counter-clockwise order. Exactly co-circular points get one of their valid triangulations.
+// Delaunay triangulation of 2-D points (reconstruct/delaunay.cc, CGAL with exact predicates);
+// each triangle's vertices counter-clockwise, smallest index first, triangles sorted. Exactly
+// co-circular points get one of their valid triangulations, always the same one; collinear
+// points give none, and slivers with an area below 1e-12 of the squared extent are left out.
 std::vector<std::array<int, 3>> DelaunayTriangulation(const std::vector<Eigen::Vector2d>& points);
 
 class LightInterpolator {

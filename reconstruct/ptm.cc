@@ -204,11 +204,9 @@ constexpr int kLane = 8;
 #pragma GCC diagnostic ignored "-Wpsabi"  // Lane is passed only between inlined helpers
 typedef float Lane __attribute__((vector_size(kLane * sizeof(float))));
 
-inline Lane LoadLane(const float* p) {
-  Lane v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
+// By reference, never by value: a Lane returned from a baseline helper into an x86-64-v3 clone
+// would change the ABI (clang refuses it; gcc warns).
+inline void LoadLane(const float* p, Lane& v) { std::memcpy(&v, p, sizeof v); }
 inline void StoreLane(float* p, const Lane& v) { std::memcpy(p, &v, sizeof v); }
 
 // The kernels are also compiled for AVX2 + FMA (x86-64-v3), picked at load time where the CPU
@@ -231,7 +229,8 @@ MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const f
   for (int j0 = 0; j0 < stride; j0 += kLane) {
     Lane acc[kPtmCoefficients] = {};
     for (int i = 0; i < n; ++i) {
-      const Lane v = LoadLane(obs + size_t(i) * stride + j0);
+      Lane v;
+      LoadLane(obs + size_t(i) * stride + j0, v);
       for (int k = 0; k < kPtmCoefficients; ++k) acc[k] += p[k * n + i] * v;
     }
     for (int k = 0; k < kPtmCoefficients; ++k) StoreLane(out + size_t(k) * stride + j0, acc[k]);
@@ -242,8 +241,11 @@ MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const f
 MESOCAP_SIMD_CLONES void EvaluateBlock(const float* coef, const float* a_row, int stride, float* fitted) {
   for (int j0 = 0; j0 < stride; j0 += kLane) {
     Lane f = {};
-    for (int k = 0; k < kPtmCoefficients; ++k)
-      f += a_row[k] * LoadLane(coef + size_t(k) * stride + j0);
+    for (int k = 0; k < kPtmCoefficients; ++k) {
+      Lane c;
+      LoadLane(coef + size_t(k) * stride + j0, c);
+      f += a_row[k] * c;
+    }
     StoreLane(fitted + j0, f);
   }
 }
@@ -253,13 +255,15 @@ MESOCAP_SIMD_CLONES double ResidualBlock(const float* obs, int n, int stride, co
   double total = 0;
   for (int j0 = 0; j0 < stride; j0 += kLane) {
     Lane c[kPtmCoefficients];
-    for (int k = 0; k < kPtmCoefficients; ++k) c[k] = LoadLane(coef + size_t(k) * stride + j0);
+    for (int k = 0; k < kPtmCoefficients; ++k) LoadLane(coef + size_t(k) * stride + j0, c[k]);
     Lane s = {};
     for (int i = 0; i < n; ++i) {
       const float* ai = a + i * kPtmCoefficients;
       Lane f = {};
       for (int k = 0; k < kPtmCoefficients; ++k) f += ai[k] * c[k];
-      const Lane r = f - LoadLane(obs + size_t(i) * stride + j0);
+      Lane o;
+      LoadLane(obs + size_t(i) * stride + j0, o);
+      const Lane r = f - o;
       s += r * r;
     }
     for (int l = 0; l < kLane; ++l) total += s[l];

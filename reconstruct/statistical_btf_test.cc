@@ -105,7 +105,7 @@ TEST(StatisticalBtf, CosineWeightedLightsInterpolateALambertianFalloffExactly) {
     auto btf = StatisticalBtf::Create(top, lights, {MeasureView(Eigen::Vector3d::UnitZ(), lights, top, options)}, options);
     ASSERT_TRUE(btf.ok()) << btf.status().message();
     const double error = RelativeRms(btf->BaseTexture(query), slice(query));
-    if (cosine) EXPECT_LT(error, 1e-5);
+    if (cosine) { EXPECT_LT(error, 1e-5); }
     else EXPECT_GT(error, 0.05);
   }
 }

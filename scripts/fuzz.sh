@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/, CMake option MESOCAP_FUZZ, clang with ASan + UBSan) into
-# build-fuzz/ and runs each from a copy of its seed corpus (fuzz/corpus/<target>/; the repository
-# is never written to). Fails (exit 1) when any target finds a crash, a leak, undefined
-# behaviour, an out-of-memory or a timeout; the input that did it is kept under
+# build-asan/ (scripts/asan-build.sh: the build the ASan unit tests use too) and runs each from a
+# copy of its seed corpus (fuzz/corpus/<target>/; the repository is never written to). Fails
+# (exit 1) when any target finds a crash, a leak, undefined behaviour, an out-of-memory or a
+# timeout; the input that did it is kept under
 # $FUZZ_CRASH_DIR/<target>/ (default /tmp/fuzz-crashes). Prints, per target: executions,
 # coverage (cov: and ft: of libFuzzer's last stats line), exec/s, peak RSS and wall time.
 #
@@ -12,14 +13,15 @@
 #   scripts/fuzz.sh --make-corpus [rig_layout.json]  # rewrite fuzz/corpus/ with the project's writers
 #
 # Options: --runs N | --seconds S (one of them; default --seconds 60), -j N targets at a time
-# (default 1; each target uses one core), --no-build (use build-fuzz/ as it is),
+# (default 1; each target uses one core), --no-build (use build-asan/ as it is),
 # --keep-corpus (keep the grown corpus in $FUZZ_WORK/<target>/corpus; default: a fresh copy per run).
 # Environment: FUZZ_WORK (scratch, default /dev/shm/mesocap-fuzz, else /tmp/mesocap-fuzz), FUZZ_CRASH_DIR, FUZZ_EXTRA_ARGS
 # (more libFuzzer flags, e.g. "-max_len=65536").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
-BUILD=$ROOT/build-fuzz
+source scripts/asan-build.sh
+BUILD=$ASAN_BUILD
 ALL_TARGETS=(ptm_file lp_file session_json journal_jsonl rig_layout camera_json slice_index slice_set btf_index image image_u8)
 
 runs= seconds= jobs=1 build=1 make_corpus= layout= fresh=1
@@ -53,12 +55,7 @@ CRASH_DIR=${FUZZ_CRASH_DIR:-/tmp/fuzz-crashes}
 if [[ -n $build ]]; then
   echo "== configure + build $BUILD (clang, ASan + UBSan + libFuzzer)"
   start=$SECONDS
-  # -O1 -g without NDEBUG: asserts (Eigen's bounds checks among them) stay on. Tests stay
-  # configured (only the fuzz targets are built, so they cost nothing) because some folders'
-  # CMakeLists name test targets unconditionally.
-  CC=clang CXX=clang++ cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" \
-    -DMESOCAP_FUZZ=ON -DMESOCAP_SANITIZE= -DMESOCAP_BUILD_TESTS=ON -DMESOCAP_BUILD_BENCH=OFF >/dev/null
+  configure_asan_build
   if [[ -n $make_corpus ]]; then
     cmake --build "$BUILD" -j2 --target fuzz_make_corpus
   else
@@ -133,6 +130,6 @@ grep -l FAILED $(printf "$WORK/%s/summary " "${targets[@]}") >/dev/null 2>&1 && 
 echo "== summary"
 cat $(printf "$WORK/%s/summary " "${targets[@]}")
 if [[ $failed -ne 0 ]]; then
-  echo "fuzz.sh: failures above; reproduce with build-fuzz/fuzz/fuzz_<target> <artifact>" >&2
+  echo "fuzz.sh: failures above; reproduce with build-asan/fuzz/fuzz_<target> <artifact>" >&2
   exit 1
 fi

@@ -10,7 +10,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libjpeg62-turbo-dev
   libapriltag-dev
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
-  libmaxflow-dev
+  libmaxflow-dev libcgal-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
 )
@@ -20,9 +20,15 @@ for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if ((${#missing[@]})); then
-  echo "install-deps: installing ${missing[*]}"
+  # A fresh machine needs about 2 minutes here: say what happens, and let apt show its progress
+  # (one line per package unpacked and set up) rather than stay silent.
+  echo "install-deps: ${#missing[@]} packages to install: ${missing[*]}"
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "install-deps: [1/2] apt-get update"
+  $SUDO apt-get update -q | { grep -v -E '^(Hit|Get|Ign|Reading)' || true; }
+  echo "install-deps: [2/2] apt-get install (downloading, then unpacking and setting up each package)"
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" |
+    { grep --line-buffered -E '^(Need to get|After this operation|Fetched|Unpacking|Setting up) ' | sed -u 's/^/  /' || true; }
+  echo "install-deps: done"
 fi

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Sanitizer builds (CMake option MESOCAP_SANITIZE, gcc, -O1 -g with asserts on) and their tests:
+# Sanitizer builds (-O1 -g with asserts on) and their tests:
 #
-#   scripts/sanitize.sh address   # build-asan/: ASan + UBSan; the unit tests except the slow ones
-#   scripts/sanitize.sh thread    # build-tsan/: TSan; the tests of the parallel stages
+#   scripts/sanitize.sh address   # build-asan/: ASan + UBSan (clang, scripts/asan-build.sh, shared
+#                                 # with the fuzz targets); the unit tests except the slow ones
+#   scripts/sanitize.sh thread    # build-tsan/: TSan (gcc, MESOCAP_SANITIZE=thread); the tests
+#                                 # of the parallel stages
 #
 # Any sanitizer report fails its test (halt_on_error=1; UBSan is built with
 # -fno-sanitize-recover=all and prints a stack trace). Prints the wall time of the build and of
@@ -18,8 +20,9 @@ cd "$(dirname "$0")/.."
 ROOT=$PWD
 
 kind=${1:-}
+source scripts/asan-build.sh
 case $kind in
-  address) BUILD=$ROOT/build-asan ;;
+  address) BUILD=$ASAN_BUILD ;;
   thread) BUILD=$ROOT/build-tsan ;;
   *) echo "usage: scripts/sanitize.sh address|thread [--no-build] [-R regex | -E regex] [-j N]" >&2; exit 2 ;;
 esac
@@ -93,12 +96,16 @@ else
 fi
 # Only the selected tests' binaries are built (and mesocap, when an end-to-end test runs it).
 if [[ -n $build ]]; then
-  echo "== configure + build $BUILD (MESOCAP_SANITIZE=$kind)"
+  echo "== configure + build $BUILD ($kind)"
   start=$SECONDS
-  cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" \
-    -DMESOCAP_SANITIZE="$kind" -DMESOCAP_FUZZ=OFF -DMESOCAP_BUILD_TESTS=ON -DMESOCAP_BUILD_BENCH=OFF \
-    "${tbb_args[@]}" >/dev/null
+  if [[ $kind == address ]]; then
+    configure_asan_build
+  else
+    cmake -S "$ROOT" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" \
+      -DMESOCAP_SANITIZE=thread -DMESOCAP_FUZZ=OFF -DMESOCAP_BUILD_TESTS=ON -DMESOCAP_BUILD_BENCH=OFF \
+      "${tbb_args[@]}" >/dev/null
+  fi
   targets=()
   for args in "${runs[@]}"; do
     read -r flag regex <<<"$args"

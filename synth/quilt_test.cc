@@ -39,7 +39,9 @@ TEST_P(QuiltOnMaterial, ValidMapReproducedBitForBitSeamsBelowRandomTiling) {
     EXPECT_GT(s.cut_pairs, 0);
     EXPECT_LE(s.ratio(), c.max_seam_ratio) << "slice " << k;
     EXPECT_LT(s.ratio(), 0.8 * r.ratio()) << "slice " << k;
-    if (c.statistics_beat_random) EXPECT_LT(SubbandDistance(out, slice), SubbandDistance(tiled, slice)) << "slice " << k;
+    if (c.statistics_beat_random) {
+      EXPECT_LT(SubbandDistance(out, slice), SubbandDistance(tiled, slice)) << "slice " << k;
+    }
   }
 }
 

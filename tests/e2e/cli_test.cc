@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "core/image_io.h"
 #include "core/json.h"
@@ -23,6 +24,43 @@ TEST(Cli, VersionAndHelp) {
   EXPECT_NE(out.find("--material"), std::string::npos);
   EXPECT_NE(testing::RunMesocap("", &out), 0);
   EXPECT_NE(testing::RunMesocap("no-such-verb", &out), 0);
+}
+
+// The launcher answers --version and --help itself (app/launcher.cc) and runs mesocap-commands
+// for the rest: both must print the same, for the program and for every subcommand it lists.
+TEST(Cli, TheLauncherAnswersHelpExactlyAsTheCommandsDo) {
+  const std::string commands = fs::path(testing::MesocapBinary()).parent_path() / "mesocap-commands";
+  auto printed = [](const std::string& command_line) {
+    std::string out;
+    FILE* pipe = popen((command_line + " 2>&1").c_str(), "r");
+    char buffer[4096];
+    for (size_t n; pipe && (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
+    const int status = pipe ? pclose(pipe) : -1;
+    return std::make_pair(status, out);
+  };
+  std::vector<std::string> requests = {"--version", "--help", "-h"};
+  const std::string top = printed(testing::MesocapBinary() + " --help").second;
+  std::istringstream lines(top.substr(top.find("Subcommands:")));
+  std::string line;
+  std::getline(lines, line);
+  while (std::getline(lines, line))
+    if (line.size() > 2 && line[2] != ' ') {
+      const std::string name = line.substr(2, line.find(' ', 2) - 2);
+      requests.push_back(name + " --help");
+    }
+  requests.push_back("fit-ptm -h");
+  EXPECT_GE(requests.size(), 4u + 15);
+  for (const std::string& request : requests) {
+    const auto launcher = printed(testing::MesocapBinary() + " " + request);
+    const auto direct = printed(commands + " " + request);
+    EXPECT_EQ(launcher.first, 0) << request;
+    EXPECT_EQ(direct.first, 0) << request;
+    EXPECT_EQ(launcher.second, direct.second) << request;
+  }
+  // Anything else goes through to the commands, exit codes included.
+  EXPECT_EQ(printed(testing::MesocapBinary() + " fit-ptm --no-such-option").second,
+            printed(commands + " fit-ptm --no-such-option").second);
+  EXPECT_EQ(testing::RunMesocap("fit-ptm --no-such-option"), 2);
 }
 
 TEST(Cli, BadSimulateOptionsFailWithOneLine) {
