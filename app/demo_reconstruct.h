@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "app/stage_clock.h"
 #include "capture/rig_material.h"
 #include "core/status.h"
 #include "export/report.h"
@@ -21,6 +22,7 @@ struct DemoReconstructionInputs {
   Eigen::Vector2d top_offset_m{0, 0};  // where the top patch sits in the material
   double patch_m = 0.064;
   bool progress = true;
+  StageClock* clock = nullptr;  // each stage starts its entry
 };
 
 // Adds its headings, tables and pictures to `report`; prints one line per stage.

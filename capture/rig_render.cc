@@ -190,32 +190,77 @@ void RigRenderer::Prepare(const ProgressFn& progress) {
   ReportProgress(progress, 2, 2, "patch view rays");
 }
 
+// Whether object (kind, index) blocks the segment from `p` along unit `d` to the light at `dist`.
+bool RigRenderer::Blocks(Kind kind, int index, const Eigen::Vector3d& p, const Eigen::Vector3d& d, double dist,
+                         const Eigen::Vector3d& light) const {
+  switch (kind) {
+    case kSphere: {
+      const double s = IntersectSphere(p, d, scene_.spheres[index].center_m, scene_.spheres[index].radius_m);
+      return s > 0 && s < dist;
+    }
+    case kCard: {
+      const auto& c = scene_.grey_cards[index];
+      const Eigen::Vector3d n = c.R.col(2);
+      if ((n.dot(p - c.t) > 0) == (n.dot(light - c.t) > 0)) return false;
+      const double s = IntersectSquare(p, d, c.R, c.t, c.size_m / 2, c.size_m / 2);
+      return s > 1e-6 && s < dist;
+    }
+    case kBoard: {
+      const auto& board = scene_.boards[index];
+      // Cheap reject: the segment must cross the board's plane.
+      const Eigen::Vector3d n = board.R.col(2);
+      if ((n.dot(p - board.t) > 0) == (n.dot(light - board.t) > 0)) return false;
+      const double s = IntersectSquare(p, d, board.R, board.t, board.size_m / 2, board.size_m / 2);
+      return s > 1e-6 && s < dist;
+    }
+    default:
+      return false;
+  }
+}
+
 bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, Kind self_kind,
                            int self_index) const {
   const Eigen::Vector3d to_light = light - p;
   const double dist = to_light.norm();
   const Eigen::Vector3d d = to_light / dist;
-  for (size_t i = 0; i < scene_.spheres.size(); ++i) {
-    if (self_kind == kSphere && int(i) == self_index) continue;
-    const double s = IntersectSphere(p, d, scene_.spheres[i].center_m, scene_.spheres[i].radius_m);
-    if (s > 0 && s < dist) return true;
-  }
-  for (size_t i = 0; i < scene_.grey_cards.size(); ++i) {
-    if (self_kind == kCard && int(i) == self_index) continue;
-    const auto& c = scene_.grey_cards[i];
-    const Eigen::Vector3d n = c.R.col(2);
-    if ((n.dot(p - c.t) > 0) == (n.dot(light - c.t) > 0)) continue;
-    const double s = IntersectSquare(p, d, c.R, c.t, c.size_m / 2, c.size_m / 2);
-    if (s > 1e-6 && s < dist) return true;
-  }
-  for (size_t b = 0; b < scene_.boards.size(); ++b) {
-    if (self_kind == kBoard && int(b) == self_index) continue;
-    const auto& board = scene_.boards[b];
-    // Cheap reject: the segment must cross the board's plane.
-    const Eigen::Vector3d n = board.R.col(2);
-    if ((n.dot(p - board.t) > 0) == (n.dot(light - board.t) > 0)) continue;
-    const double s = IntersectSquare(p, d, board.R, board.t, board.size_m / 2, board.size_m / 2);
-    if (s > 1e-6 && s < dist) return true;
+  for (size_t i = 0; i < scene_.spheres.size(); ++i)
+    if (!(self_kind == kSphere && int(i) == self_index) && Blocks(kSphere, int(i), p, d, dist, light)) return true;
+  for (size_t i = 0; i < scene_.grey_cards.size(); ++i)
+    if (!(self_kind == kCard && int(i) == self_index) && Blocks(kCard, int(i), p, d, dist, light)) return true;
+  for (size_t b = 0; b < scene_.boards.size(); ++b)
+    if (!(self_kind == kBoard && int(b) == self_index) && Blocks(kBoard, int(b), p, d, dist, light)) return true;
+  return false;
+}
+
+std::vector<RigRenderer::ShadowCaster> RigRenderer::ShadowCastersFor(const Eigen::Vector3d& light) const {
+  std::vector<ShadowCaster> casters;
+  auto add = [&](Kind kind, int index, const Eigen::Vector3d& centre, double radius) {
+    // Enlarged a little so rounding can never drop a caster that the exact test would hit.
+    radius = radius * 1.001 + 1e-6;
+    const Eigen::Vector3d to_centre = centre - light;
+    const double distance = to_centre.norm();
+    const double cos_half_angle = distance > radius ? std::sqrt(1 - (radius / distance) * (radius / distance)) : -1.0;
+    casters.push_back({kind, index, to_centre / std::max(distance, 1e-12), cos_half_angle});
+  };
+  for (size_t i = 0; i < scene_.spheres.size(); ++i)
+    add(kSphere, int(i), scene_.spheres[i].center_m, scene_.spheres[i].radius_m);
+  for (size_t i = 0; i < scene_.grey_cards.size(); ++i)
+    add(kCard, int(i), scene_.grey_cards[i].t, scene_.grey_cards[i].size_m / 2 * std::sqrt(2.0));
+  for (size_t b = 0; b < scene_.boards.size(); ++b)
+    add(kBoard, int(b), scene_.boards[b].t, scene_.boards[b].size_m / 2 * std::sqrt(2.0));
+  return casters;
+}
+
+bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light,
+                           const std::vector<ShadowCaster>& casters, Kind self_kind, int self_index) const {
+  const Eigen::Vector3d to_light = light - p;
+  const double dist = to_light.norm();
+  const Eigen::Vector3d d = to_light / dist;
+  for (const ShadowCaster& c : casters) {
+    if (c.kind == self_kind && c.index == self_index) continue;
+    // The segment from the light towards p must enter the caster's cone: -d is that direction.
+    if (-d.dot(c.axis) < c.cos_half_angle) continue;
+    if (Blocks(c.kind, c.index, p, d, dist, light)) return true;
   }
   return false;
 }
@@ -259,10 +304,11 @@ Image RigRenderer::RenderPatchRadiance(int b, const RigShot& shot) const {
   return out;
 }
 
-Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches) const {
+Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches,
+                                   const std::vector<ShadowCaster>& casters) const {
   if (s.kind == kNone) return Eigen::Vector3f::Zero();
   const Eigen::Vector3d p(s.x, s.y, s.z);
-  if (Occluded(p, shot.light_m, s.kind, s.index)) return Eigen::Vector3f::Zero();
+  if (Occluded(p, shot.light_m, casters, s.kind, s.index)) return Eigen::Vector3f::Zero();
   const Eigen::Vector3d to_light = shot.light_m - p;
   const double d2 = to_light.squaredNorm();
   const Eigen::Vector3d wi = to_light / std::sqrt(d2);
@@ -322,12 +368,13 @@ Image RigRenderer::RenderShotLinear(int shot_index) const {
   const int W = scene_.camera.width, H = scene_.camera.height;
   const size_t spp = size_t(options_.samples_per_axis) * options_.samples_per_axis;
   const float scale = float(scene_.exposure / spp);
+  const std::vector<ShadowCaster> casters = ShadowCastersFor(shot.light_m);
   Image out(W, H, 3);
   ParallelFor(0, H, [&](int y) {
     for (int x = 0; x < W; ++x) {
       Eigen::Vector3f sum = Eigen::Vector3f::Zero();
       const Sample* s = &gbuffer_[(size_t(y) * W + x) * spp];
-      for (size_t k = 0; k < spp; ++k) sum += Shade(s[k], shot, patches);
+      for (size_t k = 0; k < spp; ++k) sum += Shade(s[k], shot, patches, casters);
       float* px = out.pixel(x, y);
       for (int c = 0; c < 3; ++c) px[c] = sum[c] * scale;
     }

@@ -42,6 +42,19 @@ class RigRenderer {
   // True when a ball or a board (other than `self`) blocks the segment from `p` to `light`.
   bool Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, Kind self_kind, int self_index) const;
 
+  // An object that may cast a shadow from one light, with the cone (apex at the light) that holds
+  // its bounding sphere: a point outside every cone is lit without testing any object.
+  struct ShadowCaster {
+    Kind kind;
+    int index;
+    Eigen::Vector3d axis;  // unit, light -> bounding-sphere centre
+    double cos_half_angle;  // -1 when the light is inside the bounding sphere
+  };
+  std::vector<ShadowCaster> ShadowCastersFor(const Eigen::Vector3d& light) const;
+  // Occluded(), testing only the casters whose cone holds `p`: the same answer, faster.
+  bool Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, const std::vector<ShadowCaster>& casters,
+                Kind self_kind, int self_index) const;
+
  private:
   struct Sample {
     float x, y, z;  // hit point, camera frame
@@ -59,7 +72,10 @@ class RigRenderer {
   float BoardAlbedo(int board, double u, double v) const;
   float TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const;  // white mount with tags
   Image RenderPatchRadiance(int board, const RigShot& shot) const;
-  Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches) const;
+  Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches,
+                        const std::vector<ShadowCaster>& casters) const;
+  bool Blocks(Kind kind, int index, const Eigen::Vector3d& p, const Eigen::Vector3d& d, double dist,
+              const Eigen::Vector3d& light) const;
   std::vector<Eigen::Vector2d> SubpixelOffsets() const;
   // Camera ray through continuous pixel position (x, y), interpolated in ray_grid_.
   Eigen::Vector3d RayThrough(double x, double y) const;

@@ -8,6 +8,7 @@
 
 #include "core/directions.h"
 #include "core/parallel.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace {
@@ -145,12 +146,10 @@ Json BtfEvaluation::ToJson() const {
 }
 
 std::string BtfEvaluation::Brief() const {
-  std::ostringstream s;
   const auto w = Median(&PairScore::wasserstein_pixels);
-  s << pairs.size() << " held-out pairs; statistical beats both baselines on pixel Wasserstein in "
-    << 100.0 * FractionBeatingBoth(false) << "% (subbands " << 100.0 * FractionBeatingBoth(true)
-    << "%); median W1 statistical " << w[0] << ", top view " << w[1] << ", BRDF-modulated " << w[2];
-  return s.str();
+  return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (subbands %.0f%%); "
+                "median W1 statistical %.5f, top view %.5f, BRDF-modulated %.5f",
+                pairs.size(), 100.0 * FractionBeatingBoth(false), 100.0 * FractionBeatingBoth(true), w[0], w[1], w[2]);
 }
 
 StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options_in,
