@@ -10,8 +10,10 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/atomic_file.h"
+#include "core/parallel.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -123,17 +125,26 @@ int FirstUnboundedCoefficient(const PtmQuantization& q) {
 
 PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
   MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
-  std::array<double, 6> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
-  for (int y = 0; y < ptm.height(); ++y)
+  // The range of every coefficient index, one row per task (min and max do not depend on order).
+  const int h = ptm.height();
+  std::vector<std::array<double, 12>> row_range(h);
+  ParallelFor(0, h, [&](int y) {
+    std::array<double, 12>& r = row_range[y];  // lo[0..5], hi[0..5]
+    std::fill(r.begin(), r.begin() + 6, std::numeric_limits<double>::infinity());
+    std::fill(r.begin() + 6, r.end(), -std::numeric_limits<double>::infinity());
     for (int x = 0; x < ptm.width(); ++x)
       for (int c = 0; c < ptm.polynomials(); ++c)
         for (int k = 0; k < 6; ++k) {
           const double a = FileCoefficient(ptm, x, y, c, k);
-          lo[k] = std::min(lo[k], a);
-          hi[k] = std::max(hi[k], a);
+          r[k] = std::min(r[k], a);
+          r[6 + k] = std::max(r[6 + k], a);
         }
+  });
+  std::array<double, 6> lo, hi;
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
+  for (const auto& r : row_range)
+    for (int k = 0; k < 6; ++k) lo[k] = std::min(lo[k], r[k]), hi[k] = std::max(hi[k], r[6 + k]);
   PtmQuantization q;
   for (int k = 0; k < 6; ++k) {
     // Byte 0 decodes to -bias * scale and byte 255 to (255 - bias) * scale: find the bias whose
@@ -181,13 +192,21 @@ Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions&
                          ": cannot write PTM: coefficient and colour images do not match "
                          "the format");
   const int w = ptm.width(), h = ptm.height();
-  for (size_t i = 0; i < ptm.coefficients.size(); ++i) {
-    if (!std::isfinite(ptm.coefficients.data()[i])) {
-      const size_t pixel = i / ptm.coefficients.channels();
+  // The first non-finite coefficient in file order, rows checked in parallel.
+  const int per_pixel = ptm.coefficients.channels();
+  std::vector<int> first_bad_x(h, -1);
+  ParallelFor(0, h, [&](int y) {
+    const float* row = ptm.coefficients.data() + size_t(y) * w * per_pixel;
+    for (int i = 0; i < w * per_pixel; ++i)
+      if (!std::isfinite(row[i])) {
+        first_bad_x[y] = i / per_pixel;
+        return;
+      }
+  });
+  for (int y = 0; y < h; ++y)
+    if (first_bad_x[y] >= 0)
       return Status::Error(path.string() + ": cannot write PTM: non-finite coefficient at pixel (" +
-                           std::to_string(pixel % w) + ", " + std::to_string(pixel / w) + ")");
-    }
-  }
+                           std::to_string(first_bad_x[y]) + ", " + std::to_string(y) + ")");
   const PtmQuantization q = ChoosePtmQuantization(ptm, options.integer_scales);
   const bool lrgb = ptm.format == PtmFormat::kLrgb;
 
@@ -206,23 +225,25 @@ Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions&
   const size_t pixels = size_t(w) * h;
   const size_t header_size = out.size();
   out.resize(header_size + (lrgb ? pixels * 9 : pixels * 18));
-  unsigned char* dst = reinterpret_cast<unsigned char*>(out.data()) + header_size;
+  unsigned char* const body = reinterpret_cast<unsigned char*>(out.data()) + header_size;
   double inv_scale[6];
   for (int k = 0; k < 6; ++k) inv_scale[k] = 1.0 / double(q.scale[k]);
-  for (int c = 0; c < ptm.polynomials(); ++c) {
-    for (int row = 0; row < h; ++row) {
-      const int y = h - 1 - row;  // bottom to top
-      for (int x = 0; x < w; ++x)
-        for (int k = 0; k < 6; ++k)
-          *dst++ = QuantizeByte(FileCoefficient(ptm, x, y, c, k) * inv_scale[k] + q.bias[k]);
-    }
-  }
+  // One file row (of one polynomial) per task; rows are stored bottom to top.
+  const int polynomials = ptm.polynomials();
+  ParallelFor(0, polynomials * h, [&](int task) {
+    const int c = task / h, row = task % h, y = h - 1 - row;
+    unsigned char* dst = body + (size_t(c) * h + row) * w * 6;
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 6; ++k) *dst++ = QuantizeByte(FileCoefficient(ptm, x, y, c, k) * inv_scale[k] + q.bias[k]);
+  });
   if (lrgb) {
-    for (int row = 0; row < h; ++row) {
+    unsigned char* const colour = body + size_t(polynomials) * h * w * 6;
+    ParallelFor(0, h, [&](int row) {
       const int y = h - 1 - row;
+      unsigned char* dst = colour + size_t(row) * w * 3;
       for (int x = 0; x < w; ++x)
         for (int c = 0; c < 3; ++c) *dst++ = QuantizeByte(kFileUnits * ptm.rgb.at(x, y, c));
-    }
+    });
   }
   MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
     std::ofstream file(temp, std::ios::binary | std::ios::trunc);

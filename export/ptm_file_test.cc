@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>  // core/directions.h uses cross() without including it
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -329,6 +330,50 @@ TEST(PtmFile, RowsAreStoredBottomToTop) {
   // First RGB row (the bottom one), second pixel.
   EXPECT_EQ(static_cast<unsigned char>(bytes[data + 2 * 3 * 6 + 3]), 255);
   EXPECT_EQ(static_cast<unsigned char>(bytes[data + 2 * 3 * 6 + 0]), 128);
+}
+
+// The file body written the slow, obvious way (docs/formats.md): per polynomial, rows bottom to
+// top, six bytes a pixel, round(255 * coefficient / scale + bias) clamped to a byte; then, for
+// LRGB, the colour bytes. The writer fills rows in parallel: every byte must be this one.
+std::string ReferenceBody(const Ptm& ptm, const PtmQuantization& q) {
+  std::string body;
+  auto byte = [](double v) { return char(static_cast<unsigned char>(std::clamp(std::nearbyint(v), 0.0, 255.0))); };
+  for (int c = 0; c < ptm.polynomials(); ++c)
+    for (int y = ptm.height() - 1; y >= 0; --y)
+      for (int x = 0; x < ptm.width(); ++x)
+        for (int k = 0; k < 6; ++k)
+          body += byte(255.0 * ptm.coefficients.at(x, y, c * 6 + k) * (1.0 / double(q.scale[k])) + q.bias[k]);
+  if (ptm.format == PtmFormat::kLrgb)
+    for (int y = ptm.height() - 1; y >= 0; --y)
+      for (int x = 0; x < ptm.width(); ++x)
+        for (int c = 0; c < 3; ++c) body += byte(255.0 * ptm.rgb.at(x, y, c));
+  return body;
+}
+
+TEST(PtmFile, ParallelWritingGivesTheReferenceBytes) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  std::normal_distribution<float> coefficient(0.0f, 0.4f);
+  std::uniform_real_distribution<float> colour(0.0f, 1.0f);
+  for (PtmFormat format : {PtmFormat::kLrgb, PtmFormat::kRgb})
+    for (bool integer_scales : {true, false}) {
+      Ptm ptm;
+      ptm.format = format;
+      const int polynomials = format == PtmFormat::kRgb ? 3 : 1;
+      ptm.coefficients = Image(97, 61, 6 * polynomials);  // odd sizes: no row block is whole
+      for (size_t i = 0; i < ptm.coefficients.size(); ++i) ptm.coefficients.data()[i] = coefficient(rng);
+      if (format == PtmFormat::kLrgb) {
+        ptm.rgb = Image(97, 61, 3);
+        for (size_t i = 0; i < ptm.rgb.size(); ++i) ptm.rgb.data()[i] = colour(rng);
+      }
+      const fs::path file = testing::MakeTempDir() / "parallel.ptm";
+      PtmQuantization q;
+      ASSERT_TRUE(WritePtmFile(file, ptm, {.integer_scales = integer_scales}, &q).ok());
+      const std::string bytes = ReadBytes(file);
+      const std::string reference = ReferenceBody(ptm, q);
+      ASSERT_GT(bytes.size(), reference.size());
+      EXPECT_TRUE(bytes.compare(bytes.size() - reference.size(), reference.size(), reference) == 0)
+          << PtmFormatToString(format) << (integer_scales ? " integer" : " float") << " scales";
+    }
 }
 
 class PtmFileErrors : public ::testing::Test {
