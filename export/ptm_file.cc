@@ -1,5 +1,9 @@
 #include "export/ptm_file.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -31,9 +35,17 @@ inline double FileCoefficient(const Ptm& ptm, int x, int y, int c, int k) {
   return kFileUnits * ptm.coefficients.at(x, y, c * kPtmCoefficients + k);
 }
 
+// round-half-even (the default rounding mode, as std::nearbyint) and clamp to a byte. SSE2's
+// cvtsd2si rounds in that mode and is inlined; nearbyint is a libm call on baseline x86-64.
+// Clamping to [-1, 256] first keeps the conversion in range and changes no result.
 inline unsigned char QuantizeByte(double value_over_step_plus_bias) {
-  const double r = std::nearbyint(value_over_step_plus_bias);
-  return static_cast<unsigned char>(std::clamp(r, 0.0, 255.0));
+  const double v = std::clamp(value_over_step_plus_bias, -1.0, 256.0);
+#if defined(__SSE2__)
+  const int r = _mm_cvtsd_si32(_mm_set_sd(v));
+#else
+  const int r = int(std::nearbyint(v));
+#endif
+  return static_cast<unsigned char>(std::clamp(r, 0, 255));
 }
 
 std::string Quote(std::string_view text) {
@@ -222,33 +234,43 @@ Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions&
     for (int k = 0; k < 6; ++k) header << q.bias[k] << (k < 5 ? ' ' : '\n');
     out = header.str();
   }
-  const size_t pixels = size_t(w) * h;
-  const size_t header_size = out.size();
-  out.resize(header_size + (lrgb ? pixels * 9 : pixels * 18));
-  unsigned char* const body = reinterpret_cast<unsigned char*>(out.data()) + header_size;
   double inv_scale[6];
   for (int k = 0; k < 6; ++k) inv_scale[k] = 1.0 / double(q.scale[k]);
-  // One file row (of one polynomial) per task; rows are stored bottom to top.
   const int polynomials = ptm.polynomials();
-  ParallelFor(0, polynomials * h, [&](int task) {
-    const int c = task / h, row = task % h, y = h - 1 - row;
-    unsigned char* dst = body + (size_t(c) * h + row) * w * 6;
-    for (int x = 0; x < w; ++x)
-      for (int k = 0; k < 6; ++k) *dst++ = QuantizeByte(FileCoefficient(ptm, x, y, c, k) * inv_scale[k] + q.bias[k]);
-  });
-  if (lrgb) {
-    unsigned char* const colour = body + size_t(polynomials) * h * w * 6;
-    ParallelFor(0, h, [&](int row) {
-      const int y = h - 1 - row;
-      unsigned char* dst = colour + size_t(row) * w * 3;
+  // File rows (of one polynomial, or of the LRGB colour block) in storage order: per
+  // polynomial, rows bottom to top; then the colour rows, bottom to top.
+  const int file_rows = (polynomials + (lrgb ? 1 : 0)) * h;
+  auto quantize_row = [&](int file_row, unsigned char* dst) {
+    const int block = file_row / h, y = h - 1 - file_row % h;
+    if (block < polynomials) {
+      // FileCoefficient, unrolled over the row.
+      const int stride = ptm.coefficients.channels();
+      const float* src = ptm.coefficients.row(y) + block * kPtmCoefficients;
+      for (int x = 0; x < w; ++x, src += stride)
+        for (int k = 0; k < 6; ++k) *dst++ = QuantizeByte(kFileUnits * src[k] * inv_scale[k] + q.bias[k]);
+    } else {
       for (int x = 0; x < w; ++x)
         for (int c = 0; c < 3; ++c) *dst++ = QuantizeByte(kFileUnits * ptm.rgb.at(x, y, c));
-    });
-  }
+    }
+  };
+  // Bands of rows quantised in parallel into one reused buffer, written in order: memory stays
+  // at a few megabytes whatever the image size.
   MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
     std::ofstream file(temp, std::ios::binary | std::ios::trunc);
     if (!file) return Status::Error(path.string() + ": cannot create");
     file.write(out.data(), std::streamsize(out.size()));
+    const size_t widest_row = size_t(w) * 6;
+    const int band_rows = int(std::clamp<size_t>((size_t(4) << 20) / widest_row, 1, size_t(h)));
+    std::vector<unsigned char> band(size_t(band_rows) * widest_row);
+    for (int first = 0; first < file_rows && file; first += band_rows) {
+      const int rows = std::min(band_rows, file_rows - first);
+      ParallelFor(0, rows, [&](int r) { quantize_row(first + r, band.data() + size_t(r) * widest_row); });
+      for (int r = 0; r < rows; ++r) {
+        const bool colour_row = (first + r) / h >= polynomials;
+        file.write(reinterpret_cast<const char*>(band.data() + size_t(r) * widest_row),
+                   std::streamsize(colour_row ? size_t(w) * 3 : widest_row));
+      }
+    }
     file.close();
     if (!file) return Status::Error(path.string() + ": write failed");
     return Status::Ok();
