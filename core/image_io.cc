@@ -94,6 +94,9 @@ std::atomic<int64_t> max_image_pixels{kDefaultMaxImagePixels};
 void SetMaxImagePixels(int64_t pixels) { max_image_pixels = pixels; }
 int64_t MaxImagePixels() { return max_image_pixels; }
 
+// The most rows a decoder buffers at once (OpenImageIO's read_scanlines bands).
+constexpr int64_t kMaxBufferedRows = 256;
+
 Status CheckImageSize(const fs::path& path, int64_t width, int64_t height, int64_t channels) {
   if (width <= 0 || height <= 0) return Status::Error(path.string() + ": image has no pixels");
   const int64_t limit = MaxImagePixels();
@@ -101,6 +104,12 @@ Status CheckImageSize(const fs::path& path, int64_t width, int64_t height, int64
     return Status::Error(path.string() + ": the image declares " + std::to_string(width) + "x" +
                          std::to_string(height) + " pixels, more than the limit of " +
                          std::to_string(limit / 1000000) + " megapixels (--max-megapixels)");
+  // OpenImageIO reads in bands of up to 256 rows whatever the height (a 2.6-million-pixel-wide,
+  // 4-row EXR of 400 bytes asked for 2.7 GB): 256 rows must fit in the limit too.
+  if (width > limit / kMaxBufferedRows)
+    return Status::Error(path.string() + ": the image declares rows of " + std::to_string(width) +
+                         " pixels, longer than the limit of " + std::to_string(limit / kMaxBufferedRows) +
+                         " (--max-megapixels / 256 rows)");
   // Decoders buffer every declared channel: beyond 4, channels count against the limit too.
   if (channels > 4 && width * height / 4 > limit / channels)
     return Status::Error(path.string() + ": the image declares " + std::to_string(width) + "x" +

@@ -49,8 +49,9 @@ struct ImageInfo {
 inline constexpr int64_t kDefaultMaxImagePixels = 250000000;
 void SetMaxImagePixels(int64_t pixels);
 int64_t MaxImagePixels();
-// Ok if a width x height image is within the limit, and its channels beyond 4 (which decoders
-// buffer too) within 4 channels' worth of it; otherwise an error naming `path`.
+// Ok if a width x height image is within the limit, 256 of its rows too (decoders buffer bands
+// of rows), and its channels beyond 4 (which decoders buffer too) within 4 channels' worth of
+// it; otherwise an error naming `path`.
 Status CheckImageSize(const std::filesystem::path& path, int64_t width, int64_t height, int64_t channels = 1);
 // The same from the file's own header, read before any decoder opens it, for the formats whose
 // decoders allocate from the declared size while opening (OpenEXR: core/exr_header_check.h).

@@ -104,12 +104,13 @@ TEST(ImageIO, HeadersDeclaringMoreThanTheCapAreRefusedBeforeAllocating) {
   auto u8 = ReadImageU8(path);
   ASSERT_FALSE(u8.ok());
   EXPECT_NE(u8.status().message().find("megapixels"), std::string::npos) << u8.status().message();
-  // The cap is an option: below it the same kind of header is read as usual.
+  // The cap is an option: below it the same kind of header is read as usual. (A 16-pixel row
+  // needs a cap of 16 x 256 rows, the band decoders buffer.)
   JpegDeclaring(dir / "small.jpg", 16, 16);
-  SetMaxImagePixels(255);
+  SetMaxImagePixels(16 * 256 - 1);
   EXPECT_FALSE(ReadImageU8(dir / "small.jpg").ok());
   EXPECT_FALSE(ReadImage(dir / "small.jpg").ok());
-  SetMaxImagePixels(256);
+  SetMaxImagePixels(16 * 256);
   EXPECT_TRUE(ReadImageU8(dir / "small.jpg").ok());
   EXPECT_TRUE(ReadImage(dir / "small.jpg").ok());
   SetMaxImagePixels(kDefaultMaxImagePixels);
@@ -206,17 +207,32 @@ TEST(ImageIO, AnExrWhoseOffsetTableCannotFitInTheFileIsRefused) {
   EXPECT_TRUE(ReadImage(dir / "a.exr").ok());
 }
 
+TEST(ImageIO, RowsLongerThanTheCapOver256AreRefused) {
+  // Found by fuzz/fuzz_image: a 400-byte EXR declaring 2621444 x 4 pixels (10 MP, within a 16 MP
+  // cap) made OpenImageIO allocate 256 rows of it, 2.7 GB. The same holds for an honest file.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "wide.exr", Ramp(101, 2, 1), {.format = PixelFormat::kFloat}).ok());
+  SetMaxImagePixels(256 * 100);
+  auto info = ReadImageInfo(dir / "wide.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("rows of 101 pixels"), std::string::npos) << info.status().message();
+  EXPECT_FALSE(ReadImageU8(dir / "wide.exr").ok());
+  SetMaxImagePixels(256 * 101);
+  EXPECT_TRUE(ReadImage(dir / "wide.exr").ok());
+  SetMaxImagePixels(kDefaultMaxImagePixels);
+}
+
 TEST(ImageIO, ChannelsBeyondFourCountAgainstTheCap) {
   // Decoders buffer every declared channel even when only 4 are kept.
   const auto dir = testing::MakeTempDir();
   const std::vector<std::string> names = {"a", "b", "c", "d", "e", "f", "g", "h"};
-  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 8), {.format = PixelFormat::kHalf, .channel_names = names}).ok());
-  SetMaxImagePixels(63);  // 32 pixels of 8 channels weigh as 64 pixels of 4
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(4, 512, 8), {.format = PixelFormat::kHalf, .channel_names = names}).ok());
+  SetMaxImagePixels(4095);  // 2048 pixels of 8 channels weigh as 4096 pixels of 4
   auto info = ReadImageInfo(dir / "a.exr");
   ASSERT_FALSE(info.ok());
-  EXPECT_NE(info.status().message().find("8x4 pixels of 8 channels"), std::string::npos) << info.status().message();
+  EXPECT_NE(info.status().message().find("4x512 pixels of 8 channels"), std::string::npos) << info.status().message();
   EXPECT_FALSE(ReadImage(dir / "a.exr").ok());
-  SetMaxImagePixels(64);
+  SetMaxImagePixels(4096);
   EXPECT_TRUE(ReadImage(dir / "a.exr").ok());
   SetMaxImagePixels(kDefaultMaxImagePixels);
 }

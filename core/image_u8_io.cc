@@ -120,7 +120,8 @@ JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, Image
   jpeg_create_decompress(&cinfo);
   jpeg_mem_src(&cinfo, bytes, static_cast<unsigned long>(size));
   jpeg_read_header(&cinfo, TRUE);
-  if (int64_t(cinfo.image_width) > MaxImagePixels() / std::max<int64_t>(1, cinfo.image_height)) {
+  // The one size rule of every reader (CheckImageSize), before a byte of pixels is allocated.
+  if (!CheckImageSize("", cinfo.image_width, cinfo.image_height, cinfo.num_components).ok()) {
     *width = cinfo.image_width, *height = cinfo.image_height;
     jpeg_destroy_decompress(&cinfo);
     return JpegResult::kTooLarge;
