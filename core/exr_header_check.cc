@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include "core/image_io.h"
@@ -39,8 +40,8 @@ struct PartHeader {
 
 class HeaderReader {
  public:
-  HeaderReader(const fs::path& path, std::ifstream& in, std::streamoff file_size)
-      : path_(path), in_(in), file_size_(file_size) {}
+  HeaderReader(const fs::path& path, std::ifstream& in, std::streamoff file_size, size_t max_name_length)
+      : path_(path), in_(in), file_size_(file_size), max_name_length_(max_name_length) {}
 
   // Reads one header; false when the file ends or is too malformed to walk (OpenEXR's reader
   // then reports it), with *error set when a declared size is refused.
@@ -55,22 +56,46 @@ class HeaderReader {
       if (!in_.read(reinterpret_cast<char*>(&size), 4) || size < 0) return false;
       const std::streamoff value_start = in_.tellg();
       if (std::streamoff(size) > file_size_ - value_start) {
-        *error = Status::Error(path_.string() + ": malformed OpenEXR header: attribute '" + name + "' declares " +
-                               std::to_string(size) + " bytes, more than the file holds");
+        *error = Malformed("attribute '" + name + "' declares " + std::to_string(size) + " bytes, more than the file holds");
         return false;
       }
-      if (!ReadValue(name, type, size, part)) return false;
+      // OpenEXR reads a known type's own length whatever the declared size says: a size that
+      // disagrees would put it somewhere else in the file than this walk (and its checks).
+      if (const int natural = NaturalSize(type); natural >= 0 && size != natural) {
+        *error = Malformed("attribute '" + name + "' of type " + type + " declares " + std::to_string(size) +
+                           " bytes, not " + std::to_string(natural));
+        return false;
+      }
+      if (!ReadValue(name, type, size, part, error)) return false;
       in_.seekg(value_start + size);
     }
     return false;
   }
 
  private:
+  // The byte length of OpenEXR's fixed-size attribute types, -1 for the others.
+  static int NaturalSize(const std::string& type) {
+    static const std::map<std::string, int> sizes = {
+        {"int", 4},      {"float", 4},     {"double", 8},      {"box2i", 16},       {"box2f", 16},
+        {"v2i", 8},      {"v2f", 8},       {"v2d", 16},        {"v3i", 12},         {"v3f", 12},
+        {"v3d", 24},     {"m33f", 36},     {"m33d", 72},       {"m44f", 64},        {"m44d", 128},
+        {"compression", 1}, {"lineOrder", 1}, {"envmap", 1},   {"deepImageState", 1}, {"tiledesc", 9},
+        {"rational", 8}, {"timecode", 8},  {"keycode", 28},    {"chromaticities", 32}};
+    const auto it = sizes.find(type);
+    return it == sizes.end() ? -1 : it->second;
+  }
+
+  Status Malformed(const std::string& what) const {
+    return Status::Error(path_.string() + ": malformed OpenEXR header: " + what);
+  }
+
+  // A NUL-terminated name, at most max_name_length_ characters (31, or 255 with the long-names
+  // flag), as OpenEXR reads it; false when longer (OpenEXR refuses it) or at the end of the file.
   bool ReadName(std::string* out) {
     out->clear();
     for (char c; in_.get(c);) {
       if (c == '\0') return true;
-      if (out->size() > 255) return false;
+      if (out->size() >= max_name_length_) return false;
       out->push_back(c);
     }
     return false;
@@ -79,32 +104,53 @@ class HeaderReader {
   template <typename T>
   bool ReadInt(T* value) { return bool(in_.read(reinterpret_cast<char*>(value), sizeof(T))); }
 
-  bool ReadValue(const std::string& name, const std::string& type, int32_t size, PartHeader* part) {
-    if (name == "dataWindow" && type == "box2i" && size == 16) {
+  bool ReadValue(const std::string& name, const std::string& type, int32_t size, PartHeader* part, Status* error) {
+    if (name == "dataWindow" && type == "box2i") {
       int32_t box[4];
       if (!in_.read(reinterpret_cast<char*>(box), 16)) return false;
       part->width = int64_t(box[2]) - box[0] + 1;
       part->height = int64_t(box[3]) - box[1] + 1;
-    } else if (name == "compression" && size == 1) {
+    } else if (name == "compression" && type == "compression") {
       uint8_t c = 0;
       if (!ReadInt(&c)) return false;
       part->compression = c;
-    } else if (name == "tiles" && type == "tiledesc" && size == 9) {
+    } else if (name == "tiles" && type == "tiledesc") {
       uint32_t tile[2];
       if (!ReadInt(&tile[0]) || !ReadInt(&tile[1])) return false;
       part->tile_width = tile[0];
       part->tile_height = tile[1];
-    } else if (name == "chunkCount" && size == 4) {
+    } else if (name == "chunkCount" && type == "int") {
       int32_t count = 0;
       if (!ReadInt(&count)) return false;
       part->declared_chunks = count;
-    } else if (name == "channels" && type == "chlist") {
-      // name\0 then 16 bytes (pixel type, pLinear, reserved, x and y sampling) per channel.
+    } else if (type == "chlist") {
+      // name\0 then 16 bytes (pixel type, pLinear, reserved, x and y sampling) per channel, up
+      // to an empty name; OpenEXR reads the list, not the declared size.
       std::string channel;
-      for (int32_t left = size; left > 1 && ReadName(&channel) && !channel.empty();) {
+      int64_t length = 1;
+      int64_t channels = 0;
+      while (true) {
+        if (!ReadName(&channel)) return false;
+        if (channel.empty()) break;
         in_.seekg(16, std::ios::cur);
-        left -= int32_t(channel.size()) + 17;
-        ++part->channels;
+        length += int64_t(channel.size()) + 17;
+        ++channels;
+        if (length > size) break;
+      }
+      if (length != size) {
+        *error = Malformed("channel list '" + name + "' declares " + std::to_string(size) + " bytes but holds " +
+                           (length > size ? "more" : std::to_string(length)));
+        return false;
+      }
+      if (name == "channels") part->channels = channels;
+    } else if (type == "preview") {
+      // Width and height, then 4 bytes a pixel: OpenEXR allocates what they declare.
+      uint32_t w = 0, h = 0;
+      if (!ReadInt(&w) || !ReadInt(&h)) return false;
+      if (8 + 4 * int64_t(w) * int64_t(h) != size) {
+        *error = Malformed("preview of " + std::to_string(w) + "x" + std::to_string(h) + " pixels in " +
+                           std::to_string(size) + " bytes");
+        return false;
       }
     }
     return bool(in_);
@@ -113,6 +159,7 @@ class HeaderReader {
   const fs::path& path_;
   std::ifstream& in_;
   std::streamoff file_size_;
+  size_t max_name_length_;
 };
 
 }  // namespace
@@ -125,7 +172,8 @@ Status CheckExrHeader(const fs::path& path) {
   if (!in.read(reinterpret_cast<char*>(start), 8) || std::memcmp(start, "\x76\x2f\x31\x01", 4) != 0)
     return Status::Ok();
   const bool multi_part = start[5] & 0x10;  // version flags, bit 12
-  HeaderReader reader(path, in, file_size);
+  const bool long_names = start[5] & 0x04;  // bit 10
+  HeaderReader reader(path, in, file_size, long_names ? 255 : 31);
   int64_t chunks = 0;  // offset-table entries over all parts
   for (int part_index = 0;; ++part_index) {
     PartHeader part;

@@ -187,6 +187,23 @@ TEST(ImageIO, EveryExrAttributeIsCheckedNotOnlyThoseBeforeTheDataWindow) {
       << info.status().message();
 }
 
+TEST(ImageIO, AnExrAttributeWhoseSizeDisagreesWithItsTypeIsRefused) {
+  // Found by fuzz/fuzz_image: an int declaring 168 bytes. OpenEXR reads 4 and parses the rest as
+  // further attributes, one of them a 2 GB string; the header walk had skipped all 168.
+  const auto dir = testing::MakeTempDir();
+  ImageWriteOptions options{.format = PixelFormat::kHalf};
+  options.attributes["mesocap:board"] = 3;
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), options).ok());
+  std::string bytes = FileBytes(dir / "a.exr");
+  PatchInt32After(&bytes, std::string("mesocap:board\0int\0", 18), 168);
+  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  auto info = ReadImageInfo(dir / "b.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("attribute 'mesocap:board' of type int declares 168 bytes, not 4"),
+            std::string::npos) << info.status().message();
+  EXPECT_TRUE(ReadImageInfo(dir / "a.exr").ok());
+}
+
 TEST(ImageIO, AnExrWhoseOffsetTableCannotFitInTheFileIsRefused) {
   // A data window of 1 x 10 million rows is within the pixel cap, but its uncompressed offset
   // table (one 8-byte entry per row) would be 80 MB, allocated before any pixel is read.
