@@ -89,14 +89,15 @@ class HeaderReader {
     return Status::Error(path_.string() + ": malformed OpenEXR header: " + what);
   }
 
-  // A NUL-terminated name, at most max_name_length_ characters (31, or 255 with the long-names
-  // flag), as OpenEXR reads it; false when longer (OpenEXR refuses it) or at the end of the file.
+  // A name as OpenEXR's Xdr::read(stream, max, name) reads it: characters up to a NUL (read and
+  // dropped) or max + 1 of them, whichever comes first; the next read starts right after. Reading exactly as OpenEXR does keeps this walk on
+  // the bytes OpenEXR will take as sizes. False at the end of the file.
   bool ReadName(std::string* out) {
     out->clear();
     for (char c; in_.get(c);) {
       if (c == '\0') return true;
-      if (out->size() >= max_name_length_) return false;
       out->push_back(c);
+      if (out->size() > max_name_length_) return true;
     }
     return false;
   }
@@ -172,8 +173,9 @@ Status CheckExrHeader(const fs::path& path) {
   if (!in.read(reinterpret_cast<char*>(start), 8) || std::memcmp(start, "\x76\x2f\x31\x01", 4) != 0)
     return Status::Ok();
   const bool multi_part = start[5] & 0x10;  // version flags, bit 12
-  const bool long_names = start[5] & 0x04;  // bit 10
-  HeaderReader reader(path, in, file_size, long_names ? 255 : 31);
+  // OpenEXR 3 reads every attribute and type name with its longest limit, 255, whatever the
+  // long-names flag says.
+  HeaderReader reader(path, in, file_size, 255);
   int64_t chunks = 0;  // offset-table entries over all parts
   for (int part_index = 0;; ++part_index) {
     PartHeader part;
