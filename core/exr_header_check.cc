@@ -148,7 +148,8 @@ class HeaderReader {
       // Width and height, then 4 bytes a pixel: OpenEXR allocates what they declare.
       uint32_t w = 0, h = 0;
       if (!ReadInt(&w) || !ReadInt(&h)) return false;
-      if (8 + 4 * int64_t(w) * int64_t(h) != size) {
+      // In 128 bits: two 32-bit sides times 4 overflow 64.
+      if (8 + 4 * static_cast<unsigned __int128>(w) * h != static_cast<unsigned __int128>(size)) {
         *error = Malformed("preview of " + std::to_string(w) + "x" + std::to_string(h) + " pixels in " +
                            std::to_string(size) + " bytes");
         return false;
@@ -188,6 +189,7 @@ Status CheckExrHeader(const fs::path& path) {
         !size.ok())
       return size;
     chunks += part.Chunks();
+    if (chunks > file_size / 8) break;  // already too many; and no sum over parts can overflow
     if (!multi_part) break;
   }
   // The offset table (8 bytes per chunk) follows the headers; OpenEXR allocates it whole.
