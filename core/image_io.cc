@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/exr_header_check.h"
+#include "core/oiio_input.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -152,6 +153,26 @@ PixelFormat DefaultFormatFor(const fs::path& path) {
   return PixelFormat::kUint16Linear;
 }
 
+std::unique_ptr<oiio::ImageInput> OpenImageForExtension(const fs::path& path, const oiio::ImageSpec* config,
+                                                       std::string* error) {
+  const std::string extension = path.extension().string();
+  auto in = extension.size() > 1 ? oiio::ImageInput::create(extension.substr(1)) : nullptr;
+  if (!in) {
+    *error = extension.size() > 1 ? "not an image: no image reader for files named *" + extension
+                                  : std::string("not an image: no file extension to choose an image reader by");
+    oiio::geterror();  // drop OpenImageIO's pending message
+    return nullptr;
+  }
+  oiio::ImageSpec spec;
+  const bool opened = config ? in->open(path.string(), spec, *config) : in->open(path.string(), spec);
+  if (!opened) {
+    *error = in->geterror();
+    if (error->empty()) *error = "not a readable " + std::string(in->format_name()) + " file";
+    return nullptr;
+  }
+  return in;
+}
+
 StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
@@ -159,12 +180,9 @@ StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
   if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
   oiio::ImageSpec config;
   config.attribute("raw:ColorSpace", "linear");
-  auto in = oiio::ImageInput::open(path.string(), &config);
-  if (!in) {
-    std::string why = oiio::geterror();
-    if (why.empty()) why = "not a readable image";
-    return Status::Error(path.string() + ": " + why);
-  }
+  std::string why;
+  auto in = OpenImageForExtension(path, &config, &why);
+  if (!in) return Status::Error(path.string() + ": " + why);
   const oiio::ImageSpec& spec = in->spec();
   if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
   ImageInfo info;
@@ -186,8 +204,9 @@ StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options,
   if (!info.ok()) return info.status();
   oiio::ImageSpec config;
   config.attribute("raw:ColorSpace", "linear");
-  auto in = oiio::ImageInput::open(path.string(), &config);
-  if (!in) return Status::Error(path.string() + ": " + oiio::geterror());
+  std::string why;
+  auto in = OpenImageForExtension(path, &config, &why);
+  if (!in) return Status::Error(path.string() + ": " + why);
   const oiio::ImageSpec& spec = in->spec();
   if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
   if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;

@@ -143,6 +143,23 @@ TEST(ImageIO, EveryFormatOpenImageIOReadsCountsAsAnImage) {
   EXPECT_TRUE(ReadImage(dir / "a.tga").ok());
 }
 
+TEST(ImageIO, OnlyTheReaderForTheExtensionOpensAFile) {
+  // OpenImageIO's open() tries every reader it has when the named one fails; fuzz_image_u8 found
+  // one of them (RLA) aborting the process on a corrupt .jpg. A file must match its extension.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "a.png", Ramp(8, 4, 3)).ok());
+  std::filesystem::copy_file(dir / "a.png", dir / "png_named.jpg");
+  auto image = ReadImage(dir / "png_named.jpg");
+  ASSERT_FALSE(image.ok());
+  EXPECT_NE(image.status().message().find("png_named.jpg"), std::string::npos) << image.status().message();
+  EXPECT_FALSE(ReadImageU8(dir / "png_named.jpg").ok());
+  EXPECT_TRUE(ReadImage(dir / "a.png").ok());
+  std::ofstream(dir / "notes.txt") << "not an image";
+  auto text = ReadImageInfo(dir / "notes.txt");
+  ASSERT_FALSE(text.ok());
+  EXPECT_NE(text.status().message().find("not an image"), std::string::npos) << text.status().message();
+}
+
 TEST(ImageIO, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) {
   // Found by fuzz/fuzz_image: OpenEXR allocated an attribute's declared size (2 GB) first.
   const auto dir = testing::MakeTempDir();

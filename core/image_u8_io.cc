@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/image_io.h"
+#include "core/oiio_input.h"
 
 #ifdef __linux__
 #include <sys/mman.h>
@@ -151,12 +152,9 @@ JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, Image
 
 StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
   if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
-  auto in = oiio::ImageInput::open(path.string());
-  if (!in) {
-    std::string why = oiio::geterror();
-    if (why.empty()) why = "not a readable image";
-    return Status::Error(path.string() + ": " + why);
-  }
+  std::string why;
+  auto in = OpenImageForExtension(path, nullptr, &why);
+  if (!in) return Status::Error(path.string() + ": " + why);
   const oiio::ImageSpec& spec = in->spec();
   if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
   if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;

@@ -1,6 +1,7 @@
 // The file name an image input is written under: OpenImageIO tries the reader its extension
 // names first, so inputs are named by their magic bytes as a camera or writer would name them
-// (unknown bytes get an unknown extension: OpenImageIO then tries every reader).
+// (unknown bytes get an unknown extension, which mesocap refuses: only the extension's reader
+// opens a file, core/oiio_input.h).
 #pragma once
 
 #include <cstddef>
