@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/exr_header_check.h"
+#include "core/image_u8_io.h"
 #include "core/oiio_input.h"
 
 namespace mesocap {
@@ -144,7 +145,10 @@ bool HasReadableImageExtension(const fs::path& path) {
 }
 
 
-Status CheckDeclaredImageSize(const fs::path& path) { return CheckExrHeader(path); }
+Status CheckDeclaredImageSize(const fs::path& path) {
+  if (Status exr = CheckExrHeader(path); !exr.ok()) return exr;
+  return CheckJpegDeclaredSize(path);
+}
 
 PixelFormat DefaultFormatFor(const fs::path& path) {
   const std::string ext = Lower(path.extension().string());

@@ -150,6 +150,26 @@ JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, Image
   return JpegResult::kOk;
 }
 
+// The declared size of a JPEG (a file starting with the SOI marker FF D8), read by libjpeg from
+// the file up to its frame header, nothing more; Ok for other files and for headers too broken
+// to read (the decoder reports those).
+Status CheckJpegDeclaredSizeImpl(const fs::path& path, std::FILE* file) {
+  jpeg_decompress_struct cinfo;
+  JpegErrorManager err;
+  cinfo.err = jpeg_std_error(&err.base);
+  err.base.error_exit = JpegErrorExit;  // warnings keep their default: only the size matters here
+  if (setjmp(err.jump)) {
+    jpeg_destroy_decompress(&cinfo);
+    return Status::Ok();
+  }
+  jpeg_create_decompress(&cinfo);
+  jpeg_stdio_src(&cinfo, file);
+  jpeg_read_header(&cinfo, TRUE);
+  const int64_t width = cinfo.image_width, height = cinfo.image_height, components = cinfo.num_components;
+  jpeg_destroy_decompress(&cinfo);
+  return CheckImageSize(path, width, height, components);
+}
+
 StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
   if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
   std::string why;
@@ -176,6 +196,17 @@ StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
 }
 
 }  // namespace
+
+Status CheckJpegDeclaredSize(const fs::path& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return Status::Ok();  // the reader reports it
+  unsigned char soi[2] = {0, 0};
+  const bool is_jpeg = std::fread(soi, 1, 2, file) == 2 && soi[0] == 0xFF && soi[1] == 0xD8;
+  std::rewind(file);
+  Status status = is_jpeg ? CheckJpegDeclaredSizeImpl(path, file) : Status::Ok();
+  std::fclose(file);
+  return status;
+}
 
 StatusOr<ImageU8> ReadImageU8(const fs::path& path, int max_channels) {
   MESOCAP_CHECK(max_channels >= 1, "max_channels must be at least 1");

@@ -65,6 +65,11 @@ class ImageU8 {
 // errors, as in ReadImage), not 8-bit.
 StatusOr<ImageU8> ReadImageU8(const std::filesystem::path& path, int max_channels = 4);
 
+// For a file starting with a JPEG's SOI marker: CheckImageSize on the frame header libjpeg
+// finds, before any decoder opens it (libjpeg inside OpenImageIO allocates a progressive JPEG's
+// whole coefficient buffer while opening, and tolerates junk after the marker). Ok otherwise.
+Status CheckJpegDeclaredSize(const std::filesystem::path& path);
+
 // Values v * kU8ToUnit in a float image of the same shape.
 Image ImageU8ToFloat(const ImageU8& image);
 
