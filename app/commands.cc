@@ -2,7 +2,6 @@
 
 #include <cstdio>
 
-#include "core/image_io.h"
 #include "core/provenance.h"
 
 namespace mesocap::app {
@@ -23,7 +22,6 @@ void DefineCommandLine(CLI::App& app, GlobalOptions& globals, std::vector<Comman
   app.require_subcommand(1);
   app.add_flag_callback("-q,--quiet", [&globals] { globals.verbosity = 0; }, "Only warnings and errors");
   app.add_flag_callback("-v,--verbose", [&globals] { globals.verbosity = 2; }, "Debug output");
-  globals.max_megapixels = double(kDefaultMaxImagePixels) / 1e6;
   app.add_option("--max-megapixels", globals.max_megapixels,
                  "Refuse images larger than this before allocating them (a crafted header cannot ask "
                  "for gigabytes)")

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/image_io.h"
+
 namespace mesocap::app {
 
 // 0 success; 1 the work failed on bad data or I/O (message names the file); 2 a bad option;
@@ -32,7 +34,7 @@ std::vector<Command> AllCommands();
 // Options before the subcommand.
 struct GlobalOptions {
   int verbosity = 1;  // 0 quiet, 1 normal, 2 verbose
-  double max_megapixels = 250;
+  double max_megapixels = double(kDefaultMaxImagePixels) / 1e6;
 };
 
 // The whole command line: program name, version flag, global options and every subcommand's

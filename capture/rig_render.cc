@@ -25,6 +25,16 @@ double IntersectSquare(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const
   return (x >= x0 && x <= half_x && y >= y0 && y <= half_y) ? s : -1;
 }
 
+// Whether the square (R, t, half side) lies between p and the light: the segment must cross
+// its plane (a cheap reject) and hit it short of the light.
+bool SquareBlocks(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double half, const Eigen::Vector3d& p,
+                  const Eigen::Vector3d& d, double dist, const Eigen::Vector3d& light) {
+  const Eigen::Vector3d n = R.col(2);
+  if ((n.dot(p - t) > 0) == (n.dot(light - t) > 0)) return false;
+  const double s = IntersectSquare(p, d, R, t, half, half);
+  return s > 1e-6 && s < dist;
+}
+
 double IntersectSphere(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& c, double r) {
   const Eigen::Vector3d oc = o - c;
   const double b = oc.dot(d), cc = oc.squaredNorm() - r * r;
@@ -200,36 +210,21 @@ bool RigRenderer::Blocks(Kind kind, int index, const Eigen::Vector3d& p, const E
     }
     case kCard: {
       const auto& c = scene_.grey_cards[index];
-      const Eigen::Vector3d n = c.R.col(2);
-      if ((n.dot(p - c.t) > 0) == (n.dot(light - c.t) > 0)) return false;
-      const double s = IntersectSquare(p, d, c.R, c.t, c.size_m / 2, c.size_m / 2);
-      return s > 1e-6 && s < dist;
+      return SquareBlocks(c.R, c.t, c.size_m / 2, p, d, dist, light);
     }
     case kBoard: {
       const auto& board = scene_.boards[index];
-      // Cheap reject: the segment must cross the board's plane.
-      const Eigen::Vector3d n = board.R.col(2);
-      if ((n.dot(p - board.t) > 0) == (n.dot(light - board.t) > 0)) return false;
-      const double s = IntersectSquare(p, d, board.R, board.t, board.size_m / 2, board.size_m / 2);
-      return s > 1e-6 && s < dist;
+      return SquareBlocks(board.R, board.t, board.size_m / 2, p, d, dist, light);
     }
     default:
       return false;
   }
 }
 
+// The culled test gives the same answer; without a shot to share the casters, they are made here.
 bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, Kind self_kind,
                            int self_index) const {
-  const Eigen::Vector3d to_light = light - p;
-  const double dist = to_light.norm();
-  const Eigen::Vector3d d = to_light / dist;
-  for (size_t i = 0; i < scene_.spheres.size(); ++i)
-    if (!(self_kind == kSphere && int(i) == self_index) && Blocks(kSphere, int(i), p, d, dist, light)) return true;
-  for (size_t i = 0; i < scene_.grey_cards.size(); ++i)
-    if (!(self_kind == kCard && int(i) == self_index) && Blocks(kCard, int(i), p, d, dist, light)) return true;
-  for (size_t b = 0; b < scene_.boards.size(); ++b)
-    if (!(self_kind == kBoard && int(b) == self_index) && Blocks(kBoard, int(b), p, d, dist, light)) return true;
-  return false;
+  return Occluded(p, light, ShadowCastersFor(light), self_kind, self_index);
 }
 
 std::vector<RigRenderer::ShadowCaster> RigRenderer::ShadowCastersFor(const Eigen::Vector3d& light) const {

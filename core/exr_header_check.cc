@@ -40,8 +40,8 @@ struct PartHeader {
 
 class HeaderReader {
  public:
-  HeaderReader(const fs::path& path, std::ifstream& in, std::streamoff file_size, size_t max_name_length)
-      : path_(path), in_(in), file_size_(file_size), max_name_length_(max_name_length) {}
+  HeaderReader(const fs::path& path, std::ifstream& in, std::streamoff file_size)
+      : path_(path), in_(in), file_size_(file_size) {}
 
   // Reads one header; false when the file ends or is too malformed to walk (OpenEXR's reader
   // then reports it), with *error set when a declared size is refused.
@@ -89,15 +89,16 @@ class HeaderReader {
     return Status::Error(path_.string() + ": malformed OpenEXR header: " + what);
   }
 
-  // A name as OpenEXR's Xdr::read(stream, max, name) reads it: characters up to a NUL (read and
-  // dropped) or max + 1 of them, whichever comes first; the next read starts right after. Reading exactly as OpenEXR does keeps this walk on
+  // A name as OpenEXR 3's Xdr::read(stream, 255, name) reads it, whatever the long-names flag
+  // says: characters up to a NUL (read and dropped) or 256 of them, whichever comes first; the
+  // next read starts right after. Reading exactly as OpenEXR does keeps this walk on
   // the bytes OpenEXR will take as sizes. False at the end of the file.
   bool ReadName(std::string* out) {
     out->clear();
     for (char c; in_.get(c);) {
       if (c == '\0') return true;
       out->push_back(c);
-      if (out->size() > max_name_length_) return true;
+      if (out->size() > kMaxNameLength) return true;
     }
     return false;
   }
@@ -161,7 +162,7 @@ class HeaderReader {
   const fs::path& path_;
   std::ifstream& in_;
   std::streamoff file_size_;
-  size_t max_name_length_;
+  static constexpr size_t kMaxNameLength = 255;  // OpenEXR's Name::MAX_LENGTH
 };
 
 }  // namespace
@@ -174,9 +175,7 @@ Status CheckExrHeader(const fs::path& path) {
   if (!in.read(reinterpret_cast<char*>(start), 8) || std::memcmp(start, "\x76\x2f\x31\x01", 4) != 0)
     return Status::Ok();
   const bool multi_part = start[5] & 0x10;  // version flags, bit 12
-  // OpenEXR 3 reads every attribute and type name with its longest limit, 255, whatever the
-  // long-names flag says.
-  HeaderReader reader(path, in, file_size, 255);
+  HeaderReader reader(path, in, file_size);
   int64_t chunks = 0;  // offset-table entries over all parts
   for (int part_index = 0;; ++part_index) {
     PartHeader part;

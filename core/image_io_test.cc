@@ -77,11 +77,22 @@ TEST(ImageIO, MatBridgeSharesMemory) {
 }
 
 
+std::string FileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// Overwrites the int32 that follows `key` (an attribute's name\0type\0) in `bytes`.
+void PatchInt32After(std::string* bytes, const std::string& key, int32_t value) {
+  const size_t at = bytes->find(key);
+  ASSERT_NE(at, std::string::npos) << key;
+  bytes->replace(at + key.size(), 4, reinterpret_cast<const char*>(&value), 4);
+}
+
 // A small valid JPEG whose frame header (SOF0) is rewritten to declare width x height.
 std::string JpegDeclaring(const std::filesystem::path& path, int width, int height) {
   EXPECT_TRUE(WriteImage(path, Ramp(16, 16, 3)).ok());
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::string bytes = FileBytes(path);
   const size_t sof = bytes.find("\xFF\xC0");
   EXPECT_NE(sof, std::string::npos);
   bytes[sof + 5] = char(height >> 8), bytes[sof + 6] = char(height & 255);
@@ -164,12 +175,8 @@ TEST(ImageIO, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) 
   // Found by fuzz/fuzz_image: OpenEXR allocated an attribute's declared size (2 GB) first.
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
-  std::ifstream in(dir / "a.exr", std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), {});
-  const size_t at = bytes.find(std::string("channels\0chlist\0", 16));
-  ASSERT_NE(at, std::string::npos);
-  const int32_t huge = 0x7fffff00;
-  bytes.replace(at + 16, 4, reinterpret_cast<const char*>(&huge), 4);
+  std::string bytes = FileBytes(dir / "a.exr");
+  PatchInt32After(&bytes, std::string("channels\0chlist\0", 16), 0x7fffff00);
   std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
   auto info = ReadImageInfo(dir / "b.exr");
   ASSERT_FALSE(info.ok());
@@ -177,18 +184,6 @@ TEST(ImageIO, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) 
             std::string::npos) << info.status().message();
   EXPECT_FALSE(ReadImageU8(dir / "b.exr").ok());
   EXPECT_TRUE(ReadImageInfo(dir / "a.exr").ok());
-}
-
-std::string FileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
-// Overwrites the int32 that follows `key` (an attribute's name\0type\0) in `bytes`.
-void PatchInt32After(std::string* bytes, const std::string& key, int32_t value) {
-  const size_t at = bytes->find(key);
-  ASSERT_NE(at, std::string::npos) << key;
-  bytes->replace(at + key.size(), 4, reinterpret_cast<const char*>(&value), 4);
 }
 
 TEST(ImageIO, EveryExrAttributeIsCheckedNotOnlyThoseBeforeTheDataWindow) {
