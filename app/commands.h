@@ -58,5 +58,7 @@ Command LightsCommand();
 Command SynthCommand();
 Command SynthApplyCommand();
 Command PaintCommand();
+Command ProcessCommand();
+Command ExportCommand();
 
 }  // namespace mesocap::app

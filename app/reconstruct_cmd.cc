@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 
+#include "app/btf_folder.h"
 #include "app/commands.h"
 #include "core/atomic_file.h"
 #include "core/directions.h"
@@ -28,6 +29,7 @@ struct ReconstructArgs {
   std::filesystem::path session, index, out;
   SliceSetOptions options;
   std::vector<std::string> pairs;  // "theta_i,phi_i,theta_o,phi_o"
+  std::string grid = "bonn";
   bool pixel_only = false;
   bool no_progress = false;
 };
@@ -59,32 +61,23 @@ std::string ParsePair(const std::string& text, std::array<double, 4>* pair) {
   return "";
 }
 
-// The slice file of a direction pair: angles to 0.1 deg, so distinct pairs may share a name.
-std::string SliceName(const std::array<double, 4>& p) {
-  return Format("slices/ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]);
-}
-
 int Run(ReconstructArgs& a) {
   const std::filesystem::path index = a.index.empty() ? a.session / "slices" / "index.json" : a.index;
   if (!std::filesystem::exists(index))
     return Fail("reconstruct", index.string() + " not found: run `mesocap calibrate` first or pass --slices");
-  std::vector<std::array<double, 4>> pairs;
+  std::vector<DirectionPair> pairs;
   std::map<std::string, std::string> named;  // slice file -> the --pair that asked for it
   for (const std::string& text : a.pairs) {
     std::array<double, 4> p;
     if (std::string why = ParsePair(text, &p); !why.empty()) return Fail("reconstruct", why, kExitUsage);
-    const auto [it, added] = named.emplace(SliceName(p), text);
+    const auto [it, added] = named.emplace(BtfSliceName(p), text);
     if (!added)
       return Fail("reconstruct", "--pair '" + text + "' and --pair '" + it->second + "' both name " + it->first +
                                      " (angles are kept to 0.1 deg): give distinct directions", kExitUsage);
     pairs.push_back(p);
   }
-  if (pairs.empty())
-    for (const auto& view : BonnDirections())
-      for (const auto& light : BonnDirections()) {
-        const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
-        pairs.push_back({i.x(), i.y(), o.x(), o.y()});
-      }
+  if (pairs.empty()) pairs = GridPairs(a.grid);
+  if (pairs.empty()) return Fail("reconstruct", "--grid must be bonn or coarse, not '" + a.grid + "'", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("reconstruct", a.out.string() + ": exists and is not empty", kExitUsage);
   a.options.btf.match_subbands = !a.pixel_only;
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
@@ -99,45 +92,14 @@ int Run(ReconstructArgs& a) {
   // (a worker's exception included) leaves nothing under the output's name.
   auto staging = StagingFolder::Begin(a.out);
   if (!staging.ok()) return Fail("reconstruct", staging.status().message());
-  std::error_code ec;
-  std::filesystem::create_directories(staging->path() / "slices", ec);
-  if (ec) return Fail("reconstruct", staging->path().string() + ": cannot create: " + ec.message());
   const auto fail = [](const std::string& message, int code = kExitFailure) { return Fail("reconstruct", message, code); };
-  std::vector<Json> entries(pairs.size());
-  std::vector<std::string> errors(pairs.size());
   ProgressBar bar("reconstruct", !a.no_progress);
-  const auto start = std::chrono::steady_clock::now();
-  std::atomic<int> done = 0;
-  std::atomic<bool> cancelled = false;
-  ParallelFor(0, int(pairs.size()), [&](int k) {
-    if (cancelled) return;
-    const auto& p = pairs[k];
-    const Image slice = btf->Reconstruct(DirectionFromAnglesDeg(p[0], p[1]), DirectionFromAnglesDeg(p[2], p[3]));
-    const std::string name = SliceName(p);
-    ImageWriteOptions w;
-    w.format = PixelFormat::kHalf;
-    w.attributes["mesocap:theta_i_deg"] = float(p[0]);
-    w.attributes["mesocap:phi_i_deg"] = float(p[1]);
-    w.attributes["mesocap:theta_o_deg"] = float(p[2]);
-    w.attributes["mesocap:phi_o_deg"] = float(p[3]);
-    w.attributes["mesocap:quantity"] = std::string("BTF: radiance per unit perpendicular irradiance (includes cos theta_i)");
-    w.attributes["mesocap:method"] = std::string(a.pixel_only ? "statistical (pixel histogram)" : "statistical (Ngan & Durand 2006)");
-    if (Status st = WriteImage(staging->path() / name, slice, w); !st.ok()) errors[k] = st.message();
-    entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
-    if (!bar.Update(++done, int(pairs.size()), name)) cancelled = true;
-  }, a.options.btf.num_threads);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (const std::string& e : errors)
-    if (!e.empty()) return fail(e);
-  if (cancelled) return fail("cancelled", kExitCancelled);
-
-  Json j = {{"format", "mesocap-btf"}, {"width", btf->width()}, {"height", btf->height()},
-            {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
-            {"slices_used", loaded.slices_used}, {"skipped", loaded.skipped},
-            {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", seconds},
-            {"ms_per_slice", 1000 * seconds / pairs.size()}, {"slices", entries}};
-  j["provenance"] = MakeProvenance({{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}});
-  if (Status st = WriteJsonFile(staging->path() / "index.json", j); !st.ok()) return fail(st.message());
+  auto written = WriteReconstructedBtf(*btf, loaded, pairs, a.pixel_only, a.options.btf.num_threads, staging->path(),
+                                       {{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}},
+                                       bar.AsCallback());
+  if (!written.ok())
+    return fail(written.status().message(), written.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
+  const double seconds = written->seconds;
   if (Status st = staging->Publish(); !st.ok()) return fail(st.message());
   std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views: statistics %.1f s, reconstruction "
               "%.1f s (%.1f ms per slice, written) -> %s\n",
@@ -158,6 +120,8 @@ Command ReconstructCommand() {
     sub->add_option("--slices", args->index, "A slice index.json instead of the session's");
     sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
     sub->add_option("--pair", args->pairs, "theta_i,phi_i,theta_o,phi_o in degrees (repeatable; default: the Bonn 81x81 grid)");
+    sub->add_option("--grid", args->grid, "Without --pair: every light with every view of 'bonn' (81 directions, "
+                    "6561 slices) or 'coarse' (17 directions, 289 slices)")->capture_default_str();
     sub->add_option("--size", args->options.size, "Resample slices to this many texels a side (power of two; 0 keeps theirs)")
         ->capture_default_str();
     sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands)");

@@ -48,6 +48,64 @@ Json CalibrationResult::RigJson() const {
   return j;
 }
 
+CalibrationResult CalibrationResult::FromRigJson(const Json& j) {
+  constexpr double kMetres = 1e3, kPixels = 1e6;
+  CalibrationResult r;
+  try {
+    r.camera = CameraModel::FromJson(JsonField(j, "", "camera"));
+  } catch (const JsonFieldError& e) {
+    throw JsonFieldError(std::string("camera: ") + e.what());
+  }
+  const Json& boards = JsonArray(JsonField(j, "", "boards"), "boards", 0, 1000);
+  for (size_t k = 0; k < boards.size(); ++k) {
+    const std::string path = JsonIndexPath("boards", k);
+    BoardPose b;
+    b.id = JsonInteger(JsonField(boards[k], path, "id"), JsonFieldPath(path, "id"), 0, 1 << 20);
+    b.found = JsonBool(JsonField(boards[k], path, "found"), JsonFieldPath(path, "found"));
+    if (b.found) {
+      b.R = JsonMatrix3d(JsonField(boards[k], path, "R"), JsonFieldPath(path, "R"), 1.5);
+      b.t = JsonVector3d(JsonField(boards[k], path, "t"), JsonFieldPath(path, "t"), kMetres);
+    } else if (boards[k].contains("why_not")) {
+      b.why_not = JsonString(boards[k]["why_not"], JsonFieldPath(path, "why_not"));
+    }
+    r.boards.push_back(b);
+  }
+  const Json& spheres = JsonArray(JsonField(j, "", "spheres"), "spheres", 0, 1000);
+  for (size_t k = 0; k < spheres.size(); ++k) {
+    const std::string path = JsonIndexPath("spheres", k);
+    SphereEstimate s;
+    s.center_m = JsonVector3d(JsonField(spheres[k], path, "center_m"), JsonFieldPath(path, "center_m"), kMetres);
+    s.radius_m = JsonNumber(JsonField(spheres[k], path, "radius_m"), JsonFieldPath(path, "radius_m"), 0, kMetres);
+    s.image_centre_px = JsonVector2d(JsonField(spheres[k], path, "image_centre_px"), JsonFieldPath(path, "image_centre_px"), kPixels);
+    s.image_radius_px = JsonNumber(JsonField(spheres[k], path, "image_radius_px"), JsonFieldPath(path, "image_radius_px"), 0, kPixels);
+    r.spheres.spheres.push_back(s);
+  }
+  const Json& cards = JsonArray(JsonField(j, "", "grey_cards"), "grey_cards", 0, 1000);
+  for (size_t k = 0; k < cards.size(); ++k) {
+    const std::string path = JsonIndexPath("grey_cards", k);
+    GreyCard c;
+    c.R = JsonMatrix3d(JsonField(cards[k], path, "R"), JsonFieldPath(path, "R"), 1.5);
+    c.t = JsonVector3d(JsonField(cards[k], path, "t"), JsonFieldPath(path, "t"), kMetres);
+    c.size_m = JsonNumber(JsonField(cards[k], path, "size_m"), JsonFieldPath(path, "size_m"), 0, kMetres);
+    c.albedo = JsonNumber(JsonField(cards[k], path, "albedo"), JsonFieldPath(path, "albedo"), 0, 1);
+    r.grey_cards.push_back(c);
+  }
+  const Json& shots = JsonArray(JsonField(j, "", "shots"), "shots", 0, 1 << 20);
+  for (size_t k = 0; k < shots.size(); ++k) {
+    const std::string path = JsonIndexPath("shots", k);
+    ShotCalibration s;
+    s.file = JsonRelativePath(JsonField(shots[k], path, "file"), JsonFieldPath(path, "file")).generic_string();
+    s.light.ok = JsonBool(JsonField(shots[k], path, "ok"), JsonFieldPath(path, "ok"));
+    if (s.light.ok)
+      s.light.light_m = JsonVector3d(JsonField(shots[k], path, "light_m"), JsonFieldPath(path, "light_m"), kMetres);
+    s.power = JsonNumber(JsonField(shots[k], path, "power"), JsonFieldPath(path, "power"), 0, 1e12);
+    s.power_x_exposure = JsonNumber(JsonField(shots[k], path, "power_x_exposure"), JsonFieldPath(path, "power_x_exposure"), 0, 1e12);
+    if (shots[k].contains("flag")) s.flag = JsonString(shots[k]["flag"], JsonFieldPath(path, "flag"));
+    r.shots.push_back(s);
+  }
+  return r;
+}
+
 Json CalibrationResult::ReportJson() const {
   Json shots_json = Json::array();
   for (const auto& s : shots) {

@@ -51,6 +51,10 @@ struct CalibrationResult {
   double seconds_total = 0;
   int usable_shots() const;
   Json RigJson() const;     // truth.json's keys
+  // What RigJson wrote, back (calibration/rig.json): all that resampling needs. Reports that
+  // RigJson leaves out (per-card readings, highlights, rejected items) stay empty. Throws
+  // JsonFieldError naming the field.
+  static CalibrationResult FromRigJson(const Json& rig);
   Json ReportJson() const;
   std::string Brief() const;
 };

@@ -50,11 +50,45 @@ void CheckSessionAgainstTruth(const std::string& material, uint64_t seed) {
   EXPECT_GE(score.power_shots, score.shots_total / 2);
   EXPECT_LT(score.ball_centre_max_mm, 2.0);
   EXPECT_LT(score.light_direction_median_deg, 0.5);
+
+  // rig.json carries everything resampling needs: read back, it writes the same bytes, so the
+  // resample stage working from the file sees exactly this calibration.
+  const Json rig = result->RigJson();
+  const CalibrationResult back = CalibrationResult::FromRigJson(Json::parse(rig.dump()));
+  EXPECT_EQ(back.RigJson().dump(), rig.dump());
 }
 
 // Two materials and two seeds: different textures under the tags and balls, different poses and lights.
 TEST(Calibrate, WeaveSessionMatchesTruth) { CheckSessionAgainstTruth("weave", 21); }
 TEST(Calibrate, StonesSessionMatchesTruth) { CheckSessionAgainstTruth("stones", 7); }
+
+TEST(Calibrate, ABrokenRigFileNamesTheField) {
+  CalibrationResult result;
+  result.camera.width = 3000;
+  result.camera.height = 2000;
+  result.boards.push_back({});
+  result.shots.push_back({});
+  result.shots.back().file = "shots/shot_0001.jpg";
+  const Json good = result.RigJson();
+  EXPECT_NO_THROW(CalibrationResult::FromRigJson(good));
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"/boards/0/found", "boards[0].found"}, {"/shots/0/file", "shots[0].file"}, {"/camera", "camera"}};
+  for (const auto& [pointer, field] : cases) {
+    for (const Json& bad_value : {Json(1e300), Json::array(), Json(nullptr)}) {
+      Json bad = good;
+      bad[Json::json_pointer(pointer)] = bad_value;
+      try {
+        CalibrationResult::FromRigJson(bad);
+        ADD_FAILURE() << pointer << " = " << bad_value.dump() << " was accepted";
+      } catch (const JsonFieldError& e) {
+        EXPECT_NE(std::string(e.what()).find(field.substr(0, field.find('.'))), std::string::npos) << e.what();
+      }
+    }
+  }
+  Json escaping = good;
+  escaping["shots"][0]["file"] = "../outside.jpg";
+  EXPECT_THROW(CalibrationResult::FromRigJson(escaping), JsonFieldError);
+}
 
 TEST(Calibrate, HandMarkedBoardCornersPoseBoardsWhoseTagsAreNeverDecoded) {
   const auto dir = testing::MakeTempDir();

@@ -1,5 +1,7 @@
 #include "core/atomic_file.h"
 
+#include <signal.h>
+
 #include <fmt/format.h>
 
 #include <fcntl.h>
@@ -81,10 +83,29 @@ StagingFolder::~StagingFolder() {
   fs::remove_all(staging_, ec);
 }
 
+// Removes `.NAME.partial-PID` and `.NAME.old-PID` beside `out` whose process has ended: what a
+// killed run left (a live PID may be another run at work, and is left alone).
+static void RemoveStaleSiblings(const fs::path& out) {
+  const std::string name = out.filename().string();
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(out.parent_path(), ec)) {
+    const std::string sibling = entry.path().filename().string();
+    for (const char* tag : {"partial", "old"}) {
+      const std::string prefix = fmt::format(".{}.{}-", name, tag);
+      if (sibling.rfind(prefix, 0) != 0) continue;
+      const std::string pid_text = sibling.substr(prefix.size());
+      if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) continue;
+      const pid_t pid = pid_t(std::stol(pid_text));
+      if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+    }
+  }
+}
+
 StatusOr<StagingFolder> StagingFolder::Begin(const fs::path& out_path) {
   fs::path out = fs::absolute(out_path).lexically_normal();
   if (out.filename().empty()) out = out.parent_path();  // "dir/" names "dir"
   StagingFolder folder(out, StagingFolderFor(out));
+  RemoveStaleSiblings(out);
   std::error_code ec;
   fs::remove_all(folder.staging_, ec);  // left by an earlier run of this process id
   fs::create_directories(folder.staging_, ec);

@@ -100,6 +100,18 @@ Eigen::Vector3d JsonVector3d(const Json& j, const std::string& path, double boun
   return v;
 }
 
+Eigen::Matrix3d JsonMatrix3d(const Json& j, const std::string& path, double bound) {
+  JsonArray(j, path, 3, 3);
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r) m.row(r) = JsonVector3d(j[r], JsonIndexPath(path, r), bound).transpose();
+  return m;
+}
+
+bool JsonBool(const Json& j, const std::string& path) {
+  if (!j.is_boolean()) throw JsonFieldError(path + " must be true or false, not " + std::string(j.type_name()));
+  return j.get<bool>();
+}
+
 StatusOr<Json> ReadJsonFile(const std::filesystem::path& path) {
   auto text = ReadTextFile(path);
   if (!text.ok()) return text.status();

@@ -41,6 +41,8 @@ const Json& JsonArray(const Json& j, const std::string& path, size_t min_size, s
 std::filesystem::path JsonRelativePath(const Json& j, const std::string& path);
 Eigen::Vector2d JsonVector2d(const Json& j, const std::string& path, double bound);
 Eigen::Vector3d JsonVector3d(const Json& j, const std::string& path, double bound);
+Eigen::Matrix3d JsonMatrix3d(const Json& j, const std::string& path, double bound);  // rows
+bool JsonBool(const Json& j, const std::string& path);
 
 // Parses a JSON file; the error names the file and the parser's position.
 StatusOr<Json> ReadJsonFile(const std::filesystem::path& path);

@@ -65,9 +65,6 @@ Image HemispherePlot(const std::vector<Eigen::Vector3d>& directions, int size, c
   return plot;
 }
 
-namespace {
-
-// The factor that maps the `percentile` value of `linear` to 1.
 float DisplayScale(const Image& linear, double percentile) {
   std::vector<float> values(linear.data(), linear.data() + linear.size());
   if (values.empty()) return 1.0f;
@@ -75,6 +72,8 @@ float DisplayScale(const Image& linear, double percentile) {
   std::nth_element(values.begin(), values.begin() + k, values.end());
   return values[k] > 0 ? 1.0f / values[k] : 1.0f;
 }
+
+namespace {
 
 Image Scaled(Image image, float scale) {
   for (size_t i = 0; i < image.size(); ++i) image.data()[i] = std::clamp(image.data()[i] * scale, 0.0f, 1.0f);

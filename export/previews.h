@@ -23,6 +23,9 @@ Image Thumbnail(const Image& image, int width);
 // one dot per direction, coloured by `values` in [0,1] when given.
 Image HemispherePlot(const std::vector<Eigen::Vector3d>& directions, int size, const std::string& title);
 
+// The factor that maps the `percentile` value of `linear` to 1 (1 for an empty or black image).
+float DisplayScale(const Image& linear, double percentile);
+
 // Linear values -> display: scales so the `percentile` value maps to 1, for HDR slices.
 Image ExposeForDisplay(const Image& linear, double percentile = 0.99);
 

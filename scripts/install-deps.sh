@@ -10,7 +10,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libjpeg62-turbo-dev
   libapriltag-dev
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
-  libmaxflow-dev libcgal-dev
+  libmaxflow-dev libcgal-dev libxxhash-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
 )

@@ -1,0 +1,88 @@
+#include "app/btf_folder.h"
+
+#include <atomic>
+#include <chrono>
+
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/parallel.h"
+#include "core/provenance.h"
+#include "core/text_format.h"
+
+namespace mesocap::app {
+
+namespace fs = std::filesystem;
+
+std::vector<DirectionPair> GridPairs(const std::string& grid) {
+  std::vector<Eigen::Vector3d> dirs;
+  if (grid == "bonn") {
+    dirs = BonnDirections();
+  } else if (grid == "coarse") {
+    for (const Eigen::Vector3d& d : BonnDirections()) {
+      const Eigen::Vector2d a = AnglesDegFromDirection(d);
+      const bool ring = std::abs(a.x()) < 0.5 || std::abs(a.x() - 30) < 0.5 || std::abs(a.x() - 60) < 0.5;
+      const int ring_count = std::abs(a.x() - 30) < 0.5 ? 12 : 20;
+      const int azimuth_step = int(std::lround(a.y() * ring_count / 360.0));
+      if (ring && azimuth_step % 2 == 0) dirs.push_back(d);
+    }
+  }
+  std::vector<DirectionPair> pairs;
+  for (const Eigen::Vector3d& view : dirs)
+    for (const Eigen::Vector3d& light : dirs) {
+      const Eigen::Vector2d i = AnglesDegFromDirection(light), o = AnglesDegFromDirection(view);
+      pairs.push_back({i.x(), i.y(), o.x(), o.y()});
+    }
+  return pairs;
+}
+
+std::string BtfSliceName(const DirectionPair& p) {
+  return Format("slices/ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]);
+}
+
+StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const SliceSetReport& loaded,
+                                                const std::vector<DirectionPair>& pairs, bool pixel_only,
+                                                int num_threads, const fs::path& folder,
+                                                const Json& provenance_options, const ProgressFn& progress) {
+  std::error_code ec;
+  fs::create_directories(folder / "slices", ec);
+  if (ec) return Status::Error(folder.string() + ": cannot create: " + ec.message());
+  std::vector<Json> entries(pairs.size());
+  std::vector<std::string> errors(pairs.size());
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<int> done = 0;
+  std::atomic<bool> cancelled = false;
+  ParallelFor(0, int(pairs.size()), [&](int k) {
+    if (cancelled) return;
+    const DirectionPair& p = pairs[k];
+    const Image slice = btf.Reconstruct(DirectionFromAnglesDeg(p[0], p[1]), DirectionFromAnglesDeg(p[2], p[3]));
+    const std::string name = BtfSliceName(p);
+    ImageWriteOptions w;
+    w.format = PixelFormat::kHalf;
+    w.attributes["mesocap:theta_i_deg"] = float(p[0]);
+    w.attributes["mesocap:phi_i_deg"] = float(p[1]);
+    w.attributes["mesocap:theta_o_deg"] = float(p[2]);
+    w.attributes["mesocap:phi_o_deg"] = float(p[3]);
+    w.attributes["mesocap:quantity"] = std::string("BTF: radiance per unit perpendicular irradiance (includes cos theta_i)");
+    w.attributes["mesocap:method"] = std::string(pixel_only ? "statistical (pixel histogram)" : "statistical (Ngan & Durand 2006)");
+    if (Status st = WriteImage(folder / name, slice, w); !st.ok()) errors[k] = st.message();
+    entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
+    if (!ReportProgress(progress, ++done, int(pairs.size()), name)) cancelled = true;
+  }, num_threads);
+  BtfFolderReport report;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const std::string& e : errors)
+    if (!e.empty()) return Status::Error(e);
+  if (cancelled) return Status::Error("cancelled");
+  report.slices = int(pairs.size());
+  report.ms_per_slice = pairs.empty() ? 0 : 1000 * report.seconds / pairs.size();
+  Json j = {{"format", "mesocap-btf"}, {"width", btf.width()}, {"height", btf.height()},
+            {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
+            {"slices_used", loaded.slices_used}, {"skipped", loaded.skipped},
+            {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", report.seconds},
+            {"ms_per_slice", report.ms_per_slice}, {"slices", entries}};
+  j["provenance"] = MakeProvenance(provenance_options);
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(folder / "index.json", j));
+  return report;
+}
+
+}  // namespace mesocap::app

@@ -1,0 +1,130 @@
+#include "app/session_export.h"
+
+#include <algorithm>
+
+#include "app/session_stages.h"
+#include "core/atomic_file.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/slice_index.h"
+#include "core/text_format.h"
+#include "export/lp_file.h"
+#include "export/previews.h"
+
+namespace mesocap::app {
+
+namespace fs = std::filesystem;
+
+std::string ExportFormatToString(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::kPtm: return "ptm";
+    case ExportFormat::kLp: return "lp";
+    case ExportFormat::kExr: return "exr";
+  }
+  return "";
+}
+
+bool StringToExportFormat(const std::string& name, ExportFormat* format) {
+  for (ExportFormat f : AllExportFormats())
+    if (ExportFormatToString(f) == name) {
+      *format = f;
+      return true;
+    }
+  return false;
+}
+
+std::vector<ExportFormat> AllExportFormats() { return {ExportFormat::kPtm, ExportFormat::kLp, ExportFormat::kExr}; }
+
+namespace {
+
+std::string MakeItWith(const fs::path& session) { return "run `mesocap process " + session.string() + "`"; }
+
+StatusOr<std::string> ExportPtm(const fs::path& session, const fs::path& out_dir) {
+  auto top = TopBoardOfSession(session);
+  if (!top.ok()) return Status::Error(top.status().message() + ": " + MakeItWith(session));
+  const fs::path ptm = BoardPtmFile(session, *top);
+  if (!fs::exists(ptm)) return Status::Error(ptm.string() + " not found (the top board's PTM): " + MakeItWith(session));
+  const fs::path out = out_dir / "material.ptm";
+  MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(out, [&](const fs::path& temp) {
+    std::error_code ec;
+    fs::copy_file(ptm, temp, fs::copy_options::overwrite_existing, ec);
+    return ec ? Status::Error(ptm.string() + ": cannot copy: " + ec.message()) : Status::Ok();
+  }));
+  return Format("%s (board %d)", out.string().c_str(), *top);
+}
+
+StatusOr<std::string> ExportLp(const fs::path& session, const fs::path& out_dir) {
+  auto top = TopBoardOfSession(session);
+  if (!top.ok()) return Status::Error(top.status().message() + ": " + MakeItWith(session));
+  auto index = ReadSliceIndex(session / "slices" / "index.json");
+  if (!index.ok()) return index.status();
+  std::vector<const SliceIndexEntry*> slices;
+  for (const SliceIndexEntry& e : index->slices)
+    if (e.board == *top) slices.push_back(&e);
+  // One exposure for all: the brightest slice's 99.5th percentile maps to white, so the images
+  // keep their relative intensities as an RTI capture's photos do.
+  std::vector<Image> images;
+  float scale = 0;
+  for (const SliceIndexEntry* e : slices) {
+    auto image = ReadImage(e->file);
+    if (!image.ok()) return image.status();
+    const float s = DisplayScale(*image, 0.995);
+    scale = scale == 0 ? s : std::min(scale, s);
+    images.push_back(std::move(*image));
+  }
+  auto staging = StagingFolder::Begin(out_dir / "lp");
+  if (!staging.ok()) return staging.status();
+  std::vector<LpEntry> entries;
+  for (size_t k = 0; k < images.size(); ++k) {
+    Image& image = images[k];
+    for (size_t i = 0; i < image.size(); ++i) image.data()[i] = std::clamp(image.data()[i] * scale, 0.0f, 1.0f);
+    const fs::path file = staging->path() / Format("slice_%04zu.png", k + 1);
+    MESOCAP_RETURN_IF_ERROR(WriteImage(file, image, {.format = PixelFormat::kUint8Srgb}));
+    entries.push_back({file, slices[k]->light});
+  }
+  MESOCAP_RETURN_IF_ERROR(WriteLpFile(staging->path() / "material.lp", entries));
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  return Format("%s (board %d, %zu images)", (out_dir / "lp" / "material.lp").string().c_str(), *top, entries.size());
+}
+
+StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir) {
+  const fs::path btf = session / "btf";
+  auto index = ReadSliceIndex(btf / "index.json");
+  if (!index.ok()) return Status::Error(index.status().message() + ": " + MakeItWith(session));
+  auto staging = StagingFolder::Begin(out_dir / "btf");
+  if (!staging.ok()) return staging.status();
+  std::error_code ec;
+  fs::create_directories(staging->path() / "slices", ec);
+  if (ec) return Status::Error(staging->path().string() + ": cannot create: " + ec.message());
+  // Hard links where the file system allows (the slices are never modified in place: a re-run
+  // swaps a new folder in), copies elsewhere.
+  for (const SliceIndexEntry& e : index->slices) {
+    const fs::path to = staging->path() / fs::relative(e.file, btf);
+    fs::create_hard_link(e.file, to, ec);
+    if (ec) {
+      ec.clear();
+      fs::copy_file(e.file, to, ec);
+    }
+    if (ec) return Status::Error(e.file.string() + ": cannot copy to " + to.string() + ": " + ec.message());
+  }
+  fs::copy_file(btf / "index.json", staging->path() / "index.json", ec);
+  if (ec) return Status::Error((btf / "index.json").string() + ": cannot copy: " + ec.message());
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  return Format("%s (%zu slices)", (out_dir / "btf").string().c_str(), index->slices.size());
+}
+
+}  // namespace
+
+StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format, const fs::path& out_dir) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) return Status::Error(out_dir.string() + ": cannot create: " + ec.message());
+  switch (format) {
+    case ExportFormat::kPtm: return ExportPtm(session, out_dir);
+    case ExportFormat::kLp: return ExportLp(session, out_dir);
+    case ExportFormat::kExr: return ExportExr(session, out_dir);
+  }
+  return Status::Error("unknown export format");
+}
+
+}  // namespace mesocap::app

@@ -1,0 +1,27 @@
+// `mesocap export` and the export stage of `mesocap process`: a session's results in the forms
+// other tools open. Each format writes one item into the output folder, whole or not at all:
+//   ptm: material.ptm, the top board's PTM (RTIViewer, relight);
+//   lp:  lp/material.lp with the top board's slices as 8-bit PNGs under one exposure (an RTI
+//        capture for RTIBuilder, relight-cli or `mesocap fit-ptm`);
+//   exr: btf/, the reconstructed BTF as OpenEXR slices with index.json (format mesocap-btf).
+// A missing input is named with the command that makes it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+
+namespace mesocap::app {
+
+enum class ExportFormat { kPtm, kLp, kExr };
+std::string ExportFormatToString(ExportFormat format);
+bool StringToExportFormat(const std::string& name, ExportFormat* format);
+std::vector<ExportFormat> AllExportFormats();
+
+// Writes `format` from `session` into `out_dir` (created if missing); returns what it wrote.
+StatusOr<std::string> ExportSession(const std::filesystem::path& session, ExportFormat format,
+                                    const std::filesystem::path& out_dir);
+
+}  // namespace mesocap::app

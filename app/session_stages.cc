@@ -1,0 +1,275 @@
+#include "app/session_stages.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "app/board_lights.h"
+#include "app/btf_folder.h"
+#include "calib/intrinsics.h"
+#include "calib/intrinsics_plot.h"
+#include "core/atomic_file.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/progress.h"
+#include "core/provenance.h"
+#include "core/session.h"
+#include "core/slice_index.h"
+#include "core/text_format.h"
+#include "export/previews.h"
+#include "export/ptm_file.h"
+
+namespace mesocap::app {
+
+namespace fs = std::filesystem;
+
+StatusOr<RigLayout> LoadSessionLayout(const fs::path& session, const fs::path& layout_file) {
+  const fs::path file = layout_file.empty() ? session / "rig_layout.json" : layout_file;
+  auto j = ReadJsonFile(file);
+  if (!j.ok()) return Status::Error(j.status().message() + " (give the rig's layout with --layout)");
+  auto layout = RigLayout::FromJson(*j);
+  if (!layout.ok()) return Status::Error(file.string() + ": " + layout.status().message());
+  return layout;
+}
+
+namespace {
+
+StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout& layout, Json* intrinsics_report,
+                                Image* residual_plot) {
+  if (!o.camera_file.empty()) {
+    auto j = ReadJsonFile(o.camera_file);
+    if (!j.ok()) return j.status();
+    try {
+      return CameraModel::FromJson(j->contains("camera") ? j->at("camera") : *j);
+    } catch (const std::exception& e) {
+      return Status::Error(o.camera_file.string() + ": not a camera file: " + e.what());
+    }
+  }
+  const fs::path& session_dir = o.calibrate.session;
+  auto session = Session::Open(session_dir);
+  if (!session.ok()) return session.status();
+  std::vector<fs::path> images;
+  for (const auto& r : session->ShotsOfKind("calib")) images.push_back(session_dir / r.file);
+  if (images.empty()) return Status::Error(session_dir.string() + ": no checkerboard shots (calib/) and no --camera file");
+  IntrinsicsOptions io;
+  io.cols = layout.checker_cols;
+  io.rows = layout.checker_rows;
+  io.square_m = layout.checker_square_m;
+  ProgressBar bar("intrinsics", o.progress);
+  auto result = CalibrateIntrinsics(images, io, bar.AsCallback());
+  if (!result.ok()) return result.status();
+  *intrinsics_report = result->ToJson();
+  *residual_plot = PlotIntrinsicsResiduals(*result);
+  std::fprintf(stderr, "intrinsics: %s\n", result->Brief().c_str());
+  return result->camera;
+}
+
+// Flash directions seen from the most head-on board (the top of the pyramid).
+Image LightsPlot(const CalibrationResult& result) {
+  const BoardPose* top = nullptr;
+  for (const BoardPose& b : result.boards)
+    if (b.found && (!top || std::abs(b.R(2, 2)) > std::abs(top->R(2, 2)))) top = &b;
+  if (!top) return Image();
+  std::vector<Eigen::Vector3d> dirs;
+  for (const ShotCalibration& shot : result.shots)
+    if (shot.light.ok) dirs.push_back(top->R.transpose() * (shot.light.light_m - top->t));
+  return HemispherePlot(dirs, 420, "flash directions, board " + std::to_string(top->id) + " frame");
+}
+
+Status WritePng(const fs::path& file, const Image& image) {
+  return WriteImage(file, image, {.format = PixelFormat::kUint8Srgb});
+}
+
+}  // namespace
+
+StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& o) {
+  if (std::string why = o.calibrate.Check(); !why.empty()) return Status::Error(why);
+  // The session first: a wrong path is named as such, not as a missing layout inside it.
+  if (auto session = Session::Open(o.calibrate.session); !session.ok()) return session.status();
+  auto layout = LoadSessionLayout(o.calibrate.session, o.layout_file);
+  if (!layout.ok()) return layout.status();
+  Json intrinsics_report = Json::object();
+  Image residual_plot;
+  auto camera = CameraFor(o, *layout, &intrinsics_report, &residual_plot);
+  if (!camera.ok()) return camera.status();
+  ProgressBar bar("calibrate", o.progress);
+  auto result = CalibrateSession(o.calibrate, *layout, *camera, bar.AsCallback());
+  if (!result.ok()) return result.status();
+  // calibration/ appears whole: a re-run swaps the new folder in only once every file is written.
+  auto staging = StagingFolder::Begin(o.calibrate.session / "calibration");
+  if (!staging.ok()) return staging.status();
+  const fs::path out = staging->path();
+  Json rig = result->RigJson();
+  rig["provenance"] = MakeProvenance({{"session", o.calibrate.session.string()}, {"pose_shots", o.calibrate.pose_shots},
+                                      {"camera_file", o.camera_file.string()}, {"layout", o.layout_file.string()}});
+  Json report = result->ReportJson();
+  report["intrinsics"] = intrinsics_report;
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out / "rig.json", rig));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out / "report.json", report));
+  if (!residual_plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out / "intrinsics_residuals.png", residual_plot));
+  if (const Image plot = LightsPlot(*result); !plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out / "lights.png", plot));
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  StageSummary summary;
+  summary.brief = result->Brief();
+  summary.warnings = result->rejected;
+  summary.report = {{"usable_shots", result->usable_shots()}, {"shots", result->shots.size()},
+                    {"rejected", result->rejected.size()}};
+  if (intrinsics_report.contains("rms_reprojection_px"))
+    summary.report["intrinsics_rms_px"] = intrinsics_report["rms_reprojection_px"];
+  return summary;
+}
+
+StatusOr<StageSummary> RunResampleStage(const fs::path& session, const fs::path& layout_file,
+                                        const ResampleOptions& options, bool progress) {
+  if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
+  auto layout = LoadSessionLayout(session, layout_file);
+  if (!layout.ok()) return layout.status();
+  const fs::path rig_file = session / "calibration" / "rig.json";
+  if (!fs::exists(rig_file))
+    return Status::Error(rig_file.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
+  auto rig = ReadJsonFile(rig_file);
+  if (!rig.ok()) return rig.status();
+  CalibrationResult calibration;
+  try {
+    calibration = CalibrationResult::FromRigJson(*rig);
+  } catch (const std::exception& e) {
+    return Status::Error(rig_file.string() + ": " + e.what());
+  }
+  ProgressBar bar("resample", progress);
+  auto slices = ResampleSession(options, session, *layout, calibration, bar.AsCallback(), WriteBoardLightFiles);
+  if (!slices.ok()) return slices.status();
+  StageSummary summary;
+  summary.brief = slices->Brief();
+  std::map<std::string, int> skipped_by_reason;  // the full list is in index.json
+  for (const auto& s : slices->skipped)
+    ++skipped_by_reason[s.reason.substr(0, std::min(s.reason.find(" ("), s.reason.find(" by ")))];
+  for (const auto& [reason, count] : skipped_by_reason)
+    summary.warnings.push_back(Format("skipped %d: %s", count, reason.c_str()));
+  summary.report = {{"slices", slices->slices.size()}, {"skipped", slices->skipped.size()},
+                    {"slice_size", slices->slice_size}};
+  return summary;
+}
+
+fs::path BoardPtmFile(const fs::path& session, int board) {
+  return session / "ptm" / Format("board_%02d.ptm", board);
+}
+
+StatusOr<int> TopBoardOfSession(const fs::path& session) {
+  auto index = ReadSliceIndex(session / "slices" / "index.json");
+  if (!index.ok()) return index.status();
+  std::map<int, std::pair<double, int>> theta_o;  // board -> (sum, count)
+  for (const SliceIndexEntry& e : index->slices) {
+    theta_o[e.board].first += e.theta_o_deg;
+    ++theta_o[e.board].second;
+  }
+  int best = -1;
+  double best_theta = 1e9;
+  for (const auto& [board, sum] : theta_o)
+    if (sum.first / sum.second < best_theta) best = board, best_theta = sum.first / sum.second;
+  if (best < 0) return Status::Error((session / "slices" / "index.json").string() + ": lists no slices");
+  return best;
+}
+
+StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layout_file, const PtmStageOptions& options,
+                                   bool progress) {
+  auto layout = LoadSessionLayout(session, layout_file);
+  if (!layout.ok()) return layout.status();
+  const fs::path index_file = session / "slices" / "index.json";
+  auto index = ReadSliceIndex(index_file);
+  if (!index.ok()) return index.status();
+  auto distances = ReadJsonFile(index_file);  // the flash distance per slice (not in SliceIndexEntry)
+  if (!distances.ok()) return distances.status();
+  std::map<int, std::vector<size_t>> by_board;
+  for (size_t k = 0; k < index->slices.size(); ++k) by_board[index->slices[k].board].push_back(k);
+
+  auto staging = StagingFolder::Begin(session / "ptm");
+  if (!staging.ok()) return staging.status();
+  StageSummary summary;
+  Json boards = Json::array();
+  ProgressBar bar("fit-ptm", progress);
+  int done = 0, fitted = 0;
+  for (const auto& [board, members] : by_board) {
+    ReportProgress(bar.AsCallback(), done++, int(by_board.size()), Format("board %d", board));
+    const LayoutBoard* layout_board = nullptr;
+    for (const LayoutBoard& b : layout->boards)
+      if (b.id == board) layout_board = &b;
+    if (!layout_board) return Status::Error(index_file.string() + ": board " + std::to_string(board) + " is not in the rig layout");
+    if (int(members.size()) < options.min_slices) {
+      summary.warnings.push_back(Format("board %d: %zu slices, fewer than the %d a PTM needs", board, members.size(),
+                                        options.min_slices));
+      continue;
+    }
+    std::vector<Image> images;
+    std::vector<Eigen::Vector3d> lights_m;
+    for (size_t k : members) {
+      const SliceIndexEntry& e = index->slices[k];
+      auto image = ReadImage(e.file);
+      if (!image.ok()) return image.status();
+      images.push_back(std::move(*image));
+      const Json& entry = (*distances)["slices"][k];
+      const double distance = entry.contains("light_distance_m") ? entry["light_distance_m"].get<double>() : 0.0;
+      if (!(distance > 0)) return Status::Error(index_file.string() + ": slice " + e.file.filename().string() + " has no light_distance_m");
+      lights_m.push_back(distance * e.light);
+    }
+    PtmFitOptions fit;
+    fit.format = options.format;
+    PtmFitReport report;
+    auto ptm = FitPtmPerPixelLights(images, PointLightDirections(lights_m, images.front().width(), layout_board->patch_m),
+                                    fit, &report);
+    if (!ptm.ok()) {
+      summary.warnings.push_back(Format("board %d: no PTM: %s", board, ptm.status().message().c_str()));
+      continue;
+    }
+    const fs::path file = staging->path() / BoardPtmFile(session, board).filename();
+    MESOCAP_RETURN_IF_ERROR(WritePtmFile(file, *ptm));
+    boards.push_back({{"board", board}, {"file", file.filename().string()}, {"lights", report.num_lights},
+                      {"rms_residual", report.rms_residual}, {"width", report.width}, {"height", report.height},
+                      {"warnings", report.warnings}});
+    ++fitted;
+  }
+  ReportProgress(bar.AsCallback(), done, int(by_board.size()), "");
+  if (fitted == 0) return Status::Error(index_file.string() + ": no board has slices enough for a PTM");
+  Json report = {{"format", PtmFormatToString(options.format)}, {"boards", boards}};
+  report["provenance"] = MakeProvenance({{"session", session.string()}, {"format", PtmFormatToString(options.format)}});
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "report.json", report));
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  summary.brief = Format("%d of %zu boards fitted (%s, per-pixel flash directions)", fitted, by_board.size(),
+                         PtmFormatToString(options.format).c_str());
+  summary.report = {{"boards_fitted", fitted}};
+  return summary;
+}
+
+StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const ReconstructStageOptions& options, bool progress) {
+  const std::vector<DirectionPair> pairs = GridPairs(options.grid);
+  if (pairs.empty()) return Status::Error("the BTF grid must be bonn or coarse, not '" + options.grid + "'");
+  SliceSetOptions slice_options = options.slices;
+  slice_options.btf.match_subbands = !options.pixel_only;
+  if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
+  const fs::path index = session / "slices" / "index.json";
+  if (!fs::exists(index))
+    return Status::Error(index.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
+  SliceSetReport loaded;
+  ProgressBar load_bar("statistics", progress);
+  auto btf = LoadStatisticalBtf(index, slice_options, &loaded, load_bar.AsCallback());
+  if (!btf.ok()) return btf.status();
+  auto staging = StagingFolder::Begin(session / "btf");
+  if (!staging.ok()) return staging.status();
+  ProgressBar bar("reconstruct", progress);
+  auto written = WriteReconstructedBtf(*btf, loaded, pairs, options.pixel_only, slice_options.btf.num_threads,
+                                       staging->path(),
+                                       {{"index", index.string()}, {"size", slice_options.size}, {"grid", options.grid},
+                                        {"pixel_only", options.pixel_only}},
+                                       bar.AsCallback());
+  if (!written.ok()) return written.status();
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  StageSummary summary;
+  summary.brief = Format("%d slices (%dx%d, grid %s) from %d measured slices in %d views, %.1f ms per slice",
+                         written->slices, btf->width(), btf->height(), options.grid.c_str(), loaded.slices_used,
+                         loaded.views, written->ms_per_slice);
+  for (const std::string& s : loaded.skipped) summary.warnings.push_back("skipped " + s);
+  summary.report = {{"slices", written->slices}, {"size", btf->width()}, {"views", loaded.views},
+                    {"ms_per_slice", written->ms_per_slice}};
+  return summary;
+}
+
+}  // namespace mesocap::app

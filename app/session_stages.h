@@ -1,0 +1,68 @@
+// The stages of a session's processing, each reading and writing folders inside the session
+// (docs/formats.md) so any one can run alone: `mesocap calibrate`, `reconstruct` and `export`
+// call them one at a time, `mesocap process` in order with caching (app/process_cmd.cc). Each
+// writes its folder whole (a staging folder swapped in at the end) and returns a summary.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "calib/calibrate.h"
+#include "calib/resample.h"
+#include "core/json.h"
+#include "core/rig_layout.h"
+#include "core/status.h"
+#include "reconstruct/ptm.h"
+#include "reconstruct/slice_set.h"
+
+namespace mesocap::app {
+
+struct StageSummary {
+  std::string brief;                  // one line for the terminal and the summary table
+  std::vector<std::string> warnings;  // rejected shots, skipped boards ...
+  Json report = Json::object();       // the stage's figures, kept in stages.json
+};
+
+// The rig layout: `layout_file`, or SESSION/rig_layout.json when empty.
+StatusOr<RigLayout> LoadSessionLayout(const std::filesystem::path& session, const std::filesystem::path& layout_file);
+
+struct CalibrateStageOptions {
+  CalibrateOptions calibrate;          // calibrate.session is the session folder
+  std::filesystem::path camera_file;   // intrinsics; empty: from the session's checkerboard shots
+  std::filesystem::path layout_file;   // empty: SESSION/rig_layout.json
+  bool progress = true;
+};
+// Intrinsics, board poses, balls, flash position and power per shot -> SESSION/calibration/
+// (rig.json, report.json, intrinsics_residuals.png, lights.png).
+StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& options);
+
+// SESSION/calibration/rig.json -> every lit board patch as a BTF slice in SESSION/slices/
+// (index.json, board_BB.lp).
+StatusOr<StageSummary> RunResampleStage(const std::filesystem::path& session, const std::filesystem::path& layout_file,
+                                        const ResampleOptions& options, bool progress);
+
+struct PtmStageOptions {
+  PtmFormat format = PtmFormat::kRgb;
+  int min_slices = 6;  // a board with fewer usable slices gets no PTM (a warning says so)
+};
+// One PTM per board from its slices, each texel fitted under its own direction to the flash
+// (per-pixel light matrices: the flash is close to the target) -> SESSION/ptm/board_BB.ptm and
+// report.json.
+StatusOr<StageSummary> RunPtmStage(const std::filesystem::path& session, const std::filesystem::path& layout_file,
+                                   const PtmStageOptions& options, bool progress);
+std::filesystem::path BoardPtmFile(const std::filesystem::path& session, int board);
+
+struct ReconstructStageOptions {
+  SliceSetOptions slices;     // size: texels a side of the reconstructed slices
+  std::string grid = "bonn";  // GridPairs()
+  bool pixel_only = false;
+};
+// The statistical BTF (Ngan & Durand) over a grid of direction pairs -> SESSION/btf/.
+StatusOr<StageSummary> RunReconstructStage(const std::filesystem::path& session, const ReconstructStageOptions& options,
+                                           bool progress);
+
+// The board whose view is closest to head-on in the slice index (the top of the pyramid).
+StatusOr<int> TopBoardOfSession(const std::filesystem::path& session);
+
+}  // namespace mesocap::app

@@ -1,0 +1,56 @@
+// What `mesocap process` remembers between runs: for every stage, the hash of what it read (its
+// options, the program version, input files and the outputs of the stages before it) and of
+// what it wrote. A stage is skipped when both still match; anything else (an option, an input
+// file, a deleted or edited output, a stage interrupted before it was recorded) runs it again.
+// Stored in SESSION/stages.json (docs/formats.md), rewritten atomically after each stage.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/json.h"
+#include "core/status.h"
+
+namespace mesocap {
+
+struct StageRecord {
+  std::string inputs_hash;
+  std::string outputs_hash;
+  std::vector<std::string> outputs;  // files and folders, relative to the session
+  double seconds = 0;
+  std::string finished_utc;
+  Json summary = Json::object();  // the stage's own brief report
+  Json ToJson() const;
+  static StageRecord FromJson(const Json& j);  // throws JsonFieldError
+};
+
+class StageCache {
+ public:
+  static constexpr const char* kFileName = "stages.json";
+
+  // Reads SESSION/stages.json if it exists. A corrupt file is an error naming it; delete it
+  // to start afresh.
+  static StatusOr<StageCache> Open(const std::filesystem::path& session);
+
+  const StageRecord* Find(const std::string& stage) const;
+  // Empty when `stage` was recorded with `inputs_hash` and its outputs still hash as recorded;
+  // otherwise why it must run ("never run", "inputs changed", "output slices/ changed" ...).
+  std::string WhyRun(const std::string& stage, const std::string& inputs_hash) const;
+  // The recorded outputs hash of `stage` as it is on disk now (what a later stage's inputs
+  // hash includes), or an error when the stage has no record.
+  StatusOr<std::string> OutputsHash(const std::string& stage) const;
+
+  // Hashes the record's outputs, stores it and rewrites the file.
+  Status Record(const std::string& stage, StageRecord record);
+
+ private:
+  std::filesystem::path session_;
+  std::map<std::string, StageRecord> stages_;
+};
+
+// The hash of `outputs` (relative to `session`), in order, each named.
+StatusOr<std::string> HashOutputs(const std::filesystem::path& session, const std::vector<std::string>& outputs);
+
+}  // namespace mesocap

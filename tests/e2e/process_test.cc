@@ -1,0 +1,242 @@
+// mesocap process and export through the real CLI on a small rendered session: every stage runs,
+// a second run skips them all, a changed option or output reruns only what depends on it, a
+// killed run resumes at its stage with nothing half-written in view, and the exports read back
+// as what the stages wrote.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <csignal>
+#include <fstream>
+#include <map>
+#include <set>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/slice_index.h"
+#include "export/lp_file.h"
+#include "export/ptm_file.h"
+#include "reconstruct/slice_set.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Small enough to process in seconds: 10 shots of 1500 x 1000, slices of 32 texels.
+// The options of every run, then `extra`; the BTF's grid and size unless `extra` names them.
+std::string Options(const fs::path& session, const std::string& extra = "") {
+  std::string options = " --camera " + (session / "truth.json").string() + " --slice-size 32 --no-progress";
+  if (extra.find("--btf-grid") == std::string::npos) options += " --btf-grid coarse";
+  if (extra.find("--btf-size") == std::string::npos) options += " --btf-size 32";
+  return options + extra;
+}
+
+class ProcessTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    rendered_ = new fs::path(testing::MakeTempDir() / "rendered");
+    std::string out;
+    ASSERT_EQ(testing::RunMesocap("simulate --out " + rendered_->string() +
+                                      " --shots 10 --calib-shots 0 --width 1500 --height 1000 --no-progress",
+                                  &out),
+              0)
+        << out;
+  }
+  static void TearDownTestSuite() { delete rendered_; }
+
+  // A fresh copy of the rendered session for one test.
+  fs::path FreshSession() {
+    const fs::path session = testing::MakeTempDir() / "session";
+    fs::copy(*rendered_, session, fs::copy_options::recursive);
+    return session;
+  }
+
+  // Runs `process` and returns each stage's status from the summary table ("ran", "skipped").
+  static std::map<std::string, std::string> Process(const fs::path& session, const std::string& extra = "") {
+    std::string out;
+    const int code = testing::RunMesocap("process " + session.string() + Options(session, extra), &out);
+    EXPECT_EQ(code, 0) << out;
+    std::map<std::string, std::string> status;
+    for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "export"}) {
+      const size_t at = out.find("\n" + std::string(stage) + " ");
+      if (at == std::string::npos) continue;
+      const size_t start = out.find_first_not_of(' ', at + 1 + std::string(stage).size());
+      status[stage] = out.substr(start, out.find(' ', start) - start);
+    }
+    return status;
+  }
+
+  static fs::path* rendered_;
+};
+fs::path* ProcessTest::rendered_ = nullptr;
+
+using Statuses = std::map<std::string, std::string>;
+const Statuses kAllRan = {{"calibrate", "ran"}, {"resample", "ran"}, {"fit-ptm", "ran"}, {"reconstruct", "ran"}, {"export", "ran"}};
+
+TEST_F(ProcessTest, RunsEveryStageOnceThenOnlyWhatAChangeAffects) {
+  const fs::path s = FreshSession();
+  EXPECT_EQ(Process(s), kAllRan);
+  for (const char* out : {"calibration/rig.json", "slices/index.json", "ptm", "btf/index.json", "export/material.ptm",
+                          "export/lp/material.lp", "export/btf/index.json", "report.html", "stages.json"})
+    EXPECT_TRUE(fs::exists(s / out)) << out;
+
+  const Statuses all_skipped = {{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
+                                {"reconstruct", "skipped"}, {"export", "skipped"}};
+  EXPECT_EQ(Process(s), all_skipped);
+
+  // An option of one stage: that stage and those that read its outputs.
+  EXPECT_EQ(Process(s, " --btf-size 64"), (Statuses{{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
+                                                   {"reconstruct", "ran"}, {"export", "ran"}}));
+  auto btf = ReadSliceIndex(s / "btf" / "index.json");
+  ASSERT_TRUE(btf.ok());
+  auto slice = ReadImage(btf->slices.front().file);
+  ASSERT_TRUE(slice.ok());
+  EXPECT_EQ(slice->width(), 64);
+
+  // A deleted output: its stage runs again.
+  fs::path ptm_file;
+  for (const auto& e : fs::directory_iterator(s / "ptm"))
+    if (e.path().extension() == ".ptm") ptm_file = e.path();
+  fs::remove(ptm_file);
+  const Statuses after_delete = Process(s, " --btf-size 64");
+  EXPECT_EQ(after_delete.at("fit-ptm"), "ran");
+  EXPECT_EQ(after_delete.at("reconstruct"), "skipped");
+  EXPECT_EQ(after_delete.at("calibrate"), "skipped");
+  EXPECT_TRUE(fs::exists(ptm_file));
+
+  // --force reruns a stage; the stages after it rerun because its outputs were rewritten.
+  const Statuses forced = Process(s, " --btf-size 64 --force calibrate");
+  EXPECT_EQ(forced.at("calibrate"), "ran");
+  EXPECT_EQ(forced.at("resample"), "ran");
+}
+
+TEST_F(ProcessTest, AKilledRunResumesAtItsStageAndShowsNothingHalfWritten) {
+  const fs::path s = FreshSession();
+  ASSERT_EQ(Process(s), kAllRan);
+  auto before = ReadSliceIndex(s / "btf" / "index.json");
+  ASSERT_TRUE(before.ok());
+
+  // The full Bonn grid takes seconds to reconstruct: kill -9 once its staging folder appears.
+  const std::string command = testing::MesocapBinary() + " process " + s.string() + Options(s, " --btf-grid bonn");
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", ("exec " + command + " >/dev/null 2>&1").c_str(), nullptr);
+    ::_exit(127);
+  }
+  bool seen = false;
+  for (int k = 0; k < 6000 && !seen; ++k) {
+    for (const auto& e : fs::directory_iterator(s))
+      if (e.path().filename().string().rfind(".btf.partial-", 0) == 0) seen = true;
+    if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(seen) << "the reconstruct stage never started";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+
+  // What is in view is the previous, complete BTF.
+  auto after_kill = ReadSliceIndex(s / "btf" / "index.json");
+  ASSERT_TRUE(after_kill.ok());
+  EXPECT_EQ(after_kill->slices.size(), before->slices.size());
+
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("process " + s.string() + Options(s, " --btf-grid bonn"), &out), 0) << out;
+  for (const char* skipped : {"calibrate", "resample", "fit-ptm"})
+    EXPECT_NE(out.find(std::string(skipped) + ": unchanged, skipped"), std::string::npos) << out;
+  EXPECT_NE(out.find("reconstruct: running"), std::string::npos) << out;
+  auto resumed = ReadSliceIndex(s / "btf" / "index.json");
+  ASSERT_TRUE(resumed.ok());
+  EXPECT_EQ(resumed->slices.size(), 81u * 81u);
+  for (const auto& e : fs::directory_iterator(s))
+    EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << "left behind: " << e.path();
+}
+
+TEST_F(ProcessTest, ExportsReadBackAsTheStagesWroteThem) {
+  const fs::path s = FreshSession();
+  ASSERT_EQ(Process(s), kAllRan);
+  const fs::path out = testing::MakeTempDir() / "exported";
+  std::string log;
+  ASSERT_EQ(testing::RunMesocap("export " + s.string() + " --format ptm --format lp --format exr --out " + out.string(), &log), 0)
+      << log;
+
+  // exr: index.json lists every slice file, and each holds exactly the reconstruction (half floats).
+  auto index = ReadSliceIndex(out / "btf" / "index.json");
+  ASSERT_TRUE(index.ok()) << index.status().message();
+  std::set<fs::path> listed, on_disk;
+  for (const auto& e : index->slices) listed.insert(e.file.lexically_normal());
+  for (const auto& e : fs::recursive_directory_iterator(out / "btf" / "slices")) on_disk.insert(e.path().lexically_normal());
+  EXPECT_EQ(listed, on_disk);
+  EXPECT_EQ(listed.size(), 17u * 17u);
+  SliceSetOptions options;
+  options.size = 32;
+  SliceSetReport loaded;
+  auto btf = LoadStatisticalBtf(s / "slices" / "index.json", options, &loaded);
+  ASSERT_TRUE(btf.ok()) << btf.status().message();
+  for (size_t k : {size_t(0), size_t(100), index->slices.size() - 1}) {
+    const SliceIndexEntry& e = index->slices[k];
+    auto stored = ReadImage(e.file);
+    ASSERT_TRUE(stored.ok());
+    const Image truth = btf->Reconstruct(e.light, e.view);
+    ASSERT_EQ(stored->size(), truth.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < truth.size(); ++i)
+      differ += stored->data()[i] != float(Eigen::half(truth.data()[i]));
+    EXPECT_EQ(differ, 0u) << e.file;
+  }
+
+  // ptm: the top board's PTM, relit identically from the exported file.
+  auto exported = ReadPtmFile(out / "material.ptm");
+  ASSERT_TRUE(exported.ok()) << exported.status().message();
+  std::string top_ptm;
+  for (const auto& e : fs::directory_iterator(s / "ptm"))
+    if (e.path().extension() == ".ptm") {
+      auto candidate = ReadPtmFile(e.path());
+      ASSERT_TRUE(candidate.ok());
+      const Eigen::Vector3d light = DirectionFromAnglesDeg(40, 70);
+      const Image a = RelightPtm(*candidate, light), b = RelightPtm(*exported, light);
+      if (a.size() == b.size() && std::equal(a.data(), a.data() + a.size(), b.data())) top_ptm = e.path().filename();
+    }
+  EXPECT_FALSE(top_ptm.empty()) << "material.ptm relights as none of the boards' PTMs";
+
+  // lp: the top board's slices with their light directions; fit-ptm reads it as an RTI capture.
+  auto lp = ReadLpFile(out / "lp" / "material.lp");
+  ASSERT_TRUE(lp.ok()) << lp.status().message();
+  auto slices = ReadSliceIndex(s / "slices" / "index.json");
+  ASSERT_TRUE(slices.ok());
+  const int top_board = std::stoi(top_ptm.substr(6, 2));
+  std::vector<Eigen::Vector3d> top_lights;
+  for (const auto& e : slices->slices)
+    if (e.board == top_board) top_lights.push_back(e.light);
+  ASSERT_EQ(lp->size(), top_lights.size());
+  for (size_t k = 0; k < top_lights.size(); ++k) EXPECT_LT(((*lp)[k].light_dir - top_lights[k]).norm(), 1e-5);
+  EXPECT_EQ(testing::RunMesocap("fit-ptm --lp " + (out / "lp" / "material.lp").string() + " --out " +
+                                    (out / "refit.ptm").string() + " --no-progress",
+                                &log),
+            0)
+      << log;
+}
+
+TEST_F(ProcessTest, MissingStagesAndBadOptionsAreNamedWithTheCommandThatFixesThem) {
+  const fs::path s = FreshSession();
+  std::string out;
+  EXPECT_EQ(testing::RunMesocap("export " + s.string() + " --format ptm", &out), 1);
+  EXPECT_NE(out.find("mesocap process " + s.string()), std::string::npos) << out;
+  EXPECT_EQ(testing::RunMesocap("export " + s.string() + " --format gltf", &out), 2) << out;
+  EXPECT_EQ(testing::RunMesocap("process " + s.string() + " --force everything --no-progress", &out), 2) << out;
+  EXPECT_EQ(testing::RunMesocap("process " + s.string() + " --btf-grid fine --no-progress", &out), 2) << out;
+  EXPECT_EQ(testing::RunMesocap("process " + (s / "nope").string() + " --no-progress", &out), 1) << out;
+  EXPECT_NE(out.find("nope"), std::string::npos) << out;
+  std::ofstream(s / "stages.json") << "{ torn";
+  EXPECT_EQ(testing::RunMesocap("process " + s.string() + Options(s), &out), 1) << out;
+  EXPECT_NE(out.find("stages.json"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace mesocap
