@@ -1,0 +1,261 @@
+#include "app/process.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "app/btf_folder.h"
+#include "app/session_export.h"
+#include "core/atomic_file.h"
+#include "core/content_hash.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "core/provenance.h"
+#include "core/session.h"
+#include "core/slice_index.h"
+#include "core/stage_cache.h"
+#include "export/previews.h"
+#include "export/ptm_file.h"
+#include "export/report.h"
+
+namespace mesocap::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Stage {
+  std::string name;
+  std::vector<std::string> after;    // earlier stages whose outputs it reads
+  std::vector<fs::path> input_files;  // files and folders it reads besides those
+  Json options;
+  std::vector<std::string> outputs;   // relative to the session
+  std::function<StatusOr<StageSummary>()> run;
+};
+
+// Pictures for the report: the top board's PTM relit under three lights, and a few
+// reconstructed slices, in SESSION/export/previews/ (built in `dir`).
+Status WritePreviews(const fs::path& session, const fs::path& dir, std::vector<std::string>* written) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return Status::Error(dir.string() + ": cannot create: " + ec.message());
+  auto top = TopBoardOfSession(session);
+  if (!top.ok()) return top.status();
+  if (auto ptm = ReadPtmFile(BoardPtmFile(session, *top)); ptm.ok()) {
+    std::vector<Image> lit;
+    std::vector<std::string> labels;
+    for (double phi : {0.0, 120.0, 240.0}) {
+      lit.push_back(RelightPtm(*ptm, DirectionFromAnglesDeg(45, phi)));
+      labels.push_back(Format("PTM, light (45, %.0f)", phi));
+    }
+    MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "ptm_relit.jpg", ContactSheet(ExposeTogether(lit), labels, 3, 300),
+                                       {.format = PixelFormat::kUint8Srgb}));
+    written->push_back("ptm_relit.jpg");
+  }
+  auto btf = ReadSliceIndex(session / "btf" / "index.json");
+  if (!btf.ok()) return btf.status();
+  std::vector<Image> slices;
+  std::vector<std::string> labels;
+  const size_t shown = std::min<size_t>(8, btf->slices.size());
+  for (size_t k = 0; k < shown; ++k) {
+    // Spread over lights and views alike (the index runs light-fastest within each view).
+    const SliceIndexEntry& e = btf->slices[(k * btf->slices.size() / shown + 5 * k) % btf->slices.size()];
+    auto image = ReadImage(e.file);
+    if (!image.ok()) return image.status();
+    slices.push_back(std::move(*image));
+    labels.push_back(Format("i(%.0f,%.0f) o(%.0f,%.0f)", e.theta_i_deg, e.phi_i_deg, e.theta_o_deg, e.phi_o_deg));
+  }
+  MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "btf_slices.jpg", ContactSheet(ExposeTogether(slices), labels, 4, 200),
+                                     {.format = PixelFormat::kUint8Srgb}));
+  written->push_back("btf_slices.jpg");
+  return Status::Ok();
+}
+
+// SESSION/export/: every format of `mesocap export` plus previews, swapped in whole.
+StatusOr<StageSummary> RunExportStage(const fs::path& session) {
+  auto staging = StagingFolder::Begin(session / "export");
+  if (!staging.ok()) return staging.status();
+  StageSummary summary;
+  for (ExportFormat format : AllExportFormats()) {
+    auto written = ExportSession(session, format, staging->path());
+    if (!written.ok()) return written.status();
+  }
+  std::vector<std::string> previews;
+  MESOCAP_RETURN_IF_ERROR(WritePreviews(session, staging->path() / "previews", &previews));
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  summary.brief = "material.ptm, lp/material.lp, btf/ (OpenEXR), previews/";
+  summary.report = {{"previews", previews}};
+  return summary;
+}
+
+std::vector<Stage> MakeStages(const ProcessOptions& a) {
+  const fs::path& s = a.session;
+  const fs::path layout = a.calibrate.layout_file.empty() ? s / "rig_layout.json" : a.calibrate.layout_file;
+  std::vector<fs::path> calibrate_inputs = {s / Session::kJournalName, s / "shots", layout};
+  if (fs::exists(s / "calib")) calibrate_inputs.push_back(s / "calib");
+  if (!a.calibrate.camera_file.empty()) calibrate_inputs.push_back(a.calibrate.camera_file);
+  if (!a.calibrate.calibrate.marked_corners.empty()) calibrate_inputs.push_back(a.calibrate.calibrate.marked_corners);
+  const bool progress = a.progress;
+  std::vector<Stage> stages;
+  stages.push_back({"calibrate", {}, calibrate_inputs,
+                    {{"pose_shots", a.calibrate.calibrate.pose_shots},
+                     {"camera_file", a.calibrate.camera_file.string()},
+                     {"marked_corners", a.calibrate.calibrate.marked_corners.string()}},
+                    {"calibration"},
+                    [&a] { return RunCalibrateStage(a.calibrate); }});
+  stages.push_back({"resample", {"calibrate"}, {s / "shots", layout}, a.resample.ToJson(), {"slices"},
+                    [&a, progress] { return RunResampleStage(a.session, a.calibrate.layout_file, a.resample, progress); }});
+  stages.push_back({"fit-ptm", {"resample"}, {layout},
+                    {{"format", PtmFormatToString(a.ptm.format)}, {"min_slices", a.ptm.min_slices}},
+                    {"ptm"},
+                    [&a, progress] { return RunPtmStage(a.session, a.calibrate.layout_file, a.ptm, progress); }});
+  stages.push_back({"reconstruct", {"resample"}, {},
+                    {{"size", a.reconstruct.slices.size}, {"grid", a.reconstruct.grid},
+                     {"pixel_only", a.reconstruct.pixel_only}},
+                    {"btf"},
+                    [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
+  stages.push_back({"export", {"resample", "fit-ptm", "reconstruct"}, {}, {{"formats", "ptm lp exr previews"}},
+                    {"export"},
+                    [&a] { return RunExportStage(a.session); }});
+  return stages;
+}
+
+
+// Hash of everything a stage reads: program version, stage name, options, the recorded outputs
+// of the stages it follows and the contents of its input files (hashed once per run).
+StatusOr<std::string> InputsHash(const Stage& stage, const StageCache& cache,
+                                 std::map<fs::path, std::string>* file_hashes) {
+  ContentHasher h;
+  h.Add(Version());
+  h.Add(stage.name);
+  h.Add(stage.options.dump());
+  for (const std::string& before : stage.after) {
+    auto outputs = cache.OutputsHash(before);
+    if (!outputs.ok()) return outputs.status();
+    h.Add(before);
+    h.Add(*outputs);
+  }
+  for (const fs::path& file : stage.input_files) {
+    auto it = file_hashes->find(file);
+    if (it == file_hashes->end()) {
+      auto hash = HashPath(file);
+      if (!hash.ok()) return hash.status();
+      it = file_hashes->emplace(file, *hash).first;
+    }
+    h.Add(file.filename().string());
+    h.Add(it->second);
+  }
+  return h.Hex();
+}
+
+}  // namespace
+
+const std::vector<std::string>& ProcessStageNames() {
+  static const std::vector<std::string> names = {"calibrate", "resample", "fit-ptm", "reconstruct", "export"};
+  return names;
+}
+
+std::string ProcessOptions::Check() const {
+  for (const std::string& f : force)
+    if (f != "all" && std::count(ProcessStageNames().begin(), ProcessStageNames().end(), f) == 0)
+      return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, export, all)";
+  if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
+  if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";
+  if (std::string why = resample.Check(); !why.empty()) return why;
+  if (!reconstruct.slices.Check()) return "--btf-size must be a power of two";
+  return calibrate.calibrate.pose_shots < 1 ? "--pose-shots must be at least 1" : "";
+}
+
+StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
+  ProcessOptions a = given;
+  a.calibrate.calibrate.session = a.session;
+  a.calibrate.calibrate.num_threads = a.threads;
+  a.calibrate.progress = a.progress;
+  a.resample.num_threads = a.threads;
+  a.reconstruct.slices.btf.num_threads = a.threads;
+  if (std::string why = a.Check(); !why.empty()) return Status::Error(why);
+  if (auto session = Session::Open(a.session); !session.ok()) return session.status();
+  const std::set<std::string> force(a.force.begin(), a.force.end());
+  auto cache = StageCache::Open(a.session);
+  if (!cache.ok()) return cache.status();
+  const std::vector<Stage> stages = MakeStages(a);
+  std::map<fs::path, std::string> file_hashes;
+  std::vector<StageOutcome> outcomes;
+  for (size_t k = 0; k < stages.size(); ++k) {
+    const Stage& stage = stages[k];
+    auto inputs = InputsHash(stage, *cache, &file_hashes);
+    if (!inputs.ok()) return Status::Error("stage " + stage.name + ": " + inputs.status().message());
+    std::string why = force.count(stage.name) || force.count("all") ? "forced" : cache->WhyRun(stage.name, *inputs);
+    StageOutcome outcome{stage.name, "", 0, {}};
+    if (why.empty()) {
+      const StageRecord* record = cache->Find(stage.name);
+      outcome.status = "skipped (unchanged)";
+      const Json brief = record->summary.value("brief", Json(""));
+      if (brief.is_string()) outcome.summary.brief = brief.get<std::string>();
+      for (const Json& w : record->summary.value("warnings", Json::array()))
+        if (w.is_string()) outcome.summary.warnings.push_back(w.get<std::string>());
+      std::fprintf(stderr, "[%zu/%zu] %s: unchanged, skipped\n", k + 1, stages.size(), stage.name.c_str());
+      outcomes.push_back(outcome);
+      continue;
+    }
+    std::fprintf(stderr, "[%zu/%zu] %s: running (%s)\n", k + 1, stages.size(), stage.name.c_str(), why.c_str());
+    const auto start = std::chrono::steady_clock::now();
+    auto summary = stage.run();
+    if (!summary.ok()) return Status::Error("stage " + stage.name + ": " + summary.status().message());
+    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    outcome.status = "ran";
+    outcome.summary = *summary;
+    StageRecord record;
+    record.inputs_hash = *inputs;
+    record.outputs = stage.outputs;
+    record.seconds = outcome.seconds;
+    record.finished_utc = UtcNowIso8601();
+    record.summary = {{"brief", summary->brief}, {"warnings", summary->warnings}, {"report", summary->report}};
+    MESOCAP_RETURN_IF_ERROR(cache->Record(stage.name, record));
+    outcomes.push_back(outcome);
+  }
+  return outcomes;
+}
+
+void PrintProcessSummary(const std::vector<StageOutcome>& outcomes) {
+  std::printf("\n%-12s %-22s %9s  %s\n", "stage", "status", "seconds", "outputs");
+  for (const StageOutcome& o : outcomes) {
+    std::printf("%-12s %-22s %9.1f  %s\n", o.name.c_str(), o.status.c_str(), o.seconds, o.summary.brief.c_str());
+    for (const std::string& w : o.summary.warnings) std::printf("%-12s   warning: %s\n", "", w.c_str());
+  }
+}
+
+Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcome>& outcomes) {
+  Report report("mesocap process: " + fs::absolute(session).filename().string());
+  report.Paragraph("Every stage of the session's processing, from the shots to the exports. A stage whose inputs and "
+                   "options did not change since it last ran was skipped (SESSION/stages.json).");
+  std::vector<std::vector<std::string>> rows;
+  for (const StageOutcome& o : outcomes)
+    rows.push_back({o.name, o.status, Format("%.1f", o.seconds), o.summary.brief, std::to_string(o.summary.warnings.size())});
+  report.Table({"stage", "status", "seconds", "outputs", "warnings"}, rows);
+  report.Heading("Calibration");
+  if (fs::exists(session / "calibration" / "lights.png"))
+    report.Picture("calibration/lights.png", "Flash directions seen from the top board (centre: zenith)");
+  if (fs::exists(session / "calibration" / "intrinsics_residuals.png"))
+    report.Picture("calibration/intrinsics_residuals.png", "Checkerboard corner residuals of the camera calibration");
+  report.Heading("Rejected shots, skipped slices and other warnings");
+  std::vector<std::vector<std::string>> warnings;
+  for (const StageOutcome& o : outcomes)
+    for (const std::string& w : o.summary.warnings) warnings.push_back({o.name, w});
+  if (warnings.empty()) report.Paragraph("None.");
+  else report.Table({"stage", "warning"}, warnings);
+  report.Heading("Results");
+  if (fs::exists(session / "export" / "previews" / "ptm_relit.jpg"))
+    report.Picture("export/previews/ptm_relit.jpg", "The top board's PTM (export/material.ptm) relit under three lights");
+  if (fs::exists(session / "export" / "previews" / "btf_slices.jpg"))
+    report.Picture("export/previews/btf_slices.jpg", "Slices of the reconstructed BTF (export/btf/), one exposure");
+  report.Paragraph("Files: calibration/ (rig.json, report.json), slices/ (measured BTF slices, index.json, board_BB.lp), "
+                   "ptm/ (one PTM per board), btf/ (the reconstructed BTF), export/ (material.ptm, lp/, btf/, previews/). "
+                   "Formats: docs/formats.md.");
+  return report.Write(session);
+}
+
+}  // namespace mesocap::app
