@@ -4,12 +4,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/board_lights.h"
 #include "app/commands.h"
 #include "app/demo_reconstruct.h"
+#include "app/process.h"
 #include "app/stage_clock.h"
 #include "calib/calibrate.h"
-#include "calib/intrinsics.h"
 #include "calib/resample.h"
 #include "calib/truth_comparison.h"
 #include "capture/btf_render.h"
@@ -17,7 +16,6 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
-#include "core/provenance.h"
 #include "core/session.h"
 #include "export/previews.h"
 #include "export/report.h"
@@ -65,6 +63,99 @@ void AddTiming(const StageClock& clock, Report* report) {
   report->Paragraph(Format("The whole demo took %.0f s of wall clock on %d threads (budget: 60 s on 2 cores).", total,
                            EffectiveThreadCount(-1)));
   report->Table({"stage", "seconds"}, rows);
+}
+
+// Calibration from session/calibration/ against truth.json.
+Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, const std::vector<StageOutcome>& outcomes,
+                            Report* report) {
+  auto rig = ReadJsonFile(session_dir / "calibration" / "rig.json");
+  if (!rig.ok()) return rig.status();
+  auto calibration_report = ReadJsonFile(session_dir / "calibration" / "report.json");
+  if (!calibration_report.ok()) return calibration_report.status();
+  const CalibrationResult cal = CalibrationResult::FromRigJson(*rig);
+  const CalibrationScore score = ScoreAgainstTruth(cal, truth);
+  const Json& intrinsics = (*calibration_report)["intrinsics"];
+  const std::string intrinsics_rms =
+      intrinsics.contains("report") ? Format("RMS %.3f px", intrinsics["report"]["rms_reprojection_px"].get<double>()) : "given";
+  report->Heading("Calibration against ground truth");
+  report->Paragraph("The calibrate stage estimated the intrinsics from the checkerboard shots (" + intrinsics_rms +
+                    "), then every board pose from its AprilTags, the balls from their outlines, the flash of every "
+                    "shot from the balls' mirror highlights and its power from the grey cards. Errors against truth.json:");
+  report->Table({"quantity", "error", "issue 4 target"},
+                {{"focal length fx / fy", Format("%.3f%% / %.3f%%", score.fx_error_pct, score.fy_error_pct), "< 0.3%"},
+                 {"board rotation (max)", Format("%.3f deg (%d/%d boards)", score.board_rotation_max_deg, score.boards_posed, score.boards_total), "< 0.3 deg"},
+                 {"board translation (max)", Format("%.3f mm", score.board_translation_max_mm), "< 1 mm"},
+                 {"ball centre (max)", Format("%.2f mm (%d/%d balls)", score.ball_centre_max_mm, score.balls_found, score.balls_total), "< 2 mm"},
+                 {"flash direction from the top board", Format("median %.3f, max %.3f deg (%d/%d shots)", score.light_direction_median_deg, score.light_direction_max_deg, score.shots_with_light, score.shots_total), "median < 0.5, max < 2 deg"},
+                 {"flash distance (median)", Format("%.2f%%", score.light_distance_median_pct), "< 2%"},
+                 {"flash power (median)", Format("%.2f%% (%d shots)", score.power_median_pct, score.power_shots), "< 3%"}});
+  std::string rejected;
+  for (const StageOutcome& o : outcomes)
+    if (o.name == "calibrate")
+      for (const std::string& r : o.summary.warnings) rejected += (rejected.empty() ? "" : "; ") + r;
+  if (!rejected.empty()) report->Paragraph("Rejected or flagged: " + rejected);
+  report->Picture("session/calibration/lights.png", "The flash directions as calibrated (compare with the true ones above)");
+  std::printf("demo: calibration: %s\n", score.Brief().c_str());
+  return Status::Ok();
+}
+
+// The top board's resampled slices next to the true BTF at their directions.
+Status AddSliceScores(const fs::path& out, const fs::path& session_dir, const RigScene& scene, const Material& material,
+                      Report* report) {
+  auto index = ReadJsonFile(session_dir / "slices" / "index.json");
+  if (!index.ok()) return index.status();
+  const RigBoard& board = scene.boards.front();
+  std::vector<Json> top_slices;
+  for (const Json& e : (*index)["slices"])
+    if (e["board"].get<int>() == board.id) top_slices.push_back(e);
+  std::sort(top_slices.begin(), top_slices.end(),
+            [](const Json& x, const Json& y) { return x["theta_i_deg"].get<double>() < y["theta_i_deg"].get<double>(); });
+  std::vector<Image> pairs;
+  std::vector<std::string> pair_labels;
+  std::vector<std::vector<std::string>> rows;
+  const size_t shown = std::min<size_t>(6, top_slices.size());
+  int size = 0;
+  for (size_t k = 0; k < shown; ++k) {
+    const Json& r = top_slices[k * top_slices.size() / shown];
+    auto slice = ReadImage(session_dir / "slices" / r["file"].get<std::string>());
+    if (!slice.ok()) return slice.status();
+    size = slice->width();
+    const double ti = r["theta_i_deg"], pi = r["phi_i_deg"], to = r["theta_o_deg"], po = r["phi_o_deg"];
+    const Image truth = RenderTrueBtfSlice(material, {ti, pi, to, po, size, board.patch_m, board.material_offset_m});
+    // Side by side under one exposure; scored at 64 texels, a scale the camera resolves.
+    Image pair(2 * size, size, 3);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x)
+        for (int c = 0; c < 3; ++c) {
+          pair.at(x, y, c) = slice->at(x, y, c);
+          pair.at(size + x, y, c) = truth.at(x, y, c);
+        }
+    pairs.push_back(ExposeForDisplay(pair, 0.995));
+    pair_labels.push_back(Format("i(%.0f,%.0f): slice | truth", ti, pi));
+    const Image got64 = AreaDownsample(*slice, 64), truth64 = AreaDownsample(truth, 64);
+    double sum_got = 0, sum_truth = 0, sq = 0;
+    for (size_t i = 0; i < got64.size(); ++i) {
+      sum_got += got64.data()[i];
+      sum_truth += truth64.data()[i];
+      sq += std::pow(double(got64.data()[i]) - truth64.data()[i], 2);
+    }
+    rows.push_back({fs::path(r["shot"].get<std::string>()).filename().string(), Format("%.1f", ti), Format("%.0f", pi),
+                    Format("%+.2f%%", 100 * (sum_got / sum_truth - 1)),
+                    Format("%.2f%%", 100 * std::sqrt(sq / got64.size()) / (sum_truth / truth64.size())),
+                    Format("%.3f", r["scale"].get<double>())});
+  }
+  report->Heading("BTF slices against the true BTF");
+  report->Paragraph(Format("The resample stage turned every lit patch into a %dx%d slice normalised by the flash irradiance "
+                           "(%zu slices, %zu skipped with their reasons in session/slices/index.json). Top-board slices "
+                           "against the true BTF at the same directions (directional light, orthographic view), compared "
+                           "after both are area-averaged to 64x64 texels:",
+                           size, size, (*index)["slices"].size(), (*index)["skipped"].size()));
+  if (pairs.empty()) return Status::Ok();
+  MESOCAP_RETURN_IF_ERROR(WriteImage(out / "slices_vs_truth.jpg", ContactSheet(pairs, pair_labels, 2, 400),
+                                     {.format = PixelFormat::kUint8Srgb}));
+  report->Table({"shot", "theta_i deg", "phi_i deg", "mean error", "relative RMS (64x64)", "BRDF smoothing scale"}, rows);
+  report->Picture("slices_vs_truth.jpg", "Top board: resampled slice (left) and true BTF slice (right) of each pair, one exposure per pair");
+  return Status::Ok();
 }
 
 int RunDemo(DemoArgs& a) {
@@ -144,129 +235,46 @@ int RunDemo(DemoArgs& a) {
     return Fail("demo", st.message());
   report.Picture("true_btf.jpg", "True BTF slices of the material (light and view (theta, phi) in degrees), each exposed to its own range");
 
-  // Calibration, scored against the truth it never reads.
-  report.Heading("Calibration against ground truth");
-  {
-    auto layout = RigLayout::FromJson(LayoutOf(*scene).ToJson());
-    std::vector<fs::path> calib_images;
-    for (const auto& f : calib_files) calib_images.push_back(session_dir / f);
-    IntrinsicsOptions io;
-    io.cols = layout->checker_cols;
-    io.rows = layout->checker_rows;
-    io.square_m = layout->checker_square_m;
-    std::fprintf(stderr, "demo: calibrating the camera from %zu checkerboard shots\n", calib_images.size());
-    clock.Start("camera intrinsics");
-    auto intrinsics = CalibrateIntrinsics(calib_images, io);
-    if (!intrinsics.ok()) return Fail("demo", intrinsics.status().message());
-    CalibrateOptions co;
-    co.session = session_dir;
-    clock.Start("calibration (boards, balls, flash)");
-    ProgressBar cbar("calibrate", !a.no_progress);
-    auto cal = CalibrateSession(co, *layout, intrinsics->camera, cbar.AsCallback());
-    if (!cal.ok()) return Fail("demo", cal.status().message());
-    fs::create_directories(session_dir / "calibration");
-    Json rig = cal->RigJson();
-    rig["provenance"] = MakeProvenance({{"session", session_dir.string()}});
-    if (Status st = WriteJsonFile(session_dir / "calibration" / "rig.json", rig); !st.ok()) return Fail("demo", st.message());
-    if (Status st = WriteJsonFile(session_dir / "calibration" / "report.json", cal->ReportJson()); !st.ok())
-      return Fail("demo", st.message());
-    const CalibrationScore score = ScoreAgainstTruth(*cal, *truth_json);
-    report.Paragraph("mesocap calibrate estimated the intrinsics from the checkerboard shots (" +
-                     Format("RMS %.3f px", intrinsics->report.rms_reprojection_px) +
-                     "), then every board pose from its AprilTags, the balls from their outlines, the flash of every "
-                     "shot from the balls' mirror highlights and its power from the grey cards. Errors against truth.json:");
-    report.Table({"quantity", "error", "issue 4 target"},
-                 {{"focal length fx / fy", Format("%.3f%% / %.3f%%", score.fx_error_pct, score.fy_error_pct), "< 0.3%"},
-                  {"board rotation (max)", Format("%.3f deg (%d/%d boards)", score.board_rotation_max_deg, score.boards_posed, score.boards_total), "< 0.3 deg"},
-                  {"board translation (max)", Format("%.3f mm", score.board_translation_max_mm), "< 1 mm"},
-                  {"ball centre (max)", Format("%.2f mm (%d/%d balls)", score.ball_centre_max_mm, score.balls_found, score.balls_total), "< 2 mm"},
-                  {"flash direction from the top board", Format("median %.3f, max %.3f deg (%d/%d shots)", score.light_direction_median_deg, score.light_direction_max_deg, score.shots_with_light, score.shots_total), "median < 0.5, max < 2 deg"},
-                  {"flash distance (median)", Format("%.2f%%", score.light_distance_median_pct), "< 2%"},
-                  {"flash power (median)", Format("%.2f%% (%d shots)", score.power_median_pct, score.power_shots), "< 3%"}});
-    if (!cal->rejected.empty()) {
-      std::string list;
-      for (const auto& r : cal->rejected) list += (list.empty() ? "" : "; ") + r;
-      report.Paragraph("Rejected or flagged: " + list);
-    }
-    std::printf("demo: calibration: %s\n", score.Brief().c_str());
+  // The session through `mesocap process`, then every stage scored against the truth it never reads.
+  std::fprintf(stderr, "demo: mesocap process %s\n", session_dir.string().c_str());
+  ProcessOptions process;
+  process.session = session_dir;
+  process.progress = !a.no_progress;
+  process.reconstruct.grid = "coarse";  // the demo scores the reconstruction itself, below
+  clock.Stop();
+  auto outcomes = RunProcess(process);
+  if (!outcomes.ok()) return Fail("demo", outcomes.status().message());
+  for (const StageOutcome& o : *outcomes) clock.Add("process: " + o.name, o.seconds);
+  if (Status st = WriteProcessReport(session_dir, *outcomes); !st.ok()) return Fail("demo", st.message());
+  report.Heading("mesocap process");
+  report.Paragraph("`mesocap process session` ran every stage (its own report: session/report.html):");
+  std::vector<std::vector<std::string>> stage_rows;
+  for (const StageOutcome& o : *outcomes)
+    stage_rows.push_back({o.name, Format("%.1f", o.seconds), o.summary.brief, std::to_string(o.summary.warnings.size())});
+  report.Table({"stage", "seconds", "outputs", "warnings"}, stage_rows);
 
-    // Resampling into BTF slices, the top board's scored against the true BTF.
-    report.Heading("BTF slices against the true BTF");
-    ResampleOptions ro;
-    ro.slice_size = 256;
-    clock.Start("resampling into BTF slices");
-    ProgressBar rbar("resample", !a.no_progress);
-    auto res = ResampleSession(ro, session_dir, *layout, *cal, rbar.AsCallback(), WriteBoardLightFiles);
-    if (!res.ok()) return Fail("demo", res.status().message());
-    std::vector<const SliceRecord*> top_slices;
-    for (const auto& r : res->slices)
-      if (r.board == scene->boards.front().id) top_slices.push_back(&r);
-    std::sort(top_slices.begin(), top_slices.end(), [](auto* x, auto* y) { return x->theta_i_deg < y->theta_i_deg; });
-    std::vector<Image> pairs;
-    std::vector<std::string> pair_labels;
-    std::vector<std::vector<std::string>> rows;
-    const size_t shown = std::min<size_t>(6, top_slices.size());
-    for (size_t k = 0; k < shown; ++k) {
-      const SliceRecord& r = *top_slices[k * top_slices.size() / shown];
-      auto slice = ReadImage(session_dir / "slices" / r.file);
-      if (!slice.ok()) return Fail("demo", slice.status().message());
-      const RigBoard& board = scene->boards.front();
-      const Image truth = RenderTrueBtfSlice(*material, {r.theta_i_deg, r.phi_i_deg, r.theta_o_deg, r.phi_o_deg, ro.slice_size,
-                                                         board.patch_m, board.material_offset_m});
-      // Side by side under one exposure; scored at 64 texels, a scale the camera resolves.
-      Image pair(2 * ro.slice_size, ro.slice_size, 3);
-      for (int y = 0; y < ro.slice_size; ++y)
-        for (int x = 0; x < ro.slice_size; ++x)
-          for (int c = 0; c < 3; ++c) {
-            pair.at(x, y, c) = slice->at(x, y, c);
-            pair.at(ro.slice_size + x, y, c) = truth.at(x, y, c);
-          }
-      pairs.push_back(ExposeForDisplay(pair, 0.995));
-      pair_labels.push_back(Format("i(%.0f,%.0f): slice | truth", r.theta_i_deg, r.phi_i_deg));
-      const Image got64 = AreaDownsample(*slice, 64), truth64 = AreaDownsample(truth, 64);
-      double sum_got = 0, sum_truth = 0, sq = 0;
-      for (size_t i = 0; i < got64.size(); ++i) {
-        sum_got += got64.data()[i];
-        sum_truth += truth64.data()[i];
-        sq += std::pow(double(got64.data()[i]) - truth64.data()[i], 2);
-      }
-      rows.push_back({fs::path(r.shot).filename().string(), Format("%.1f", r.theta_i_deg), Format("%.0f", r.phi_i_deg),
-                      Format("%+.2f%%", 100 * (sum_got / sum_truth - 1)),
-                      Format("%.2f%%", 100 * std::sqrt(sq / got64.size()) / (sum_truth / truth64.size())),
-                      Format("%.3f", r.scale)});
-    }
-    report.Paragraph("mesocap calibrate then resampled every lit patch into a " + Format("%dx%d", ro.slice_size, ro.slice_size) +
-                     " slice normalised by the flash irradiance: " + res->Brief() +
-                     ". Top-board slices against the true BTF at the same directions (directional light, orthographic "
-                     "view), compared after both are area-averaged to 64x64 texels:");
-    if (!pairs.empty()) {
-      if (Status st = WriteImage(a.out / "slices_vs_truth.jpg", ContactSheet(pairs, pair_labels, 2, 400),
-                                 {.format = PixelFormat::kUint8Srgb});
-          !st.ok())
-        return Fail("demo", st.message());
-      report.Table({"shot", "theta_i deg", "phi_i deg", "mean error", "relative RMS (64x64)", "BRDF smoothing scale"}, rows);
-      report.Picture("slices_vs_truth.jpg", "Top board: resampled slice (left) and true BTF slice (right) of each pair, one exposure per pair");
-    }
-    std::printf("demo: resample: %s\n", res->Brief().c_str());
+  clock.Start("scoring calibration and slices");
+  if (Status st = AddCalibrationScores(session_dir, *truth_json, *outcomes, &report); !st.ok()) return Fail("demo", st.message());
+  if (Status st = AddSliceScores(a.out, session_dir, *scene, *material, &report); !st.ok()) return Fail("demo", st.message());
 
-    DemoReconstructionInputs rec;
-    rec.out = a.out;
-    rec.session = session_dir;
-    rec.material = &*material;
-    rec.top_board = scene->boards.front().id;
-    rec.top_offset_m = scene->boards.front().material_offset_m;
-    rec.patch_m = scene->boards.front().patch_m;
-    rec.progress = !a.no_progress;
-    rec.clock = &clock;
-    if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st.message());
-  }
+  DemoReconstructionInputs rec;
+  rec.out = a.out;
+  rec.session = session_dir;
+  rec.material = &*material;
+  rec.top_board = scene->boards.front().id;
+  rec.top_offset_m = scene->boards.front().material_offset_m;
+  rec.patch_m = scene->boards.front().patch_m;
+  rec.progress = !a.no_progress;
+  rec.clock = &clock;
+  if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st.message());
 
   clock.Stop();
   AddTiming(clock, &report);
   report.Heading("Files");
-  report.Paragraph("session/: shots/, calib/, journal.jsonl, session.json, truth.json, rig_layout.json, calibration/rig.json, "
-                   "calibration/report.json, slices/ (OpenEXR BTF slices), slices/index.json and slices/board_BB.lp; top_board.ptm "
-                   "beside this report. Formats: docs/formats.md.");
+  report.Paragraph("session/: the virtual session as `mesocap process` left it: shots/, calib/, journal.jsonl, session.json, "
+                   "truth.json, rig_layout.json, calibration/ (rig.json, report.json, plots), slices/ (OpenEXR BTF slices, "
+                   "index.json, board_BB.lp), ptm/ (a PTM per board), btf/ (the reconstructed BTF, coarse grid), export/ "
+                   "(material.ptm, lp/, btf/, previews/), stages.json and its own report.html. Formats: docs/formats.md.");
   if (Status st = report.Write(a.out); !st.ok()) return Fail("demo", st.message());
   std::printf("demo: %s\n", sim->Brief().c_str());
   std::printf("demo: finished in %.0f s -> %s\n", clock.TotalSeconds(), (a.out / "report.html").string().c_str());

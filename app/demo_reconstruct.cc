@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "app/session_stages.h"
 #include "capture/btf_render.h"
 #include "core/directions.h"
 #include "core/image_io.h"
@@ -31,30 +32,16 @@ Image TrueSlice(const DemoReconstructionInputs& in, const Eigen::Vector3d& light
 }
 
 Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
-  // The top board's slices with their flash positions in the patch frame (centre + distance x
-  // direction), from the slice index: a PTM per pixel under the actual point light, next to the
-  // usual shared fit of the .lp file's centre directions.
-  auto index = ReadJsonFile(in.session / "slices" / "index.json");
-  if (!index.ok()) return index.status();
-  std::vector<Image> images;
-  std::vector<Eigen::Vector3d> dirs, lights_m;
-  for (const Json& e : (*index)["slices"]) {
-    if (e["board"].get<int>() != in.top_board) continue;
-    auto im = ReadImage(in.session / "slices" / e["file"].get<std::string>());
-    if (!im.ok()) return im.status();
-    images.push_back(std::move(*im));
-    dirs.push_back(DirectionFromAnglesDeg(e["theta_i_deg"].get<double>(), e["phi_i_deg"].get<double>()));
-    lights_m.push_back(e["light_distance_m"].get<double>() * dirs.back());
-  }
-  PtmFitOptions fit;
-  fit.format = PtmFormat::kRgb;
-  PtmFitReport shared_report, per_pixel_report;
-  auto shared = FitPtm(images, dirs, fit, &shared_report);
-  if (!shared.ok()) return shared.status();
-  auto ptm = FitPtmPerPixelLights(images, PointLightDirections(lights_m, images.front().width(), in.patch_m), fit,
-                                  &per_pixel_report);
+  // The fit-ptm stage's PTM of the top board: each texel fitted under its own direction to the
+  // flash (the point light is close to the patch), scored here against the true BTF.
+  auto ptm = ReadPtmFile(BoardPtmFile(in.session, in.top_board));
   if (!ptm.ok()) return ptm.status();
-  if (Status st = WritePtmFile(in.out / "top_board.ptm", *ptm); !st.ok()) return st;
+  auto fit_report = ReadJsonFile(in.session / "ptm" / "report.json");
+  if (!fit_report.ok()) return fit_report.status();
+  double rms_residual = 0;
+  int lights = 0;
+  for (const Json& b : (*fit_report)["boards"])
+    if (b["board"].get<int>() == in.top_board) rms_residual = b["rms_residual"].get<double>(), lights = b["lights"].get<int>();
   std::vector<Image> row;
   std::vector<std::string> labels;
   for (double phi : {0.0, 120.0, 240.0}) {
@@ -69,18 +56,16 @@ Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
   for (size_t i = 0; i < normals.size(); ++i) normals.data()[i] = 0.5f * (normals.data()[i] + 1.0f);
   row.push_back(normals);
   labels.push_back("PTM normals");
-  if (Status st = WriteImage(in.out / "ptm.jpg", ContactSheet(row, labels, 7, 160), {.format = PixelFormat::kUint8Srgb}); !st.ok())
-    return st;
+  MESOCAP_RETURN_IF_ERROR(WriteImage(in.out / "ptm.jpg", ContactSheet(row, labels, 7, 160), {.format = PixelFormat::kUint8Srgb}));
   report->Heading("Polynomial texture map of the top board");
-  report->Paragraph(Format("mesocap calibrate wrote slices/board_%02d.lp (the RTI light file of the top board's %d slices, "
-                           "which `mesocap fit-ptm --lp` fits with one light direction per slice: RMS residual %.5f). "
-                           "Here the fit also uses each texel's own direction to the flash (per-pixel light matrices): RMS "
-                           "residual %.5f; written as top_board.ptm (RGB, opens in RTIViewer). A PTM is smooth in the light "
+  report->Paragraph(Format("The fit-ptm stage fitted an RGB PTM to each board's slices, every texel under its own direction "
+                           "to the flash (per-pixel light matrices): the top board's from %d slices, RMS residual %.5f "
+                           "(session/ptm/, exported as session/export/material.ptm, which opens in RTIViewer; "
+                           "session/export/lp/ is the same slices as an RTI capture). A PTM is smooth in the light "
                            "direction, so it misses the material's sharp cast shadows:",
-                           in.top_board, shared_report.num_lights, shared_report.rms_residual, per_pixel_report.rms_residual));
-  report->Picture("ptm.jpg", "True BTF (top view) and the per-pixel PTM relit at three held-out lights; PTM normals");
-  std::printf("demo: PTM of the top board from %d slices, rms residual %.5f (shared directions %.5f)\n",
-              per_pixel_report.num_lights, per_pixel_report.rms_residual, shared_report.rms_residual);
+                           lights, rms_residual));
+  report->Picture("ptm.jpg", "True BTF (top view) and the PTM relit at three held-out lights; PTM normals");
+  std::printf("demo: PTM of the top board from %d slices, rms residual %.5f\n", lights, rms_residual);
   return Status::Ok();
 }
 

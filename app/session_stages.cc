@@ -114,8 +114,8 @@ StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& o) {
   summary.warnings = result->rejected;
   summary.report = {{"usable_shots", result->usable_shots()}, {"shots", result->shots.size()},
                     {"rejected", result->rejected.size()}};
-  if (intrinsics_report.contains("rms_reprojection_px"))
-    summary.report["intrinsics_rms_px"] = intrinsics_report["rms_reprojection_px"];
+  if (intrinsics_report.contains("report"))
+    summary.report["intrinsics_rms_px"] = intrinsics_report["report"]["rms_reprojection_px"];
   return summary;
 }
 

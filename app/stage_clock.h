@@ -26,6 +26,12 @@ class StageClock {
     stage_start_ = now;
   }
 
+  // A stage timed elsewhere (e.g. by `process`); ends the running one.
+  void Add(const std::string& name, double seconds) {
+    Stop();
+    stages_.push_back({name, seconds});
+  }
+
   const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
   double TotalSeconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
