@@ -21,7 +21,7 @@ int Run(const ExportArgs& a) {
   std::vector<ExportFormat> formats;
   for (const std::string& name : a.formats) {
     ExportFormat f;
-    if (!StringToExportFormat(name, &f)) return Fail("export", "--format must be ptm, lp or exr, not '" + name + "'", kExitUsage);
+    if (!StringToExportFormat(name, &f)) return Fail("export", "--format must be ptm, lp, exr or gltf, not '" + name + "'", kExitUsage);
     formats.push_back(f);
   }
   if (auto session = Session::Open(a.session); !session.ok()) return Fail("export", session.status().message());
@@ -41,9 +41,9 @@ Command ExportCommand() {
   Command c;
   c.name = "export";
   c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("export", "Write a processed session's material as .ptm, .lp + images or an OpenEXR BTF");
+    CLI::App* sub = app.add_subcommand("export", "Write a processed session's material as .ptm, .lp + images, an OpenEXR BTF or a glTF PBR material");
     sub->add_option("session", args->session, "Session folder (after `mesocap process`)")->required();
-    sub->add_option("--format", args->formats, "ptm (top board's PTM), lp (RTI light file + PNGs), exr (BTF folder); repeatable")
+    sub->add_option("--format", args->formats, "ptm (top board's PTM), lp (RTI light file + PNGs), exr (BTF folder), gltf (PBR material fitted to the BTF); repeatable")
         ->required();
     sub->add_option("--out", args->out, "Output folder (default SESSION/export); each format's item is replaced whole");
   };

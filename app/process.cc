@@ -86,7 +86,7 @@ StatusOr<StageSummary> RunExportStage(const fs::path& session) {
   std::vector<std::string> previews;
   MESOCAP_RETURN_IF_ERROR(WritePreviews(session, staging->path() / "previews", &previews));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  summary.brief = "material.ptm, lp/material.lp, btf/ (OpenEXR), previews/";
+  summary.brief = "material.ptm, lp/material.lp, btf/ (OpenEXR), gltf/material.gltf, previews/";
   summary.report = {{"previews", previews}};
   return summary;
 }
@@ -117,7 +117,7 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                      {"pixel_only", a.reconstruct.pixel_only}},
                     {"btf"},
                     [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
-  stages.push_back({"export", {"resample", "fit-ptm", "reconstruct"}, {}, {{"formats", "ptm lp exr previews"}},
+  stages.push_back({"export", {"resample", "fit-ptm", "reconstruct"}, {}, {{"formats", "ptm lp exr gltf previews"}},
                     {"export"},
                     [&a] { return RunExportStage(a.session); }});
   return stages;

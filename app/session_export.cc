@@ -8,6 +8,8 @@
 #include "core/image_io.h"
 #include "core/slice_index.h"
 #include "core/text_format.h"
+#include "export/ggx_fit.h"
+#include "export/gltf_material.h"
 #include "export/lp_file.h"
 #include "export/previews.h"
 
@@ -20,6 +22,7 @@ std::string ExportFormatToString(ExportFormat format) {
     case ExportFormat::kPtm: return "ptm";
     case ExportFormat::kLp: return "lp";
     case ExportFormat::kExr: return "exr";
+    case ExportFormat::kGltf: return "gltf";
   }
   return "";
 }
@@ -33,7 +36,9 @@ bool StringToExportFormat(const std::string& name, ExportFormat* format) {
   return false;
 }
 
-std::vector<ExportFormat> AllExportFormats() { return {ExportFormat::kPtm, ExportFormat::kLp, ExportFormat::kExr}; }
+std::vector<ExportFormat> AllExportFormats() {
+  return {ExportFormat::kPtm, ExportFormat::kLp, ExportFormat::kExr, ExportFormat::kGltf};
+}
 
 namespace {
 
@@ -113,6 +118,44 @@ StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir
   return Format("%s (%zu slices)", (out_dir / "btf").string().c_str(), index->slices.size());
 }
 
+// A grey map of the GGX fit's relative error per texel: black 0, white 50% or more.
+Image ErrorPicture(const Image& relative_error) {
+  Image picture(relative_error.width(), relative_error.height(), 3);
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x)
+      for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::clamp(2.0f * relative_error.at(x, y, 0), 0.0f, 1.0f);
+  return picture;
+}
+
+StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_dir) {
+  const fs::path index = session / "btf" / "index.json";
+  if (!fs::exists(index))
+    return Status::Error(index.string() + " not found (a glTF material is fitted to the reconstructed BTF): " + MakeItWith(session));
+  auto layout = LoadSessionLayout(session, "");
+  const double patch_m = layout.ok() && !layout->boards.empty() ? layout->boards.front().patch_m : 0.064;
+  GgxFitOptions options;
+  auto maps = FitGgxMaterial(index, options);
+  if (!maps.ok()) return maps.status();
+  auto staging = StagingFolder::Begin(out_dir / "gltf");
+  if (!staging.ok()) return staging.status();
+  GltfMaterialOptions gltf;
+  gltf.name = fs::absolute(session).lexically_normal().filename().string();
+  gltf.patch_m = patch_m;
+  MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staging->path(), *maps, gltf));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.png", ErrorPicture(maps->relative_error),
+                                     {.format = PixelFormat::kUint8Srgb}));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.exr", maps->relative_error, {.format = PixelFormat::kHalf}));
+  Json report = maps->ToJson();
+  report["options"] = options.ToJson();
+  report["model"] = "glTF 2.0 metallic-roughness (GGX, separable Smith, Schlick), fitted per texel with Ceres";
+  report["fit_error"] = "fit_error.exr: per texel, RMS residual / RMS value over the slices used; fit_error.png: x2, white >= 50%";
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "fit.json", report));
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  return Format("%s (%dx%d texels from %d slices, median relative error %.1f%%, %.1f s)",
+                (out_dir / "gltf" / "material.gltf").string().c_str(), maps->base_color.width(),
+                maps->base_color.height(), maps->slices_used, 100 * maps->median_relative_error, maps->seconds);
+}
+
 }  // namespace
 
 StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format, const fs::path& out_dir) {
@@ -123,6 +166,7 @@ StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format
     case ExportFormat::kPtm: return ExportPtm(session, out_dir);
     case ExportFormat::kLp: return ExportLp(session, out_dir);
     case ExportFormat::kExr: return ExportExr(session, out_dir);
+    case ExportFormat::kGltf: return ExportGltf(session, out_dir);
   }
   return Status::Error("unknown export format");
 }

@@ -3,7 +3,9 @@
 //   ptm: material.ptm, the top board's PTM (RTIViewer, relight);
 //   lp:  lp/material.lp with the top board's slices as 8-bit PNGs under one exposure (an RTI
 //        capture for RTIBuilder, relight-cli or `mesocap fit-ptm`);
-//   exr: btf/, the reconstructed BTF as OpenEXR slices with index.json (format mesocap-btf).
+//   exr: btf/, the reconstructed BTF as OpenEXR slices with index.json (format mesocap-btf);
+//   gltf: gltf/, a glTF 2.0 metallic-roughness material fitted per texel to the reconstructed BTF
+//        (export/ggx_fit.h) on a preview quad and sphere, with its fit error map and fit.json.
 // A missing input is named with the command that makes it.
 #pragma once
 
@@ -15,7 +17,7 @@
 
 namespace mesocap::app {
 
-enum class ExportFormat { kPtm, kLp, kExr };
+enum class ExportFormat { kPtm, kLp, kExr, kGltf };
 std::string ExportFormatToString(ExportFormat format);
 bool StringToExportFormat(const std::string& name, ExportFormat* format);
 std::vector<ExportFormat> AllExportFormats();

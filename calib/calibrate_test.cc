@@ -51,11 +51,32 @@ void CheckSessionAgainstTruth(const std::string& material, uint64_t seed) {
   EXPECT_LT(score.ball_centre_max_mm, 2.0);
   EXPECT_LT(score.light_direction_median_deg, 0.5);
 
-  // rig.json carries everything resampling needs: read back, it writes the same bytes, so the
-  // resample stage working from the file sees exactly this calibration.
-  const Json rig = result->RigJson();
-  const CalibrationResult back = CalibrationResult::FromRigJson(Json::parse(rig.dump()));
-  EXPECT_EQ(back.RigJson().dump(), rig.dump());
+  // rig.json carries everything resampling needs, exactly: the resample stage working from the
+  // file sees this calibration.
+  const CalibrationResult back = CalibrationResult::FromRigJson(Json::parse(result->RigJson().dump()));
+  EXPECT_EQ(back.camera.ToJson(), result->camera.ToJson());
+  ASSERT_EQ(back.boards.size(), result->boards.size());
+  for (size_t b = 0; b < back.boards.size(); ++b) {
+    EXPECT_EQ(back.boards[b].found, result->boards[b].found);
+    EXPECT_EQ(back.boards[b].R, result->boards[b].R);
+    EXPECT_EQ(back.boards[b].t, result->boards[b].t);
+  }
+  ASSERT_EQ(back.spheres.spheres.size(), result->spheres.spheres.size());
+  for (size_t k = 0; k < back.spheres.spheres.size(); ++k) {
+    EXPECT_EQ(back.spheres.spheres[k].center_m, result->spheres.spheres[k].center_m);
+    EXPECT_EQ(back.spheres.spheres[k].radius_m, result->spheres.spheres[k].radius_m);
+  }
+  ASSERT_EQ(back.grey_cards.size(), result->grey_cards.size());
+  for (size_t k = 0; k < back.grey_cards.size(); ++k) EXPECT_EQ(back.grey_cards[k].ToJson(), result->grey_cards[k].ToJson());
+  ASSERT_EQ(back.shots.size(), result->shots.size());
+  for (size_t k = 0; k < back.shots.size(); ++k) {
+    EXPECT_EQ(back.shots[k].file, result->shots[k].file);
+    EXPECT_EQ(back.shots[k].light.ok, result->shots[k].light.ok);
+    EXPECT_EQ(back.shots[k].light.light_m, result->shots[k].light.light_m);
+    EXPECT_EQ(back.shots[k].power_x_exposure, result->shots[k].power_x_exposure);
+    EXPECT_EQ(back.shots[k].power, result->shots[k].power);
+    EXPECT_EQ(back.shots[k].flag, result->shots[k].flag);
+  }
 }
 
 // Two materials and two seeds: different textures under the tags and balls, different poses and lights.

@@ -6,6 +6,7 @@
 
 #include "core/directions.h"
 #include "core/parallel.h"
+#include "core/pbr_brdf.h"
 
 namespace mesocap {
 
@@ -57,6 +58,8 @@ bool SelfShadowed(const Material& m, const Eigen::Vector3d& p, const Eigen::Vect
 Eigen::Vector3f ReflectedRadiance(const Material& m, const MaterialHit& hit, const Eigen::Vector3d& wi,
                                   const Eigen::Vector3d& wo) {
   const Eigen::Vector3d n = hit.normal.cast<double>();
+  if (m.uses_pbr_brdf())
+    return PbrReflectance({hit.albedo.cast<double>(), m.pbr_roughness(), m.pbr_metallic()}, n, wi, wo).cast<float>();
   const double cos_i = n.dot(wi);
   if (cos_i <= 0) return Eigen::Vector3f::Zero();
   Eigen::Vector3f f = hit.albedo / float(std::numbers::pi);

@@ -136,6 +136,13 @@ TexelValue Corduroy(double u, double v, double tile_m) {
 
 TexelValue Flat(double, double, double) { return {0.0f, Eigen::Vector3f(0.5f, 0.5f, 0.5f)}; }
 
+// The `ggx` material's known parameters (a GGX fit must recover them).
+constexpr float kGgxBaseColor[3] = {0.62f, 0.36f, 0.18f};
+constexpr double kGgxRoughness = 0.45, kGgxMetallic = 0.3;
+TexelValue FlatCopper(double, double, double) {
+  return {0.0f, Eigen::Vector3f(kGgxBaseColor[0], kGgxBaseColor[1], kGgxBaseColor[2])};
+}
+
 }  // namespace
 
 const std::vector<MaterialInfo>& MaterialCatalog() {
@@ -144,6 +151,8 @@ const std::vector<MaterialInfo>& MaterialCatalog() {
       {"stones", "rounded stones of varied size and colour in dark mortar"},
       {"corduroy", "rust corduroy: rounded wales along y with fuzzy pile"},
       {"flat", "flat grey Lambertian (albedo 0.5, no specular): for energy checks"},
+      {"ggx", "flat, the glTF metallic-roughness BRDF with base colour (0.62, 0.36, 0.18), roughness 0.45, "
+              "metallic 0.3: for GGX fits"},
   };
   return catalog;
 }
@@ -169,6 +178,11 @@ StatusOr<Material> Material::Create(const std::string& name) {
     fn = Flat;
     m.specular_f0_ = 0.0;
     m.roughness_ = 1.0;
+  } else if (name == "ggx") {
+    fn = FlatCopper;
+    m.pbr_ = true;
+    m.pbr_roughness_ = kGgxRoughness;
+    m.pbr_metallic_ = kGgxMetallic;
   } else {
     std::string names;
     for (const auto& info : MaterialCatalog()) names += (names.empty() ? "" : ", ") + info.name;

@@ -33,6 +33,11 @@ class Material {
   double cell_m() const { return tile_m_ / grid_; }
   double specular_f0() const { return specular_f0_; }
   double roughness() const { return roughness_; }  // GGX alpha
+  // Materials rendered with the glTF metallic-roughness BRDF (core/pbr_brdf.h) instead of the
+  // Lambertian + GGX lobe: the base colour is the albedo grid.
+  bool uses_pbr_brdf() const { return pbr_; }
+  double pbr_roughness() const { return pbr_roughness_; }  // perceptual (alpha = its square)
+  double pbr_metallic() const { return pbr_metallic_; }
 
   // Bilinear lookups, periodic.
   float Height(double x_m, double y_m) const;
@@ -49,6 +54,8 @@ class Material {
   int grid_ = 1280;
   double max_height_m_ = 0;
   double specular_f0_ = 0.04, roughness_ = 0.3;
+  bool pbr_ = false;
+  double pbr_roughness_ = 0, pbr_metallic_ = 0;
   std::vector<float> height_;           // grid_ * grid_
   std::vector<Eigen::Vector3f> albedo_;  // grid_ * grid_
   std::vector<Eigen::Vector3f> normal_;  // grid_ * grid_

@@ -13,5 +13,5 @@ function(mesocap_test)
     set(T_TIMEOUT 300)
   endif()
   set_tests_properties(${T_NAME} PROPERTIES TIMEOUT ${T_TIMEOUT} LABELS "${T_LABELS}"
-                       ENVIRONMENT "MESOCAP_BIN=$<TARGET_FILE:mesocap>")
+                       ENVIRONMENT "MESOCAP_BIN=$<TARGET_FILE:mesocap>;MESOCAP_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()

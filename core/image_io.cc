@@ -243,6 +243,7 @@ Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOpti
   oiio::TypeDesc type = oiio::TypeDesc::UINT8;
   switch (options.format) {
     case PixelFormat::kUint8Srgb: type = oiio::TypeDesc::UINT8; break;
+    case PixelFormat::kUint8Linear: type = oiio::TypeDesc::UINT8; break;
     case PixelFormat::kUint16Linear: type = oiio::TypeDesc::UINT16; break;
     case PixelFormat::kHalf: type = oiio::TypeDesc::HALF; break;
     case PixelFormat::kFloat: type = oiio::TypeDesc::FLOAT; break;
@@ -260,14 +261,20 @@ Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOpti
   }
 
   // Encode sRGB ourselves so 8-bit output is exactly reproducible.
-  std::vector<uint8_t> srgb;
+  std::vector<uint8_t> bytes;  // 8-bit encodings made here
   const void* pixels = image.data();
   oiio::TypeDesc pixel_type = oiio::TypeDesc::FLOAT;
   if (options.format == PixelFormat::kUint8Srgb) {
-    srgb.resize(image.size());
+    bytes.resize(image.size());
     const float* src = image.data();
-    for (size_t i = 0; i < srgb.size(); ++i) srgb[i] = EncodeSrgb8(src[i]);
-    pixels = srgb.data();
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = EncodeSrgb8(src[i]);
+    pixels = bytes.data();
+    pixel_type = oiio::TypeDesc::UINT8;
+  } else if (options.format == PixelFormat::kUint8Linear) {
+    bytes.resize(image.size());
+    const float* src = image.data();
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(std::lround(std::clamp(src[i], 0.0f, 1.0f) * 255.0f));
+    pixels = bytes.data();
     pixel_type = oiio::TypeDesc::UINT8;
   }
 

@@ -18,7 +18,9 @@ namespace mesocap {
 using AttributeValue = std::variant<int, float, std::string>;
 using ImageAttributes = std::map<std::string, AttributeValue>;
 
-enum class PixelFormat { kUint8Srgb, kUint16Linear, kHalf, kFloat };
+// kUint8Linear stores round(255 v) as is: data textures (normal maps, roughness) that are not
+// colours.
+enum class PixelFormat { kUint8Srgb, kUint8Linear, kUint16Linear, kHalf, kFloat };
 
 struct ImageWriteOptions {
   // kUint8Srgb for JPEG/8-bit PNG, kUint16Linear for PNG/TIFF, kHalf or kFloat for EXR.

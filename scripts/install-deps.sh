@@ -10,10 +10,14 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libjpeg62-turbo-dev
   libapriltag-dev
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
-  libmaxflow-dev libcgal-dev libxxhash-dev
+  libmaxflow-dev libcgal-dev libxxhash-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
 )
+
+# Node.js and npm for the glTF validator: Debian's, unless the machine already has an npm (e.g.
+# NodeSource's nodejs, which conflicts with Debian's npm package).
+command -v npm >/dev/null || packages+=(nodejs npm)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -31,4 +35,12 @@ if ((${#missing[@]})); then
   $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" |
     { grep --line-buffered -E '^(Need to get|After this operation|Fetched|Unpacking|Setting up) ' | sed -u 's/^/  /' || true; }
   echo "install-deps: done"
+fi
+
+# The Khronos glTF validator (the glTF export's tests run it): from the npm registry, pinned.
+GLTF_VALIDATOR_VERSION=2.0.0-dev.3.10
+if ! [ -f "$(npm root -g 2>/dev/null)/gltf-validator/package.json" ] ||
+   ! grep -q "\"version\": \"$GLTF_VALIDATOR_VERSION\"" "$(npm root -g)/gltf-validator/package.json"; then
+  echo "install-deps: npm install -g gltf-validator@$GLTF_VALIDATOR_VERSION"
+  npm install -g --no-audit --no-fund "gltf-validator@$GLTF_VALIDATOR_VERSION" | sed -u 's/^/  /'
 fi

@@ -48,4 +48,23 @@ int RunMesocap(const std::string& args, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+int ValidateGltf(const std::filesystem::path& gltf, std::string* output) {
+  const char* source = std::getenv("MESOCAP_SOURCE_DIR");
+  if (!source) {
+    if (output) *output = "MESOCAP_SOURCE_DIR is not set (ctest sets it)";
+    return 2;
+  }
+  const std::string cmd = "node " + (std::filesystem::path(source) / "scripts" / "validate-gltf.mjs").string() + " " +
+                          gltf.string() + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 4096> buf;
+  std::string out;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  if (output) *output = out;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 }  // namespace mesocap::testing

@@ -16,5 +16,8 @@ uint32_t SeedFromTestName();
 std::string MesocapBinary();
 // Runs `mesocap ARGS`, capturing stdout+stderr into *output; returns the exit code.
 int RunMesocap(const std::string& args, std::string* output = nullptr);
+// Runs the Khronos glTF validator on `gltf` (scripts/validate-gltf.mjs, node + the npm package
+// install-deps installs); returns its exit code: 0 no errors and no warnings, 1 some, 2 missing.
+int ValidateGltf(const std::filesystem::path& gltf, std::string* output = nullptr);
 
 }  // namespace mesocap::testing

@@ -1,0 +1,190 @@
+#include "export/gltf_material.h"
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "core/image_io.h"
+
+namespace mesocap {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct MeshData {
+  std::vector<float> position, normal, tangent, uv;  // 3, 3, 4, 2 per vertex
+  std::vector<uint16_t> indices;
+};
+
+void AddVertex(MeshData* m, const Eigen::Vector3f& p, const Eigen::Vector3f& n, const Eigen::Vector3f& t, float u, float v) {
+  m->position.insert(m->position.end(), {p.x(), p.y(), p.z()});
+  m->normal.insert(m->normal.end(), {n.x(), n.y(), n.z()});
+  m->tangent.insert(m->tangent.end(), {t.x(), t.y(), t.z(), 1.0f});
+  m->uv.insert(m->uv.end(), {u, v});
+}
+
+// A square of side `side` in the x-y plane facing +z; texture x right, y up (glTF v runs down).
+MeshData Quad(float side) {
+  MeshData m;
+  const float h = side / 2;
+  for (auto [x, y] : {std::pair{-h, -h}, {h, -h}, {h, h}, {-h, h}})
+    AddVertex(&m, {x, y, 0}, {0, 0, 1}, {1, 0, 0}, x / side + 0.5f, 0.5f - y / side);
+  m.indices = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
+// A UV sphere of `radius`, y up; the texture wraps once around and once from pole to pole.
+MeshData Sphere(float radius, int slices = 48, int stacks = 24) {
+  MeshData m;
+  for (int j = 0; j <= stacks; ++j) {
+    const float v = float(j) / stacks, polar = v * float(std::numbers::pi);
+    for (int i = 0; i <= slices; ++i) {
+      const float u = float(i) / slices, azimuth = u * 2 * float(std::numbers::pi);
+      const Eigen::Vector3f n(std::sin(polar) * std::sin(azimuth), std::cos(polar), std::sin(polar) * std::cos(azimuth));
+      const Eigen::Vector3f t(std::cos(azimuth), 0, -std::sin(azimuth));  // along increasing u
+      AddVertex(&m, radius * n, n, t, u, v);
+    }
+  }
+  for (int j = 0; j < stacks; ++j)
+    for (int i = 0; i < slices; ++i) {
+      const uint16_t a = uint16_t(j * (slices + 1) + i), b = uint16_t(a + slices + 1);
+      m.indices.insert(m.indices.end(), {a, b, uint16_t(a + 1), uint16_t(a + 1), b, uint16_t(b + 1)});
+    }
+  return m;
+}
+
+// Appends `bytes` to buffer 0 (4-byte aligned) as a new buffer view; returns its index.
+int AddBufferView(tinygltf::Model* model, const void* bytes, size_t size, int target) {
+  std::vector<unsigned char>& data = model->buffers[0].data;
+  while (data.size() % 4) data.push_back(0);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = data.size();
+  view.byteLength = size;
+  view.target = target;
+  data.insert(data.end(), static_cast<const unsigned char*>(bytes), static_cast<const unsigned char*>(bytes) + size);
+  model->bufferViews.push_back(view);
+  return int(model->bufferViews.size()) - 1;
+}
+
+int AddFloatAccessor(tinygltf::Model* model, const std::vector<float>& values, int components, int type, bool min_max) {
+  tinygltf::Accessor a;
+  a.bufferView = AddBufferView(model, values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+  a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.count = values.size() / components;
+  a.type = type;
+  if (min_max) {
+    a.minValues.assign(components, 1e30);
+    a.maxValues.assign(components, -1e30);
+    for (size_t k = 0; k < values.size(); ++k) {
+      a.minValues[k % components] = std::min(a.minValues[k % components], double(values[k]));
+      a.maxValues[k % components] = std::max(a.maxValues[k % components], double(values[k]));
+    }
+  }
+  model->accessors.push_back(a);
+  return int(model->accessors.size()) - 1;
+}
+
+int AddMesh(tinygltf::Model* model, const MeshData& data, const std::string& name) {
+  tinygltf::Primitive p;
+  p.attributes["POSITION"] = AddFloatAccessor(model, data.position, 3, TINYGLTF_TYPE_VEC3, true);
+  p.attributes["NORMAL"] = AddFloatAccessor(model, data.normal, 3, TINYGLTF_TYPE_VEC3, false);
+  p.attributes["TANGENT"] = AddFloatAccessor(model, data.tangent, 4, TINYGLTF_TYPE_VEC4, false);
+  p.attributes["TEXCOORD_0"] = AddFloatAccessor(model, data.uv, 2, TINYGLTF_TYPE_VEC2, false);
+  tinygltf::Accessor indices;
+  indices.bufferView = AddBufferView(model, data.indices.data(), data.indices.size() * sizeof(uint16_t),
+                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  indices.count = data.indices.size();
+  indices.type = TINYGLTF_TYPE_SCALAR;
+  model->accessors.push_back(indices);
+  p.indices = int(model->accessors.size()) - 1;
+  p.material = 0;
+  p.mode = TINYGLTF_MODE_TRIANGLES;
+  tinygltf::Mesh mesh;
+  mesh.name = name;
+  mesh.primitives.push_back(p);
+  model->meshes.push_back(mesh);
+  return int(model->meshes.size()) - 1;
+}
+
+int AddTexture(tinygltf::Model* model, const std::string& uri) {
+  tinygltf::Image image;
+  image.uri = uri;
+  image.mimeType = "image/png";
+  model->images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = int(model->images.size()) - 1;
+  texture.sampler = 0;
+  model->textures.push_back(texture);
+  return int(model->textures.size()) - 1;
+}
+
+// The textures in glTF's encodings.
+Status WriteTextures(const fs::path& dir, const GgxMaterialMaps& maps) {
+  const int w = maps.base_color.width(), h = maps.base_color.height();
+  Image metallic_roughness(w, h, 3), normal(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      metallic_roughness.at(x, y, 0) = 1.0f;  // unused (occlusion in packed ORM textures)
+      metallic_roughness.at(x, y, 1) = maps.roughness.at(x, y, 0);
+      metallic_roughness.at(x, y, 2) = maps.metallic.at(x, y, 0);
+      for (int c = 0; c < 3; ++c) normal.at(x, y, c) = 0.5f * (maps.normal.at(x, y, c) + 1.0f);
+    }
+  MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "base_color.png", maps.base_color, {.format = PixelFormat::kUint8Srgb}));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "metallic_roughness.png", metallic_roughness, {.format = PixelFormat::kUint8Linear}));
+  return WriteImage(dir / "normal.png", normal, {.format = PixelFormat::kUint8Linear});
+}
+
+}  // namespace
+
+Status WriteGltfMaterial(const fs::path& dir, const GgxMaterialMaps& maps, const GltfMaterialOptions& options) {
+  if (maps.base_color.empty()) return Status::Error("no material to write");
+  MESOCAP_RETURN_IF_ERROR(WriteTextures(dir, maps));
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "mesocap";
+  model.buffers.resize(1);
+  model.buffers[0].uri = "material.bin";
+  tinygltf::Sampler sampler;
+  sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+  sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  sampler.wrapS = sampler.wrapT = options.tileable ? TINYGLTF_TEXTURE_WRAP_REPEAT : TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  model.samplers.push_back(sampler);
+  tinygltf::Material material;
+  material.name = options.name;
+  material.pbrMetallicRoughness.baseColorTexture.index = AddTexture(&model, "base_color.png");
+  material.pbrMetallicRoughness.metallicRoughnessTexture.index = AddTexture(&model, "metallic_roughness.png");
+  material.pbrMetallicRoughness.metallicFactor = 1.0;
+  material.pbrMetallicRoughness.roughnessFactor = 1.0;
+  material.normalTexture.index = AddTexture(&model, "normal.png");
+  model.materials.push_back(material);
+
+  const float side = float(options.patch_m);
+  tinygltf::Node quad, sphere;
+  quad.name = "quad";
+  quad.mesh = AddMesh(&model, Quad(side), "quad");
+  quad.translation = {-0.6 * side, 0, 0};
+  sphere.name = "sphere";
+  sphere.mesh = AddMesh(&model, Sphere(side / 2), "sphere");
+  sphere.translation = {0.6 * side, 0, 0};
+  model.nodes = {quad, sphere};
+  tinygltf::Scene scene;
+  scene.name = "preview";
+  scene.nodes = {0, 1};
+  model.scenes.push_back(scene);
+  model.defaultScene = 0;
+
+  tinygltf::TinyGLTF writer;
+  writer.SetImageWriter(nullptr, nullptr);  // the PNGs are written above; keep their URIs
+  const fs::path file = dir / "material.gltf";
+  if (!writer.WriteGltfSceneToFile(&model, file.string(), false, false, true, false))
+    return Status::Error(file.string() + ": tinygltf could not write the asset");
+  return Status::Ok();
+}
+
+}  // namespace mesocap

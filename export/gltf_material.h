@@ -1,0 +1,26 @@
+// A fitted material (export/ggx_fit.h) as a glTF 2.0 asset other tools open: a metallic-
+// roughness material with base colour, metallic-roughness and normal textures, on a preview quad
+// and sphere, written through tinygltf (Debian's libtinygltf-dev):
+//   DIR/material.gltf, material.bin (the meshes), base_color.png (sRGB),
+//   metallic_roughness.png (G roughness, B metallic, linear), normal.png (tangent space, linear).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "core/status.h"
+#include "export/ggx_fit.h"
+
+namespace mesocap {
+
+struct GltfMaterialOptions {
+  std::string name = "mesocap material";
+  double patch_m = 0.064;  // the material's side: the preview quad's size
+  bool tileable = false;   // textures repeat (a synthesis map's output); else clamp to the edge
+};
+
+// Writes into `dir` (existing); the caller stages the folder.
+Status WriteGltfMaterial(const std::filesystem::path& dir, const GgxMaterialMaps& maps,
+                         const GltfMaterialOptions& options = {});
+
+}  // namespace mesocap
