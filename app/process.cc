@@ -252,8 +252,16 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
     report.Picture("export/previews/ptm_relit.jpg", "The top board's PTM (export/material.ptm) relit under three lights");
   if (fs::exists(session / "export" / "previews" / "btf_slices.jpg"))
     report.Picture("export/previews/btf_slices.jpg", "Slices of the reconstructed BTF (export/btf/), one exposure");
+  if (auto fit = ReadJsonFile(session / "export" / "gltf" / "fit.json"); fit.ok()) {
+    report.Paragraph(Format("export/gltf/material.gltf: a glTF 2.0 metallic-roughness material fitted per texel to the "
+                            "reconstructed BTF (%d slices, median relative error %.1f%%, %.1f s), on a preview quad and "
+                            "sphere.",
+                            fit->value("slices_used", 0), 100 * fit->value("median_relative_error", 0.0),
+                            fit->value("seconds", 0.0)));
+    report.Picture("export/gltf/fit_error.png", "The glTF fit's relative error per texel (black 0, white 50% or more)");
+  }
   report.Paragraph("Files: calibration/ (rig.json, report.json), slices/ (measured BTF slices, index.json, board_BB.lp), "
-                   "ptm/ (one PTM per board), btf/ (the reconstructed BTF), export/ (material.ptm, lp/, btf/, previews/). "
+                   "ptm/ (one PTM per board), btf/ (the reconstructed BTF), export/ (material.ptm, lp/, btf/, gltf/, previews/). "
                    "Formats: docs/formats.md.");
   return report.Write(session);
 }

@@ -162,6 +162,19 @@ TexelFit FitTexel(const std::vector<Observation>& dirs, const float* values, con
 
 }  // namespace
 
+Image RelightPbrMaterial(const GgxMaterialMaps& maps, const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+  const PbrGeometry geometry(light, view);
+  Image out(maps.base_color.width(), maps.base_color.height(), 3);
+  for (int y = 0; y < out.height(); ++y)
+    for (int x = 0; x < out.width(); ++x) {
+      const Eigen::Vector3d base(maps.base_color.at(x, y, 0), maps.base_color.at(x, y, 1), maps.base_color.at(x, y, 2));
+      const Eigen::Vector3d n(maps.normal.at(x, y, 0), maps.normal.at(x, y, 1), maps.normal.at(x, y, 2));
+      const Eigen::Vector3d f = PbrReflectance<double>(base, maps.roughness.at(x, y, 0), maps.metallic.at(x, y, 0), n, geometry);
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = float(f[c]);
+    }
+  return out;
+}
+
 StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFitOptions& options, int board,
                                          const ProgressFn& progress) {
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);

@@ -39,6 +39,10 @@ struct GgxMaterialMaps {
   Json ToJson() const;  // the figures, not the maps
 };
 
+// The fitted material's slice under a light and a view (unit directions, patch frame): what a
+// glTF viewer shows of it, flat and unshadowed.
+Image RelightPbrMaterial(const GgxMaterialMaps& maps, const Eigen::Vector3d& light, const Eigen::Vector3d& view);
+
 // Fits every texel of the BTF listed in `index_json` (format mesocap-btf or mesocap-slices; with
 // several boards, only `board`'s slices, -1: the first board's).
 StatusOr<GgxMaterialMaps> FitGgxMaterial(const std::filesystem::path& index_json, const GgxFitOptions& options,

@@ -187,4 +187,31 @@ Status WriteGltfMaterial(const fs::path& dir, const GgxMaterialMaps& maps, const
   return Status::Ok();
 }
 
+StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const fs::path& dir) {
+  auto base = ReadImage(dir / "base_color.png", {.linearize = true, .max_channels = 3});
+  if (!base.ok()) return base.status();
+  auto mr = ReadImage(dir / "metallic_roughness.png", {.linearize = false, .max_channels = 3});
+  if (!mr.ok()) return mr.status();
+  auto normal = ReadImage(dir / "normal.png", {.linearize = false, .max_channels = 3});
+  if (!normal.ok()) return normal.status();
+  const int w = base->width(), h = base->height();
+  for (const Image* image : {&*base, &*mr, &*normal})
+    if (image->width() != w || image->height() != h || image->channels() != 3)
+      return Status::Error(dir.string() + ": the material's textures differ in size or are not RGB");
+  GgxMaterialMaps maps;
+  maps.base_color = std::move(*base);
+  maps.roughness = Image(w, h, 1);
+  maps.metallic = Image(w, h, 1);
+  maps.normal = Image(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      maps.roughness.at(x, y, 0) = mr->at(x, y, 1);
+      maps.metallic.at(x, y, 0) = mr->at(x, y, 2);
+      Eigen::Vector3f n(2 * normal->at(x, y, 0) - 1, 2 * normal->at(x, y, 1) - 1, 2 * normal->at(x, y, 2) - 1);
+      n = n.norm() > 0 ? n.normalized() : Eigen::Vector3f::UnitZ();
+      for (int c = 0; c < 3; ++c) maps.normal.at(x, y, c) = n[c];
+    }
+  return maps;
+}
+
 }  // namespace mesocap

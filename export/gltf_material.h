@@ -23,4 +23,8 @@ struct GltfMaterialOptions {
 Status WriteGltfMaterial(const std::filesystem::path& dir, const GgxMaterialMaps& maps,
                          const GltfMaterialOptions& options = {});
 
+// The textures WriteGltfMaterial wrote, decoded back into maps (8-bit: within half a step of what
+// was written; relative_error is left empty).
+StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const std::filesystem::path& dir);
+
 }  // namespace mesocap
