@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <numbers>
+#include <optional>
 #include <set>
 
 #include "app/btf_folder.h"
@@ -20,6 +22,7 @@
 #include "export/previews.h"
 #include "export/ptm_file.h"
 #include "export/report.h"
+#include "export/viewer_page.h"
 
 namespace mesocap::app {
 
@@ -228,6 +231,41 @@ void PrintProcessSummary(const std::vector<StageOutcome>& outcomes) {
   }
 }
 
+namespace {
+
+// The interactive viewer's inputs: the top board's PTM and, of the reconstructed BTF, the slices
+// whose light and view both lie on the coarse grid (all of a coarse BTF, 289 of the Bonn grid's).
+Status AddViewer(const fs::path& session, Report* report) {
+  std::optional<Ptm> ptm;
+  if (auto top = TopBoardOfSession(session); top.ok())
+    if (auto read = ReadPtmFile(BoardPtmFile(session, *top)); read.ok()) ptm = std::move(*read);
+  std::vector<ViewerSlice> slices;
+  if (auto btf = ReadSliceIndex(session / "btf" / "index.json"); btf.ok()) {
+    std::vector<Eigen::Vector3d> coarse;
+    for (const DirectionPair& p : GridPairs("coarse"))
+      if (p[2] == 0 && p[3] == 0) coarse.push_back(DirectionFromAnglesDeg(p[0], p[1]));
+    const auto on_grid = [&](const Eigen::Vector3d& d) {
+      return std::any_of(coarse.begin(), coarse.end(), [&](const Eigen::Vector3d& c) { return c.dot(d) > std::cos(0.5 * std::numbers::pi / 180); });
+    };
+    for (const SliceIndexEntry& e : btf->slices) {
+      if (!on_grid(e.light) || !on_grid(e.view)) continue;
+      auto image = ReadImage(e.file);
+      if (!image.ok()) return image.status();
+      slices.push_back({e.light, e.view, std::move(*image)});
+    }
+  }
+  if (!ptm && slices.empty()) return Status::Ok();
+  auto scratch = StagingFolder::Begin(session / ".viewer-scratch");
+  if (!scratch.ok()) return scratch.status();
+  auto html = ViewerHtml(ptm ? &*ptm : nullptr, slices, 64, scratch->path());
+  if (!html.ok()) return html.status();
+  report->Heading("Relight it");
+  report->Html(*html, "report.html relights the top board's PTM and the reconstructed BTF here, in WebGL.");
+  return Status::Ok();
+}
+
+}  // namespace
+
 Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcome>& outcomes) {
   Report report("mesocap process: " + fs::absolute(session).filename().string());
   report.Paragraph("Every stage of the session's processing, from the shots to the exports. A stage whose inputs and "
@@ -260,6 +298,7 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
                             fit->value("seconds", 0.0)));
     report.Picture("export/gltf/fit_error.png", "The glTF fit's relative error per texel (black 0, white 50% or more)");
   }
+  MESOCAP_RETURN_IF_ERROR(AddViewer(session, &report));
   report.Paragraph("Files: calibration/ (rig.json, report.json), slices/ (measured BTF slices, index.json, board_BB.lp), "
                    "ptm/ (one PTM per board), btf/ (the reconstructed BTF), export/ (material.ptm, lp/, btf/, gltf/, previews/). "
                    "Formats: docs/formats.md.");

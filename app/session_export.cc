@@ -118,12 +118,14 @@ StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir
   return Format("%s (%zu slices)", (out_dir / "btf").string().c_str(), index->slices.size());
 }
 
-// A grey map of the GGX fit's relative error per texel: black 0, white 50% or more.
+// A grey map of the GGX fit's relative error per texel: black 0, white 50% or more; texels
+// drawn as squares of at least 256 pixels in all, so a small material is still legible.
 Image ErrorPicture(const Image& relative_error) {
-  Image picture(relative_error.width(), relative_error.height(), 3);
+  const int zoom = std::max(1, 256 / std::max(1, relative_error.width()));
+  Image picture(zoom * relative_error.width(), zoom * relative_error.height(), 3);
   for (int y = 0; y < picture.height(); ++y)
     for (int x = 0; x < picture.width(); ++x)
-      for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::clamp(2.0f * relative_error.at(x, y, 0), 0.0f, 1.0f);
+      for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::clamp(2.0f * relative_error.at(x / zoom, y / zoom, 0), 0.0f, 1.0f);
   return picture;
 }
 

@@ -15,6 +15,9 @@ void Report::Table(const std::vector<std::string>& header, const std::vector<std
 void Report::Picture(const std::string& path, const std::string& caption) {
   blocks_.push_back({Block::kPicture, caption, path, {}, {}});
 }
+void Report::Html(const std::string& html, const std::string& markdown_note) {
+  blocks_.push_back({Block::kHtml, markdown_note, html, {}, {}});
+}
 
 namespace {
 std::string Escape(const std::string& s) {
@@ -74,6 +77,10 @@ Status Report::Write(const std::filesystem::path& dir) const {
       case Block::kPicture:
         md += "![" + b.text + "](" + b.path + ")\n\n*" + b.text + "*\n\n";
         html += "<figure><img src=\"" + Escape(b.path) + "\"><figcaption>" + Escape(b.text) + "</figcaption></figure>\n";
+        break;
+      case Block::kHtml:
+        md += b.text + "\n\n";
+        html += b.path + "\n";
         break;
     }
   }

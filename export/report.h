@@ -20,13 +20,16 @@ class Report {
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
   // `relative_path` is relative to the report's folder.
   void Picture(const std::string& relative_path, const std::string& caption);
+  // Markup placed as it is in report.html (trusted, made by mesocap: e.g. the interactive viewer);
+  // report.md gets `markdown_note` instead.
+  void Html(const std::string& html, const std::string& markdown_note);
 
   // Writes DIR/report.md and DIR/report.html atomically.
   Status Write(const std::filesystem::path& dir) const;
 
  private:
   struct Block {
-    enum Kind { kHeading, kParagraph, kTable, kPicture } kind;
+    enum Kind { kHeading, kParagraph, kTable, kPicture, kHtml } kind;
     std::string text, path;
     std::vector<std::string> header;
     std::vector<std::vector<std::string>> rows;

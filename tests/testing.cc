@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <fstream>
+#include <iterator>
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace mesocap::testing {
 
@@ -65,6 +68,27 @@ int ValidateGltf(const std::filesystem::path& gltf, std::string* output) {
   const int status = ::pclose(pipe);
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string HeadlessDom(const std::string& url, std::string* log) {
+  // --no-sandbox: tests may run as root; SwiftShader: WebGL without a GPU; virtual time lets the
+  // page's promises settle before the DOM is dumped.
+  const std::string err = (std::filesystem::temp_directory_path() / ("chromium-" + std::to_string(::getpid()) + ".log")).string();
+  const std::string cmd = "chromium --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader "
+                          "--virtual-time-budget=20000 --dump-dom '" + url + "' 2>" + err;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return "";
+  std::array<char, 4096> buf;
+  std::string out;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  ::pclose(pipe);
+  if (log) {
+    std::ifstream in(err);
+    *log = std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  std::filesystem::remove(err);
+  return out;
 }
 
 }  // namespace mesocap::testing

@@ -19,5 +19,8 @@ int RunMesocap(const std::string& args, std::string* output = nullptr);
 // Runs the Khronos glTF validator on `gltf` (scripts/validate-gltf.mjs, node + the npm package
 // install-deps installs); returns its exit code: 0 no errors and no warnings, 1 some, 2 missing.
 int ValidateGltf(const std::filesystem::path& gltf, std::string* output = nullptr);
+// The document `url` leaves after its scripts ran, from headless Chromium (software WebGL);
+// empty when Chromium is missing or failed (then *log says why).
+std::string HeadlessDom(const std::string& url, std::string* log = nullptr);
 
 }  // namespace mesocap::testing

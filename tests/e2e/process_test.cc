@@ -16,6 +16,7 @@
 
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/json.h"
 #include "core/slice_index.h"
 #include "export/lp_file.h"
 #include "export/ptm_file.h"
@@ -230,6 +231,26 @@ TEST_F(ProcessTest, ExportsReadBackAsTheStagesWroteThem) {
                                 &log),
             0)
       << log;
+}
+
+TEST_F(ProcessTest, TheReportRelightsInAHeadlessBrowserWithoutErrors) {
+  const fs::path s = FreshSession();
+  ASSERT_EQ(Process(s), kAllRan);
+  std::string log;
+  const std::string dom = testing::HeadlessDom("file://" + (s / "report.html").string() + "#selftest", &log);
+  ASSERT_FALSE(dom.empty()) << log;
+  // The page counts script errors and console.error calls into <body data-errors>.
+  EXPECT_NE(dom.find("data-errors=\"0\""), std::string::npos) << dom.substr(0, 2000) << log;
+  for (const char* canvas : {"mesocap-viewer-ptm", "mesocap-viewer-btf"}) EXPECT_NE(dom.find(canvas), std::string::npos);
+  // The self-test moved the light across each canvas: most pixels must change.
+  const size_t at = dom.find("data-selftest=\"");
+  ASSERT_NE(at, std::string::npos) << "the self-test did not finish";
+  std::string result = dom.substr(at + 15, dom.find('"', at + 15) - at - 15);
+  for (size_t q; (q = result.find("&quot;")) != std::string::npos;) result.replace(q, 6, "\"");
+  const Json selftest = Json::parse(result);
+  ASSERT_EQ(selftest.value("canvases", 0), 2) << result;
+  for (const Json& changed : selftest["changed"]) EXPECT_GT(changed.get<double>(), 0.5) << result;
+  EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
 }
 
 TEST_F(ProcessTest, MissingStagesAndBadOptionsAreNamedWithTheCommandThatFixesThem) {
