@@ -1,6 +1,8 @@
 #include "app/btf_folder.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 
 #include "core/directions.h"
@@ -33,6 +35,17 @@ std::vector<DirectionPair> GridPairs(const std::string& grid) {
       pairs.push_back({i.x(), i.y(), o.x(), o.y()});
     }
   return pairs;
+}
+
+bool OnCoarseGrid(const Eigen::Vector3d& direction) {
+  static const std::vector<Eigen::Vector3d> coarse = [] {
+    std::vector<Eigen::Vector3d> dirs;
+    for (const DirectionPair& p : GridPairs("coarse"))
+      if (p[2] == 0 && p[3] == 0) dirs.push_back(DirectionFromAnglesDeg(p[0], p[1]));
+    return dirs;
+  }();
+  const double cos_tolerance = std::cos(DegToRad(0.5));
+  return std::any_of(coarse.begin(), coarse.end(), [&](const Eigen::Vector3d& c) { return c.dot(direction) > cos_tolerance; });
 }
 
 std::string BtfSliceName(const DirectionPair& p) {

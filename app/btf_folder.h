@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/json.h"
 #include "core/progress.h"
 #include "core/status.h"
@@ -21,6 +23,10 @@ using DirectionPair = std::array<double, 4>;  // theta_i, phi_i, theta_o, phi_o 
 // Bonn database's grid the paper validates on) or "coarse" (its rings at 0, 30 and 60 deg with
 // every second azimuth: 17 directions, 289 pairs, a quick look). Empty for an unknown name.
 std::vector<DirectionPair> GridPairs(const std::string& grid);
+
+// True when `direction` (unit) is one of the coarse grid's 17 directions (within 0.5 deg): the
+// slices the viewer and the synth stage take from a finer BTF.
+bool OnCoarseGrid(const Eigen::Vector3d& direction);
 
 // The slice file of a direction pair: angles to 0.1 deg, so distinct pairs may share a name.
 std::string BtfSliceName(const DirectionPair& pair);

@@ -120,8 +120,15 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                      {"pixel_only", a.reconstruct.pixel_only}},
                     {"btf"},
                     [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
-  stages.push_back({"export", {"resample", "fit-ptm", "reconstruct"}, {}, {{"formats", "ptm lp exr gltf previews"}},
-                    {"export"},
+  if (!a.synth.method.empty())
+    stages.push_back({"synth", {"reconstruct"}, {},
+                      {{"method", a.synth.method}, {"width", a.synth.width}, {"height", a.synth.height},
+                       {"seed", a.synth.seed}, {"max_slices", a.synth.max_slices}},
+                      {"synth"},
+                      [&a, progress] { return RunSynthStage(a.session, a.synth, a.threads, progress); }});
+  std::vector<std::string> export_after = {"resample", "fit-ptm", "reconstruct"};
+  if (!a.synth.method.empty()) export_after.push_back("synth");
+  stages.push_back({"export", export_after, {}, {{"formats", "ptm lp exr gltf previews"}}, {"export"},
                     [&a] { return RunExportStage(a.session); }});
   return stages;
 }
@@ -157,14 +164,16 @@ StatusOr<std::string> InputsHash(const Stage& stage, const StageCache& cache,
 }  // namespace
 
 const std::vector<std::string>& ProcessStageNames() {
-  static const std::vector<std::string> names = {"calibrate", "resample", "fit-ptm", "reconstruct", "export"};
+  static const std::vector<std::string> names = {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export"};
   return names;
 }
 
 std::string ProcessOptions::Check() const {
   for (const std::string& f : force)
     if (f != "all" && std::count(ProcessStageNames().begin(), ProcessStageNames().end(), f) == 0)
-      return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, export, all)";
+      return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, all)";
+  if (!synth.method.empty() && synth.method != "roller" && synth.method != "quilt")
+    return "--synth must be roller or quilt, not '" + synth.method + "'";
   if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
   if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";
   if (std::string why = resample.Check(); !why.empty()) return why;
@@ -241,14 +250,8 @@ Status AddViewer(const fs::path& session, Report* report) {
     if (auto read = ReadPtmFile(BoardPtmFile(session, *top)); read.ok()) ptm = std::move(*read);
   std::vector<ViewerSlice> slices;
   if (auto btf = ReadSliceIndex(session / "btf" / "index.json"); btf.ok()) {
-    std::vector<Eigen::Vector3d> coarse;
-    for (const DirectionPair& p : GridPairs("coarse"))
-      if (p[2] == 0 && p[3] == 0) coarse.push_back(DirectionFromAnglesDeg(p[0], p[1]));
-    const auto on_grid = [&](const Eigen::Vector3d& d) {
-      return std::any_of(coarse.begin(), coarse.end(), [&](const Eigen::Vector3d& c) { return c.dot(d) > std::cos(0.5 * std::numbers::pi / 180); });
-    };
     for (const SliceIndexEntry& e : btf->slices) {
-      if (!on_grid(e.light) || !on_grid(e.view)) continue;
+      if (!OnCoarseGrid(e.light) || !OnCoarseGrid(e.view)) continue;
       auto image = ReadImage(e.file);
       if (!image.ok()) return image.status();
       slices.push_back({e.light, e.view, std::move(*image)});

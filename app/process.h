@@ -19,6 +19,7 @@ struct ProcessOptions {
   ResampleOptions resample;
   PtmStageOptions ptm;
   ReconstructStageOptions reconstruct;
+  SynthStageOptions synth;  // synth.method empty: no synth stage
   std::vector<std::string> force;  // stages to rerun even if unchanged; "all" for every one
   int threads = -1;
   bool progress = true;
@@ -36,7 +37,7 @@ struct StageOutcome {
   StageSummary summary;
 };
 
-// calibrate, resample, fit-ptm, reconstruct, export.
+// calibrate, resample, fit-ptm, reconstruct, synth (only when asked), export.
 const std::vector<std::string>& ProcessStageNames();
 
 // Runs or skips every stage; stops at the first stage that fails (its error names the stage).

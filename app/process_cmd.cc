@@ -5,6 +5,7 @@
 
 #include "app/commands.h"
 #include "app/process.h"
+#include "app/synth_output.h"
 
 namespace mesocap::app {
 namespace {
@@ -13,6 +14,7 @@ namespace fs = std::filesystem;
 
 struct ProcessArgs {
   ProcessOptions options;
+  std::string synth_size = "512x512";
   bool no_brdf_smoothing = false;
   std::string ptm_format = "rgb";
   bool no_progress = false;
@@ -24,6 +26,8 @@ int Run(ProcessArgs& a) {
     return Fail(verb, "--ptm-format must be lrgb or rgb, not '" + a.ptm_format + "'", kExitUsage);
   a.options.resample.brdf_smoothing = !a.no_brdf_smoothing;
   a.options.progress = !a.no_progress;
+  if (!ParseSize(a.synth_size, &a.options.synth.width, &a.options.synth.height))
+    return Fail(verb, "--synth-size '" + a.synth_size + "' is not WxH (1..32768 each)", kExitUsage);
   if (std::string why = a.options.Check(); !why.empty()) return Fail(verb, why, kExitUsage);
   auto outcomes = RunProcess(a.options);
   if (!outcomes.ok()) return Fail(verb, outcomes.status().message());
@@ -56,6 +60,10 @@ Command ProcessCommand() {
     sub->add_option("--btf-grid", args->options.reconstruct.grid, "Direction pairs of the reconstructed BTF: bonn (6561) or coarse (289)")
         ->capture_default_str();
     sub->add_flag("--btf-pixel-only", args->options.reconstruct.pixel_only, "Reconstruct from pixel histograms only (no subbands)");
+    sub->add_option("--synth", args->options.synth.method,
+                    "Also enlarge the reconstructed BTF: roller or quilt (SESSION/synth/; export adds gltf_synth/)");
+    sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();
+    sub->add_option("--synth-seed", args->options.synth.seed, "Random seed of the synthesis")->capture_default_str();
     sub->add_option("--force", args->options.force, "Rerun this stage even if unchanged (repeatable; 'all' for every stage)");
     sub->add_option("--threads", args->options.threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");

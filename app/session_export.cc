@@ -1,6 +1,7 @@
 #include "app/session_export.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "app/session_stages.h"
 #include "core/atomic_file.h"
@@ -12,6 +13,7 @@
 #include "export/gltf_material.h"
 #include "export/lp_file.h"
 #include "export/previews.h"
+#include "synth/synth_map.h"
 
 namespace mesocap::app {
 
@@ -129,6 +131,58 @@ Image ErrorPicture(const Image& relative_error) {
   return picture;
 }
 
+// The fitted material enlarged by a synthesis map: each output texel takes its source texel's
+// parameters, the normal turned with the patch (the map's rotation, counter-clockwise in the
+// patch frame).
+GgxMaterialMaps ApplyMapToMaterial(const SynthMap& map, const GgxMaterialMaps& maps) {
+  GgxMaterialMaps out;
+  out.base_color = Image(map.width, map.height, 3);
+  out.roughness = Image(map.width, map.height, 1);
+  out.metallic = Image(map.width, map.height, 1);
+  out.normal = Image(map.width, map.height, 3);
+  out.relative_error = Image(map.width, map.height, 1);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const Eigen::Vector2i src = map.SourceTexel(x, y);
+      const double turn = DegToRad(map.rotation_deg[map.index(x, y)]);
+      const float nx = maps.normal.at(src.x(), src.y(), 0), ny = maps.normal.at(src.x(), src.y(), 1);
+      out.normal.at(x, y, 0) = float(std::cos(turn) * nx - std::sin(turn) * ny);
+      out.normal.at(x, y, 1) = float(std::sin(turn) * nx + std::cos(turn) * ny);
+      out.normal.at(x, y, 2) = maps.normal.at(src.x(), src.y(), 2);
+      for (int c = 0; c < 3; ++c) out.base_color.at(x, y, c) = maps.base_color.at(src.x(), src.y(), c);
+      out.roughness.at(x, y, 0) = maps.roughness.at(src.x(), src.y(), 0);
+      out.metallic.at(x, y, 0) = maps.metallic.at(src.x(), src.y(), 0);
+      out.relative_error.at(x, y, 0) = maps.relative_error.at(src.x(), src.y(), 0);
+    }
+  return out;
+}
+
+// SESSION/synth/'s map applied to the fitted material -> OUT/gltf_synth/. It repeats seamlessly
+// (sampler REPEAT) when the roller made it of whole tiles: every roller tile has the same borders.
+StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMaterialMaps& maps, GltfMaterialOptions gltf,
+                                            const fs::path& out_dir) {
+  auto map = ReadSynthMap(session / "synth" / "map.exr");
+  if (!map.ok()) return map.status();
+  if (map->sample_width != maps.base_color.width() || map->sample_height != maps.base_color.height())
+    return Status::Error((session / "synth" / "map.exr").string() + ": points into a sample of another size than the BTF; "
+                         "run `mesocap process " + session.string() + " --force synth`");
+  bool tileable = false;
+  if (auto report = ReadJsonFile(session / "synth" / "report.json"); report.ok() && map->method == "roller") {
+    const Json derived = report->value("derived", Json::object());
+    const int tw = derived.value("tile_width", 0), th = derived.value("tile_height", 0);
+    tileable = tw > 0 && th > 0 && map->width % tw == 0 && map->height % th == 0;
+  }
+  auto staging = StagingFolder::Begin(out_dir / "gltf_synth");
+  if (!staging.ok()) return staging.status();
+  gltf.name += " (" + map->method + ")";
+  gltf.patch_m *= double(map->width) / maps.base_color.width();
+  gltf.tileable = tileable;
+  MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staging->path(), ApplyMapToMaterial(*map, maps), gltf));
+  MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  return Format("; %s (%s %dx%d, %s)", (out_dir / "gltf_synth" / "material.gltf").string().c_str(), map->method.c_str(),
+                map->width, map->height, tileable ? "tileable: whole roller tiles" : "not tileable");
+}
+
 StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_dir) {
   const fs::path index = session / "btf" / "index.json";
   if (!fs::exists(index))
@@ -153,9 +207,20 @@ StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_di
   report["fit_error"] = "fit_error.exr: per texel, RMS residual / RMS value over the slices used; fit_error.png: x2, white >= 50%";
   MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "fit.json", report));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  return Format("%s (%dx%d texels from %d slices, median relative error %.1f%%, %.1f s)",
+  std::string synthesized;
+  // A synthesis older than the BTF was found on another reconstruction: left out.
+  std::error_code ec;
+  const bool synth_current = fs::exists(session / "synth" / "map.exr") &&
+                             fs::last_write_time(session / "synth" / "map.exr", ec) >= fs::last_write_time(index, ec);
+  if (synth_current) {
+    auto written = ExportSynthesizedGltf(session, *maps, gltf, out_dir);
+    if (!written.ok()) return written.status();
+    synthesized = *written;
+  }
+  return Format("%s (%dx%d texels from %d slices, median relative error %.1f%%, %.1f s)%s",
                 (out_dir / "gltf" / "material.gltf").string().c_str(), maps->base_color.width(),
-                maps->base_color.height(), maps->slices_used, 100 * maps->median_relative_error, maps->seconds);
+                maps->base_color.height(), maps->slices_used, 100 * maps->median_relative_error, maps->seconds,
+                synthesized.c_str());
 }
 
 }  // namespace

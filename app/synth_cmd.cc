@@ -7,6 +7,7 @@
 
 #include "app/commands.h"
 #include "app/synth_output.h"
+#include "app/synth_run.h"
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/progress.h"
@@ -32,10 +33,6 @@ struct SynthArgs {
   int threads = -1;
   bool no_progress = false;
 };
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 // Checks shared by the three commands; returns a non-zero exit code on a bad option.
 int CheckCommon(const std::string& verb, SynthArgs& a, int* width, int* height) {
@@ -73,50 +70,20 @@ int RunSynth(SynthArgs& a) {
   if (int code = CheckCommon(verb, a, &width, &height)) return code;
   auto e = Load(a, verb);
   if (!e.ok()) return Fail(verb, e.status().message());
-  const auto start = std::chrono::steady_clock::now();
-  Json report = {{"method", a.method}};
-  StatusOr<SynthMap> map = Status::Error("no method ran");
-  if (a.method == "roller") {
-    RollerOptions o = a.roller;
-    o.width = width, o.height = height, o.seed = a.seed, o.num_threads = a.threads;
-    Image luminance(e->width, e->height, 1);
-    for (size_t t = 0; t < luminance.pixel_count(); ++t)
-      luminance.data()[t] = 0.2126f * e->preview.data()[3 * t] + 0.7152f * e->preview.data()[3 * t + 1] + 0.0722f * e->preview.data()[3 * t + 2];
-    RollerReport r;
-    map = RollerSynthesis(e->features, luminance, o, &r);
-    if (!map.ok()) return Fail(verb, a.input.string() + ": " + map.status().message());
-    if (r.frequency_fallback) std::fprintf(stderr, "mesocap synth: %s: %s\n", a.input.string().c_str(), r.fallback_reason.c_str());
-    report["parameters"] = {{"tiles", o.tiles}, {"alpha", o.alpha}, {"interior_alpha", o.interior_alpha}, {"seed", o.seed},
-                            {"width", width}, {"height", height}, {"svd_components", a.exemplar.svd_components}};
-    Json interiors = Json::array();
-    for (const auto& p : r.interior_sources) interiors.push_back({p.x(), p.y()});
-    report["derived"] = {{"frequency_rows", r.frequency_rows}, {"frequency_columns", r.frequency_columns},
-                         {"frequency_fallback", r.frequency_fallback}, {"fallback_reason", r.fallback_reason},
-                         {"overlap_rows", r.overlap_rows}, {"overlap_columns", r.overlap_columns},
-                         {"tile_width", r.tile_width}, {"tile_height", r.tile_height},
-                         {"rectangle", {r.rectangle_x, r.rectangle_y}}, {"vertex", {r.vertex_row, r.vertex_column}},
-                         {"mean_cut_error", r.mean_cut_error}, {"interior_sources", interiors}};
-    report["seconds_analysis"] = r.seconds_analysis;
-    report["seconds_synthesis"] = r.seconds_synthesis;
-  } else {
-    QuiltOptions o = a.quilt;
-    o.width = width, o.height = height, o.seed = a.seed, o.num_threads = a.threads;
-    QuiltReport r;
-    ProgressBar bar("quilting", !a.no_progress);
-    map = QuiltSynthesis(e->features, o, &r, bar.AsCallback());
-    if (!map.ok()) return Fail(verb, a.input.string() + ": " + map.status().message(), map.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
-    report["parameters"] = {{"patch_radius", o.patch_radius}, {"min_patch_radius", o.min_patch_radius}, {"shrink", o.shrink},
-                            {"seam_threshold", o.seam_threshold}, {"randomness", o.randomness}, {"rotations", o.rotations},
-                            {"seed", o.seed}, {"width", width}, {"height", height}, {"svd_components", a.exemplar.svd_components}};
-    report["derived"] = {{"patch_radius", r.patch_radius}, {"sample_neighbour_step", r.sample_neighbour_step}};
-    report["patches"] = r.patches;
-    report["rejected_cuts"] = r.rejected_cuts;
-    report["mean_seam_cost"] = r.mean_seam_cost;
-    report["seconds_matching"] = r.seconds_matching;
-    report["seconds_cutting"] = r.seconds_cutting;
-    report["seconds_synthesis"] = r.seconds;
-  }
-  report["seconds_total_method"] = Seconds(start);
+  SynthMethodOptions method;
+  method.method = a.method;
+  method.width = width, method.height = height, method.seed = a.seed, method.num_threads = a.threads;
+  method.roller = a.roller;
+  method.quilt = a.quilt;
+  method.svd_components = a.exemplar.svd_components;
+  Json report;
+  std::string note;
+  ProgressBar bar(a.method == "quilt" ? "quilting" : "roller", !a.no_progress);
+  auto map = RunSynthesisMethod(*e, method, &report, &note, bar.AsCallback());
+  if (!map.ok())
+    return Fail(verb, a.input.string() + ": " + map.status().message(),
+                map.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
+  if (!note.empty()) std::fprintf(stderr, "mesocap synth: %s: %s\n", a.input.string().c_str(), note.c_str());
   return Finish(verb, *map, *e, a, report);
 }
 

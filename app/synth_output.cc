@@ -187,7 +187,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
   report["memory_peak_mib"] = PeakMemoryMiB();
   report["provenance"] = MakeProvenance(report.value("parameters", Json::object()));
   if (Status st = WriteJsonFile(staging / "report.json", report); !st.ok()) return st;
-  if (Status st = staged->Publish(); !st.ok()) return st;
+  if (Status st = staged->Publish(request.replace); !st.ok()) return st;
   return Status::Ok();
 }
 

@@ -20,6 +20,7 @@ struct SynthOutputRequest {
   std::vector<int> slices;  // BTF: which exemplar slices to synthesize (empty: all)
   Json report;              // the method's own report; seams, timings and memory are added
   int num_threads = -1;
+  bool replace = false;     // an existing `out` is swapped out whole (a re-run); else it must be empty
 };
 
 // Parses WxH ("512x512" or "512").

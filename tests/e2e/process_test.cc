@@ -63,7 +63,7 @@ class ProcessTest : public ::testing::Test {
     const int code = testing::RunMesocap("process " + session.string() + Options(session, extra), &out);
     EXPECT_EQ(code, 0) << out;
     std::map<std::string, std::string> status;
-    for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "export"}) {
+    for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export"}) {
       const size_t at = out.find("\n" + std::string(stage) + " ");
       if (at == std::string::npos) continue;
       const size_t start = out.find_first_not_of(' ', at + 1 + std::string(stage).size());
@@ -231,6 +231,28 @@ TEST_F(ProcessTest, ExportsReadBackAsTheStagesWroteThem) {
                                 &log),
             0)
       << log;
+}
+
+TEST_F(ProcessTest, SynthesisWhenAskedEnlargesTheBtfAndItsGltfMaterial) {
+  const fs::path s = FreshSession();
+  ASSERT_EQ(Process(s), kAllRan);
+  std::map<std::string, std::string> with_synth = Process(s, " --synth quilt --synth-size 80x48");
+  EXPECT_EQ(with_synth, (Statuses{{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
+                                  {"reconstruct", "skipped"}, {"synth", "ran"}, {"export", "ran"}}));
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("process " + s.string() + Options(s, " --synth quilt --synth-size 80x48"), &out), 0) << out;
+  EXPECT_NE(out.find("synth: unchanged, skipped"), std::string::npos) << out;
+  auto index = ReadSliceIndex(s / "synth" / "index.json");
+  ASSERT_TRUE(index.ok()) << index.status().message();
+  EXPECT_EQ(index->slices.size(), 17u * 17u);
+  auto slice = ReadImage(index->slices.front().file);
+  ASSERT_TRUE(slice.ok());
+  EXPECT_EQ(slice->width(), 80);
+  EXPECT_EQ(slice->height(), 48);
+  EXPECT_EQ(testing::ValidateGltf(s / "export" / "gltf_synth" / "material.gltf", &out), 0) << out;
+  auto base = ReadImage(s / "export" / "gltf_synth" / "base_color.png");
+  ASSERT_TRUE(base.ok());
+  EXPECT_EQ(base->width(), 80);
 }
 
 TEST_F(ProcessTest, TheReportRelightsInAHeadlessBrowserWithoutErrors) {

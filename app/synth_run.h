@@ -1,0 +1,34 @@
+// The `synth` methods on an exemplar's features, one entry point for `mesocap synth` and the
+// synth stage of `mesocap process`.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/json.h"
+#include "core/progress.h"
+#include "core/status.h"
+#include "synth/exemplar.h"
+#include "synth/quilt.h"
+#include "synth/roller.h"
+#include "synth/synth_map.h"
+
+namespace mesocap::app {
+
+struct SynthMethodOptions {
+  std::string method = "quilt";  // roller | quilt
+  int width = 512, height = 512;
+  uint32_t seed = 1;
+  int num_threads = -1;
+  RollerOptions roller;  // its size, seed and threads come from the fields above
+  QuiltOptions quilt;    // likewise
+  int svd_components = 40;  // reported only: the exemplar's features were made with it
+  std::string Check() const;  // empty when valid
+};
+
+// Finds the map; `report` receives the method's parameters, derived values and timings (what
+// report.json holds), `note` a line for the user when the method had to fall back.
+StatusOr<SynthMap> RunSynthesisMethod(const Exemplar& exemplar, const SynthMethodOptions& options, Json* report,
+                                      std::string* note, const ProgressFn& progress = nullptr);
+
+}  // namespace mesocap::app
