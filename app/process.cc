@@ -19,6 +19,8 @@
 #include "core/session.h"
 #include "core/slice_index.h"
 #include "core/stage_cache.h"
+#include "export/gltf_material.h"
+#include "export/material_preview.h"
 #include "export/previews.h"
 #include "export/ptm_file.h"
 #include "export/report.h"
@@ -57,6 +59,22 @@ Status WritePreviews(const fs::path& session, const fs::path& dir, std::vector<s
     MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "ptm_relit.jpg", ContactSheet(ExposeTogether(lit), labels, 3, 300),
                                        {.format = PixelFormat::kUint8Srgb}));
     written->push_back("ptm_relit.jpg");
+  }
+  // The glTF material on a sphere and a draped sheet under three lights.
+  if (auto maps = ReadGltfMaterialTextures(dir.parent_path() / "gltf"); maps.ok()) {
+    std::vector<Image> spheres, cloths;
+    std::vector<std::string> labels;
+    for (double phi : {30.0, 150.0, 270.0}) {
+      const Eigen::Vector3d light = DirectionFromAnglesDeg(40, phi);
+      spheres.push_back(RenderMaterialSphere(*maps, light, 300));
+      cloths.push_back(RenderMaterialCloth(*maps, light, 300));
+      labels.push_back(Format("light (40, %.0f)", phi));
+    }
+    MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "material_sphere.jpg", ContactSheet(ExposeTogether(spheres), labels, 3, 300),
+                                       {.format = PixelFormat::kUint8Srgb}));
+    MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "material_cloth.jpg", ContactSheet(ExposeTogether(cloths), labels, 3, 300),
+                                       {.format = PixelFormat::kUint8Srgb}));
+    written->insert(written->end(), {"material_sphere.jpg", "material_cloth.jpg"});
   }
   auto btf = ReadSliceIndex(session / "btf" / "index.json");
   if (!btf.ok()) return btf.status();
@@ -267,6 +285,45 @@ Status AddViewer(const fs::path& session, Report* report) {
   return Status::Ok();
 }
 
+// The camera and every board's pose with its uncertainty, from calibration/rig.json.
+void AddCalibrationTables(const fs::path& session, Report* report) {
+  auto rig = ReadJsonFile(session / "calibration" / "rig.json");
+  if (!rig.ok()) return;
+  const Json camera = rig->value("camera", Json::object());
+  if (camera.contains("K")) {
+    const Json& K = camera["K"];
+    report->Table({"width", "height", "fx px", "fy px", "cx px", "cy px"},
+                  {{std::to_string(camera.value("width", 0)), std::to_string(camera.value("height", 0)),
+                    Format("%.1f", K[0][0].get<double>()), Format("%.1f", K[1][1].get<double>()),
+                    Format("%.1f", K[0][2].get<double>()), Format("%.1f", K[1][2].get<double>())}});
+  }
+  std::vector<std::vector<std::string>> rows;
+  for (const Json& b : rig->value("boards", Json::array())) {
+    if (!b.value("found", false)) {
+      rows.push_back({std::to_string(b.value("id", -1)), "not posed: " + b.value("why_not", std::string()), "", "", "", ""});
+      continue;
+    }
+    rows.push_back({std::to_string(b.value("id", -1)), std::to_string(b.value("shots_seen", 0)),
+                    std::to_string(b.value("corners_used", 0)), Format("%.3f", b.value("rms_reprojection_px", 0.0)),
+                    Format("%.4f", b.value("rotation_stddev_deg", 0.0)), Format("%.3f", b.value("translation_stddev_mm", 0.0))});
+  }
+  report->Table({"board", "shots seen", "tag corners", "RMS reprojection px", "rotation sd deg", "translation sd mm"}, rows);
+}
+
+// Every rejected calibration item and every skipped (board, shot) with its reason.
+void AddRejectedItems(const fs::path& session, Report* report) {
+  std::vector<std::vector<std::string>> rows;
+  if (auto calibration = ReadJsonFile(session / "calibration" / "report.json"); calibration.ok())
+    for (const Json& r : calibration->value("rejected", Json::array()))
+      if (r.is_string()) rows.push_back({"calibration", "", r.get<std::string>()});
+  if (auto slices = ReadJsonFile(session / "slices" / "index.json"); slices.ok())
+    for (const Json& s : slices->value("skipped", Json::array()))
+      rows.push_back({s.value("shot", std::string()), std::to_string(s.value("board", -1)), s.value("reason", std::string())});
+  report->Heading(Format("Every rejected shot and skipped slice (%zu)", rows.size()));
+  if (rows.empty()) report->Paragraph("None.");
+  else report->Table({"shot", "board", "reason"}, rows);
+}
+
 }  // namespace
 
 Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcome>& outcomes) {
@@ -278,6 +335,7 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
     rows.push_back({o.name, o.status, Format("%.1f", o.seconds), o.summary.brief, std::to_string(o.summary.warnings.size())});
   report.Table({"stage", "status", "seconds", "outputs", "warnings"}, rows);
   report.Heading("Calibration");
+  AddCalibrationTables(session, &report);
   if (fs::exists(session / "calibration" / "lights.png"))
     report.Picture("calibration/lights.png", "Flash directions seen from the top board (centre: zenith)");
   if (fs::exists(session / "calibration" / "intrinsics_residuals.png"))
@@ -288,6 +346,7 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
     for (const std::string& w : o.summary.warnings) warnings.push_back({o.name, w});
   if (warnings.empty()) report.Paragraph("None.");
   else report.Table({"stage", "warning"}, warnings);
+  AddRejectedItems(session, &report);
   report.Heading("Results");
   if (fs::exists(session / "export" / "previews" / "ptm_relit.jpg"))
     report.Picture("export/previews/ptm_relit.jpg", "The top board's PTM (export/material.ptm) relit under three lights");
@@ -300,6 +359,10 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
                             fit->value("slices_used", 0), 100 * fit->value("median_relative_error", 0.0),
                             fit->value("seconds", 0.0)));
     report.Picture("export/gltf/fit_error.png", "The glTF fit's relative error per texel (black 0, white 50% or more)");
+    if (fs::exists(session / "export" / "previews" / "material_sphere.jpg")) {
+      report.Picture("export/previews/material_sphere.jpg", "The glTF material on a sphere under three lights");
+      report.Picture("export/previews/material_cloth.jpg", "The glTF material on a draped sheet under the same lights");
+    }
   }
   MESOCAP_RETURN_IF_ERROR(AddViewer(session, &report));
   report.Paragraph("Files: calibration/ (rig.json, report.json), slices/ (measured BTF slices, index.json, board_BB.lp), "
