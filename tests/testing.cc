@@ -38,9 +38,11 @@ std::string MesocapBinary() {
   return bin ? bin : "mesocap";
 }
 
-int RunMesocap(const std::string& args, std::string* output) {
-  const std::string cmd = MesocapBinary() + " " + args + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
+namespace {
+
+// Runs a shell command; its stdout (and whatever it redirects there) into *output; the exit code.
+int RunCommand(const std::string& command, std::string* output) {
+  FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return -1;
   std::array<char, 4096> buf;
   std::string out;
@@ -49,6 +51,12 @@ int RunMesocap(const std::string& args, std::string* output) {
   const int status = ::pclose(pipe);
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+int RunMesocap(const std::string& args, std::string* output) {
+  return RunCommand(MesocapBinary() + " " + args + " 2>&1", output);
 }
 
 int ValidateGltf(const std::filesystem::path& gltf, std::string* output) {
@@ -57,38 +65,24 @@ int ValidateGltf(const std::filesystem::path& gltf, std::string* output) {
     if (output) *output = "MESOCAP_SOURCE_DIR is not set (ctest sets it)";
     return 2;
   }
-  const std::string cmd = "node " + (std::filesystem::path(source) / "scripts" / "validate-gltf.mjs").string() + " " +
-                          gltf.string() + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return -1;
-  std::array<char, 4096> buf;
-  std::string out;
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = ::pclose(pipe);
-  if (output) *output = out;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const std::filesystem::path script = std::filesystem::path(source) / "scripts" / "validate-gltf.mjs";
+  return RunCommand("node " + script.string() + " " + gltf.string() + " 2>&1", output);
 }
 
 std::string HeadlessDom(const std::string& url, std::string* log) {
   // --no-sandbox: tests may run as root; SwiftShader: WebGL without a GPU; virtual time lets the
   // page's promises settle before the DOM is dumped.
   const std::string err = (std::filesystem::temp_directory_path() / ("chromium-" + std::to_string(::getpid()) + ".log")).string();
-  const std::string cmd = "chromium --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader "
-                          "--virtual-time-budget=20000 --dump-dom '" + url + "' 2>" + err;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return "";
-  std::array<char, 4096> buf;
-  std::string out;
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  ::pclose(pipe);
+  std::string dom;
+  RunCommand("chromium --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader "
+             "--virtual-time-budget=20000 --dump-dom '" + url + "' 2>" + err,
+             &dom);
   if (log) {
     std::ifstream in(err);
     *log = std::string(std::istreambuf_iterator<char>(in), {});
   }
   std::filesystem::remove(err);
-  return out;
+  return dom;
 }
 
 }  // namespace mesocap::testing
