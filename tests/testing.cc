@@ -72,11 +72,15 @@ int ValidateGltf(const std::filesystem::path& gltf, std::string* output) {
 std::string HeadlessDom(const std::string& url, std::string* log) {
   // --no-sandbox: tests may run as root; SwiftShader: WebGL without a GPU; virtual time lets the
   // page's promises settle before the DOM is dumped.
-  const std::string err = (std::filesystem::temp_directory_path() / ("chromium-" + std::to_string(::getpid()) + ".log")).string();
+  // A profile of its own: no dependence on $HOME or on another run's state.
+  const std::filesystem::path scratch = std::filesystem::temp_directory_path() / ("chromium-" + std::to_string(::getpid()));
+  const std::string err = scratch.string() + ".log";
   std::string dom;
   RunCommand("chromium --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader "
-             "--virtual-time-budget=20000 --dump-dom '" + url + "' 2>" + err,
+             "--user-data-dir=" + scratch.string() + " --virtual-time-budget=20000 --dump-dom '" + url + "' 2>" + err,
              &dom);
+  std::error_code ec;
+  std::filesystem::remove_all(scratch, ec);
   if (log) {
     std::ifstream in(err);
     *log = std::string(std::istreambuf_iterator<char>(in), {});
