@@ -285,6 +285,34 @@ Status AddViewer(const fs::path& session, Report* report) {
   return Status::Ok();
 }
 
+// Which light directions each board measured (its own frame): where the reconstruction has
+// data and where it extrapolates. The picture goes in SESSION/report_files/, beside the report
+// and outside every stage's outputs.
+Status AddLightCoverage(const fs::path& session, Report* report) {
+  auto index = ReadSliceIndex(session / "slices" / "index.json");
+  if (!index.ok()) return Status::Ok();  // no slices: the stage table says why
+  std::map<int, std::vector<Eigen::Vector3d>> lights;
+  for (const SliceIndexEntry& e : index->slices) lights[e.board].push_back(e.light);
+  std::vector<Image> plots;
+  std::vector<std::string> labels;
+  for (const auto& [board, dirs] : lights) {
+    plots.push_back(HemispherePlot(dirs, 240, Format("board %d", board)));
+    labels.push_back(Format("board %d: %zu lights", board, dirs.size()));
+  }
+  if (plots.empty()) return Status::Ok();
+  std::error_code ec;
+  fs::create_directories(session / "report_files", ec);
+  if (ec) return Status::Error((session / "report_files").string() + ": cannot create: " + ec.message());
+  MESOCAP_RETURN_IF_ERROR(WriteImage(session / "report_files" / "light_coverage.png", ContactSheet(plots, labels, 5, 200),
+                                     {.format = PixelFormat::kUint8Srgb}));
+  report->Heading("Light coverage");
+  report->Paragraph("The flash directions each board measured, in its own frame (centre: its normal; rings at 30, 60 and "
+                    "90 deg). The reconstruction interpolates between them and extrapolates beyond: a tilted board "
+                    "never sees the flash from below its slope.");
+  report->Picture("report_files/light_coverage.png", "Measured light directions per board");
+  return Status::Ok();
+}
+
 // The camera and every board's pose with its uncertainty, from calibration/rig.json.
 void AddCalibrationTables(const fs::path& session, Report* report) {
   auto rig = ReadJsonFile(session / "calibration" / "rig.json");
@@ -346,6 +374,7 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
     for (const std::string& w : o.summary.warnings) warnings.push_back({o.name, w});
   if (warnings.empty()) report.Paragraph("None.");
   else report.Table({"stage", "warning"}, warnings);
+  MESOCAP_RETURN_IF_ERROR(AddLightCoverage(session, &report));
   AddRejectedItems(session, &report);
   report.Heading("Results");
   if (fs::exists(session / "export" / "previews" / "ptm_relit.jpg"))
