@@ -379,6 +379,14 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
   report.Heading("Results");
   if (fs::exists(session / "export" / "previews" / "ptm_relit.jpg"))
     report.Picture("export/previews/ptm_relit.jpg", "The top board's PTM (export/material.ptm) relit under three lights");
+  if (auto top = TopBoardOfSession(session); top.ok()) {
+    fs::path residual = BoardPtmFile(session, *top);
+    residual.replace_extension("");
+    residual += "_residual.png";
+    if (fs::exists(residual))
+      report.Picture(fs::relative(residual, session).generic_string(),
+                     "The top board's PTM fit error per texel (RMS residual x 10: white is 0.1 or more)");
+  }
   if (fs::exists(session / "export" / "previews" / "btf_slices.jpg"))
     report.Picture("export/previews/btf_slices.jpg", "Slices of the reconstructed BTF (export/btf/), one exposure");
   if (auto fit = ReadJsonFile(session / "export" / "gltf" / "fit.json"); fit.ok()) {

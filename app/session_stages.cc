@@ -216,14 +216,26 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
     PtmFitOptions fit;
     fit.format = options.format;
     PtmFitReport report;
+    Image residual;
     auto ptm = FitPtmPerPixelLights(images, PointLightDirections(lights_m, images.front().width(), layout_board->patch_m),
-                                    fit, &report);
+                                    fit, &report, nullptr, &residual);
     if (!ptm.ok()) {
       summary.warnings.push_back(Format("board %d: no PTM: %s", board, ptm.status().message().c_str()));
       continue;
     }
     const fs::path file = staging->path() / BoardPtmFile(session, board).filename();
     MESOCAP_RETURN_IF_ERROR(WritePtmFile(file, *ptm));
+    // The fit's error map: RMS residual per texel, as values (EXR) and to see (PNG: x 10, so white
+    // is a residual of 0.1, a tenth of a white surface's value).
+    fs::path residual_file = file;
+    residual_file.replace_extension("");
+    residual_file += "_residual";
+    MESOCAP_RETURN_IF_ERROR(WriteImage(residual_file.string() + ".exr", residual, {.format = PixelFormat::kHalf}));
+    Image picture(residual.width(), residual.height(), 3);
+    for (int y = 0; y < residual.height(); ++y)
+      for (int x = 0; x < residual.width(); ++x)
+        for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::min(1.0f, 10.0f * residual.at(x, y, 0));
+    MESOCAP_RETURN_IF_ERROR(WritePng(residual_file.string() + ".png", picture));
     boards.push_back({{"board", board}, {"file", file.filename().string()}, {"lights", report.num_lights},
                       {"rms_residual", report.rms_residual}, {"width", report.width}, {"height", report.height},
                       {"warnings", report.warnings}});

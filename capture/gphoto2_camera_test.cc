@@ -22,7 +22,8 @@ namespace mesocap {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kRepo = fs::path(__FILE__).parent_path().parent_path();
+// The source tree, from the build (not __FILE__: ccache's base_dir makes that relative).
+const fs::path kRepo = MESOCAP_SOURCE_DIR;
 
 struct Vusb {
   bool skipped = false;

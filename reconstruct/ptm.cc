@@ -485,7 +485,8 @@ StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
 }
 
 StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const PixelLightFn& light_dir,
-                                   const PtmFitOptions& options, PtmFitReport* report, int* degenerate_pixels) {
+                                   const PtmFitOptions& options, PtmFitReport* report, int* degenerate_pixels,
+                                   Image* residual_map) {
   MESOCAP_CHECK(options.Check(), "invalid PtmFitOptions");
   const auto start = std::chrono::steady_clock::now();
   if (images.size() < size_t(kPtmCoefficients))
@@ -500,6 +501,11 @@ StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const Pixel
   if (lrgb) ptm.rgb = Image(width, height, 3);
   std::vector<double> row_sse(height, 0.0);
   std::vector<int> row_degenerate(height, 0);
+  if (residual_map) *residual_map = Image(width, height, 1);
+  const auto record = [&](int x, int y, double pixel_sse) {
+    row_sse[y] += pixel_sse;
+    if (residual_map) residual_map->at(x, y, 0) = float(std::sqrt(pixel_sse / (3.0 * n)));
+  };
   ParallelFor(0, height, [&](int y) {
     Eigen::MatrixXd a(n, kPtmCoefficients), obs(n, 3);
     for (int x = 0; x < width; ++x) {
@@ -520,7 +526,7 @@ StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const Pixel
         const Eigen::Matrix<double, 6, 3> c = ldlt.solve(a.transpose() * obs);
         for (int ch = 0; ch < 3; ++ch)
           for (int k = 0; k < kPtmCoefficients; ++k) coef[ch * 6 + k] = float(c(k, ch));
-        row_sse[y] += (a * c - obs).squaredNorm();
+        record(x, y, (a * c - obs).squaredNorm());
         continue;
       }
       // LRGB as in the shared fit: luminance normalised by its brightest observation, then the
@@ -538,7 +544,7 @@ StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const Pixel
       for (int k = 0; k < kPtmCoefficients; ++k) coef[k] = float(c(k));
       float* out_rgb = ptm.rgb.pixel(x, y);
       for (int ch = 0; ch < 3; ++ch) out_rgb[ch] = float(rgb(ch));
-      row_sse[y] += ((a * c) * rgb.transpose() - obs).squaredNorm();
+      record(x, y, ((a * c) * rgb.transpose() - obs).squaredNorm());
     }
   }, options.num_threads);
   double sse = 0;

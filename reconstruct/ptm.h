@@ -133,10 +133,11 @@ using PixelLightFn = std::function<Eigen::Vector3d(int light, int x, int y)>;
 // The same least-squares fit with a light matrix per pixel (normal equations, 6 x 6 per pixel,
 // in double). Slower than the shared solve; RGB and LRGB as above. A pixel whose directions are
 // degenerate (fewer than 6 lights or a singular matrix) gets zero coefficients and is counted in
-// `degenerate_pixels`.
+// `degenerate_pixels`. `residual_map`, when given, receives each pixel's RMS residual over its
+// lights and channels (zero where degenerate).
 StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const PixelLightFn& light_dir,
                                    const PtmFitOptions& options = {}, PtmFitReport* report = nullptr,
-                                   int* degenerate_pixels = nullptr);
+                                   int* degenerate_pixels = nullptr, Image* residual_map = nullptr);
 
 // Directions from point lights at `lights_m` (patch frame, metres) to the texel centres of a
 // size x size slice of side patch_m (texel (x, y) centre at (-P/2 + (x+0.5)P/N, P/2 - (y+0.5)P/N)).

@@ -597,5 +597,35 @@ TEST(Ptm, PerPixelFitEqualsTheSharedFitForADistantLight) {
   }
 }
 
+TEST(Ptm, ThePerPixelResidualMapAddsUpToTheReportAndPointsAtABadPixel) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  const auto lights = DomeLights();
+  std::vector<Image> images;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    Image im(8, 6, 3);
+    for (int y = 0; y < im.height(); ++y)
+      for (int x = 0; x < im.width(); ++x)
+        for (int c = 0; c < 3; ++c) im.at(x, y, c) = float(0.3 + 0.5 * lights[i].z()) + noise(rng);
+    images.push_back(im);
+  }
+  images[3].at(5, 2, 1) += 0.6f;  // one bad observation
+  for (const PtmFormat format : {PtmFormat::kRgb, PtmFormat::kLrgb}) {
+    PtmFitOptions options;
+    options.format = format;
+    PtmFitReport report;
+    Image residual;
+    ASSERT_TRUE(FitPtmPerPixelLights(images, [&](int i, int, int) { return lights[i]; }, options, &report, nullptr, &residual).ok());
+    double sum = 0;
+    int worst = 0;
+    for (size_t k = 0; k < residual.size(); ++k) {
+      sum += double(residual.data()[k]) * residual.data()[k];
+      if (residual.data()[k] > residual.data()[worst]) worst = int(k);
+    }
+    EXPECT_NEAR(std::sqrt(sum / residual.size()), report.rms_residual, 1e-6 * (1 + report.rms_residual));
+    EXPECT_EQ(worst, 2 * 8 + 5) << PtmFormatToString(format);
+  }
+}
+
 }  // namespace
 }  // namespace mesocap
