@@ -15,7 +15,7 @@ namespace mesocap::app {
 
 namespace fs = std::filesystem;
 
-std::vector<DirectionPair> GridPairs(const std::string& grid) {
+std::vector<Eigen::Vector3d> GridDirections(const std::string& grid) {
   std::vector<Eigen::Vector3d> dirs;
   if (grid == "bonn") {
     dirs = BonnDirections();
@@ -28,6 +28,11 @@ std::vector<DirectionPair> GridPairs(const std::string& grid) {
       if (ring && azimuth_step % 2 == 0) dirs.push_back(d);
     }
   }
+  return dirs;
+}
+
+std::vector<DirectionPair> GridPairs(const std::string& grid) {
+  const std::vector<Eigen::Vector3d> dirs = GridDirections(grid);
   std::vector<DirectionPair> pairs;
   for (const Eigen::Vector3d& view : dirs)
     for (const Eigen::Vector3d& light : dirs) {
@@ -38,12 +43,7 @@ std::vector<DirectionPair> GridPairs(const std::string& grid) {
 }
 
 bool OnCoarseGrid(const Eigen::Vector3d& direction) {
-  static const std::vector<Eigen::Vector3d> coarse = [] {
-    std::vector<Eigen::Vector3d> dirs;
-    for (const DirectionPair& p : GridPairs("coarse"))
-      if (p[2] == 0 && p[3] == 0) dirs.push_back(DirectionFromAnglesDeg(p[0], p[1]));
-    return dirs;
-  }();
+  static const std::vector<Eigen::Vector3d> coarse = GridDirections("coarse");
   const double cos_tolerance = std::cos(DegToRad(0.5));
   return std::any_of(coarse.begin(), coarse.end(), [&](const Eigen::Vector3d& c) { return c.dot(direction) > cos_tolerance; });
 }

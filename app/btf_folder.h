@@ -19,6 +19,10 @@ namespace mesocap::app {
 
 using DirectionPair = std::array<double, 4>;  // theta_i, phi_i, theta_o, phi_o in degrees
 
+// The directions of a hemisphere grid (unit, patch frame), empty for an unknown name; GridPairs
+// takes every light with every view of them.
+std::vector<Eigen::Vector3d> GridDirections(const std::string& grid);
+
 // Every light with every view of a hemisphere grid: "bonn" (81 directions, 6561 pairs, the
 // Bonn database's grid the paper validates on) or "coarse" (its rings at 0, 30 and 60 deg with
 // every second azimuth: 17 directions, 289 pairs, a quick look). Empty for an unknown name.

@@ -27,6 +27,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The upper median (the element at size / 2 in order), as the tables have always shown.
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 Image TrueSlice(const DemoReconstructionInputs& in, const Eigen::Vector3d& light, const Eigen::Vector3d& view, int size,
                 int samples_per_axis = 2) {
   TrueBtfRequest r = TrueBtfRequestFor(light, view, size, samples_per_axis);
@@ -117,10 +123,7 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
     if (n == 0) continue;
     std::vector<std::string> row = {covered ? "light inside the views' measured lights" : "light extrapolated",
                                     std::to_string(n), Format("%.0f%%", 100.0 * wins / n)};
-    for (auto& v : w) {
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      row.push_back(Format("%.5f", v[v.size() / 2]));
-    }
+    for (auto& v : w) row.push_back(Format("%.5f", Median(v)));
     rows.push_back(row);
   }
   // Pictures: the first two covered and the first two extrapolated pairs.
@@ -194,10 +197,6 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
     if (!e.empty()) return Status::Error(e);
   std::vector<double> gltf_errors, btf_errors;
   for (const Scored& s : scored) gltf_errors.push_back(s.gltf_error), btf_errors.push_back(s.btf_error);
-  const auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
   std::vector<Image> cells;
   std::vector<std::string> labels;
   for (int k = 0; k < 3; ++k) {
@@ -216,12 +215,12 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
                            "Relit at %d pairs of the reconstructed grid and compared with the true BTF (relative RMS): "
                            "median %.1f%% for the glTF material and %.1f%% for the reconstructed BTF it was fitted to.",
                            (*fit)["slices_used"].get<int>(), (*fit)["seconds"].get<double>(),
-                           100 * (*fit)["median_relative_error"].get<double>(), kPairs, 100 * median(gltf_errors),
-                           100 * median(btf_errors)));
+                           100 * (*fit)["median_relative_error"].get<double>(), kPairs, 100 * Median(gltf_errors),
+                           100 * Median(btf_errors)));
   report->Picture("gltf_material.jpg", "True BTF | reconstructed BTF | the glTF material relit, one exposure per row");
   report->Picture("session/export/gltf/fit_error.png", "The fit's relative error per texel (black 0, white 50% or more)");
   std::printf("demo: glTF material: fit error %.1f%%, relit error to the true BTF %.1f%% (reconstruction %.1f%%)\n",
-              100 * (*fit)["median_relative_error"].get<double>(), 100 * median(gltf_errors), 100 * median(btf_errors));
+              100 * (*fit)["median_relative_error"].get<double>(), 100 * Median(gltf_errors), 100 * Median(btf_errors));
   return Status::Ok();
 }
 

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "app/btf_folder.h"
 #include "app/session_export.h"
+#include "app/synth_run.h"
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
 #include "core/directions.h"
@@ -22,6 +24,7 @@
 #include "export/material_preview.h"
 #include "export/previews.h"
 #include "export/ptm_file.h"
+#include "export/viewer_page.h"
 
 namespace mesocap::app {
 
@@ -92,6 +95,29 @@ Status WritePreviews(const fs::path& session, const fs::path& dir, std::vector<s
   return Status::Ok();
 }
 
+// The report's WebGL viewer (export/viewer_page.h) as an HTML fragment, `dir`/viewer.html: the
+// top board's PTM and, of the reconstructed BTF, the slices whose light and view both lie on the
+// coarse grid (all of a coarse BTF, 289 of the Bonn grid's). Built here, once per export, so a
+// `process` run that skips every stage does not rebuild it.
+Status WriteViewer(const fs::path& session, const fs::path& dir) {
+  std::optional<Ptm> ptm;
+  if (auto top = TopBoardOfSession(session); top.ok())
+    if (auto read = ReadPtmFile(BoardPtmFile(session, *top)); read.ok()) ptm = std::move(*read);
+  std::vector<ViewerSlice> slices;
+  if (auto btf = ReadSliceIndex(session / "btf" / "index.json"); btf.ok()) {
+    for (const SliceIndexEntry& e : btf->slices) {
+      if (!OnCoarseGrid(e.light) || !OnCoarseGrid(e.view)) continue;
+      auto image = ReadImage(e.file);
+      if (!image.ok()) return image.status();
+      slices.push_back({e.light, e.view, std::move(*image)});
+    }
+  }
+  if (!ptm && slices.empty()) return Status::Ok();
+  auto html = ViewerHtml(ptm ? &*ptm : nullptr, slices, 64, dir);
+  if (!html.ok()) return html.status();
+  return WriteTextAtomically(dir / "viewer.html", *html);
+}
+
 // SESSION/export/: every format of `mesocap export` plus previews, swapped in whole.
 StatusOr<StageSummary> RunExportStage(const fs::path& session) {
   auto staging = StagingFolder::Begin(session / "export");
@@ -103,6 +129,7 @@ StatusOr<StageSummary> RunExportStage(const fs::path& session) {
   }
   std::vector<std::string> previews;
   MESOCAP_RETURN_IF_ERROR(WritePreviews(session, staging->path() / "previews", &previews));
+  MESOCAP_RETURN_IF_ERROR(WriteViewer(session, staging->path() / "previews"));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   summary.brief = "material.ptm, lp/material.lp, btf/ (OpenEXR), gltf/material.gltf, previews/";
   summary.report = {{"previews", previews}};
@@ -111,7 +138,7 @@ StatusOr<StageSummary> RunExportStage(const fs::path& session) {
 
 std::vector<Stage> MakeStages(const ProcessOptions& a) {
   const fs::path& s = a.session;
-  const fs::path layout = a.calibrate.layout_file.empty() ? s / "rig_layout.json" : a.calibrate.layout_file;
+  const fs::path layout = SessionLayoutFile(s, a.calibrate.layout_file);
   std::vector<fs::path> calibrate_inputs = {s / Session::kJournalName, s / "shots", layout};
   if (fs::exists(s / "calib")) calibrate_inputs.push_back(s / "calib");
   if (!a.calibrate.camera_file.empty()) calibrate_inputs.push_back(a.calibrate.camera_file);
@@ -187,7 +214,7 @@ std::string ProcessOptions::Check() const {
   for (const std::string& f : force)
     if (f != "all" && std::count(ProcessStageNames().begin(), ProcessStageNames().end(), f) == 0)
       return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, all)";
-  if (!synth.method.empty() && synth.method != "roller" && synth.method != "quilt")
+  if (!synth.method.empty() && !IsSynthMethod(synth.method))
     return "--synth must be roller or quilt, not '" + synth.method + "'";
   if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
   if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";

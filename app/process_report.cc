@@ -1,20 +1,15 @@
 // SESSION/report.html of `mesocap process` (app/process.h): the stage table, calibration
 // tables and plots, every warning and rejected item, the results' pictures and the WebGL viewer.
-#include <algorithm>
 #include <map>
-#include <optional>
 
-#include "app/btf_folder.h"
 #include "app/process.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/slice_index.h"
 #include "core/text_format.h"
-#include "export/ptm_file.h"
 #include "export/previews.h"
 #include "export/report.h"
-#include "export/viewer_page.h"
 
 namespace mesocap::app {
 
@@ -22,25 +17,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The interactive viewer's inputs: the top board's PTM and, of the reconstructed BTF, the slices
-// whose light and view both lie on the coarse grid (all of a coarse BTF, 289 of the Bonn grid's).
+// The viewer the export stage built (export/previews/viewer.html), placed in the page.
 Status AddViewer(const fs::path& session, Report* report) {
-  std::optional<Ptm> ptm;
-  if (auto top = TopBoardOfSession(session); top.ok())
-    if (auto read = ReadPtmFile(BoardPtmFile(session, *top)); read.ok()) ptm = std::move(*read);
-  std::vector<ViewerSlice> slices;
-  if (auto btf = ReadSliceIndex(session / "btf" / "index.json"); btf.ok()) {
-    for (const SliceIndexEntry& e : btf->slices) {
-      if (!OnCoarseGrid(e.light) || !OnCoarseGrid(e.view)) continue;
-      auto image = ReadImage(e.file);
-      if (!image.ok()) return image.status();
-      slices.push_back({e.light, e.view, std::move(*image)});
-    }
-  }
-  if (!ptm && slices.empty()) return Status::Ok();
-  auto scratch = StagingFolder::Begin(session / ".viewer-scratch");
-  if (!scratch.ok()) return scratch.status();
-  auto html = ViewerHtml(ptm ? &*ptm : nullptr, slices, 64, scratch->path());
+  const fs::path fragment = session / "export" / "previews" / "viewer.html";
+  if (!fs::exists(fragment)) return Status::Ok();
+  auto html = ReadTextFile(fragment);
   if (!html.ok()) return html.status();
   report->Heading("Relight it");
   report->Html(*html, "report.html relights the top board's PTM and the reconstructed BTF here, in WebGL.");

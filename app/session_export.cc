@@ -68,25 +68,21 @@ StatusOr<std::string> ExportLp(const fs::path& session, const fs::path& out_dir)
   std::vector<const SliceIndexEntry*> slices;
   for (const SliceIndexEntry& e : index->slices)
     if (e.board == *top) slices.push_back(&e);
-  // One exposure for all: the brightest slice's 99.5th percentile maps to white, so the images
-  // keep their relative intensities as an RTI capture's photos do.
   std::vector<Image> images;
-  float scale = 0;
   for (const SliceIndexEntry* e : slices) {
     auto image = ReadImage(e->file);
     if (!image.ok()) return image.status();
-    const float s = DisplayScale(*image, 0.995);
-    scale = scale == 0 ? s : std::min(scale, s);
     images.push_back(std::move(*image));
   }
+  // One exposure for all, the brightest slice's 99.5th percentile at white: the images keep
+  // their relative intensities as an RTI capture's photos do.
+  images = ExposeAll(images, 0.995);
   auto staging = StagingFolder::Begin(out_dir / "lp");
   if (!staging.ok()) return staging.status();
   std::vector<LpEntry> entries;
   for (size_t k = 0; k < images.size(); ++k) {
-    Image& image = images[k];
-    for (size_t i = 0; i < image.size(); ++i) image.data()[i] = std::clamp(image.data()[i] * scale, 0.0f, 1.0f);
     const fs::path file = staging->path() / Format("slice_%04zu.png", k + 1);
-    MESOCAP_RETURN_IF_ERROR(WriteImage(file, image, {.format = PixelFormat::kUint8Srgb}));
+    MESOCAP_RETURN_IF_ERROR(WriteImage(file, images[k], {.format = PixelFormat::kUint8Srgb}));
     entries.push_back({file, slices[k]->light});
   }
   MESOCAP_RETURN_IF_ERROR(WriteLpFile(staging->path() / "material.lp", entries));
@@ -118,17 +114,6 @@ StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir
   if (ec) return Status::Error((btf / "index.json").string() + ": cannot copy: " + ec.message());
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   return Format("%s (%zu slices)", (out_dir / "btf").string().c_str(), index->slices.size());
-}
-
-// A grey map of the GGX fit's relative error per texel: black 0, white 50% or more; texels
-// drawn as squares of at least 256 pixels in all, so a small material is still legible.
-Image ErrorPicture(const Image& relative_error) {
-  const int zoom = std::max(1, 256 / std::max(1, relative_error.width()));
-  Image picture(zoom * relative_error.width(), zoom * relative_error.height(), 3);
-  for (int y = 0; y < picture.height(); ++y)
-    for (int x = 0; x < picture.width(); ++x)
-      for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::clamp(2.0f * relative_error.at(x / zoom, y / zoom, 0), 0.0f, 1.0f);
-  return picture;
 }
 
 // The fitted material enlarged by a synthesis map: each output texel takes its source texel's
@@ -198,7 +183,8 @@ StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_di
   gltf.name = fs::absolute(session).lexically_normal().filename().string();
   gltf.patch_m = patch_m;
   MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staging->path(), *maps, gltf));
-  MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.png", ErrorPicture(maps->relative_error),
+  // Black 0, white 50% or more, at least 256 pixels wide so a small material stays legible.
+  MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.png", GreyPicture(maps->relative_error, 2, 256),
                                      {.format = PixelFormat::kUint8Srgb}));
   MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.exr", maps->relative_error, {.format = PixelFormat::kHalf}));
   Json report = maps->ToJson();

@@ -25,8 +25,12 @@ namespace mesocap::app {
 
 namespace fs = std::filesystem;
 
+fs::path SessionLayoutFile(const fs::path& session, const fs::path& layout_file) {
+  return layout_file.empty() ? session / "rig_layout.json" : layout_file;
+}
+
 StatusOr<RigLayout> LoadSessionLayout(const fs::path& session, const fs::path& layout_file) {
-  const fs::path file = layout_file.empty() ? session / "rig_layout.json" : layout_file;
+  const fs::path file = SessionLayoutFile(session, layout_file);
   auto j = ReadJsonFile(file);
   if (!j.ok()) return Status::Error(j.status().message() + " (give the rig's layout with --layout)");
   auto layout = RigLayout::FromJson(*j);
@@ -179,8 +183,6 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
   const fs::path index_file = session / "slices" / "index.json";
   auto index = ReadSliceIndex(index_file);
   if (!index.ok()) return index.status();
-  auto distances = ReadJsonFile(index_file);  // the flash distance per slice (not in SliceIndexEntry)
-  if (!distances.ok()) return distances.status();
   std::map<int, std::vector<size_t>> by_board;
   for (size_t k = 0; k < index->slices.size(); ++k) by_board[index->slices[k].board].push_back(k);
 
@@ -208,10 +210,9 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
       auto image = ReadImage(e.file);
       if (!image.ok()) return image.status();
       images.push_back(std::move(*image));
-      const Json& entry = (*distances)["slices"][k];
-      const double distance = entry.contains("light_distance_m") ? entry["light_distance_m"].get<double>() : 0.0;
-      if (!(distance > 0)) return Status::Error(index_file.string() + ": slice " + e.file.filename().string() + " has no light_distance_m");
-      lights_m.push_back(distance * e.light);
+      if (!(e.light_distance_m > 0))
+        return Status::Error(index_file.string() + ": slice " + e.file.filename().string() + " has no light_distance_m");
+      lights_m.push_back(e.light_distance_m * e.light);
     }
     PtmFitOptions fit;
     fit.format = options.format;
@@ -231,11 +232,7 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
     residual_file.replace_extension("");
     residual_file += "_residual";
     MESOCAP_RETURN_IF_ERROR(WriteImage(residual_file.string() + ".exr", residual, {.format = PixelFormat::kHalf}));
-    Image picture(residual.width(), residual.height(), 3);
-    for (int y = 0; y < residual.height(); ++y)
-      for (int x = 0; x < residual.width(); ++x)
-        for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::min(1.0f, 10.0f * residual.at(x, y, 0));
-    MESOCAP_RETURN_IF_ERROR(WritePng(residual_file.string() + ".png", picture));
+    MESOCAP_RETURN_IF_ERROR(WritePng(residual_file.string() + ".png", GreyPicture(residual, 10)));
     boards.push_back({{"board", board}, {"file", file.filename().string()}, {"lights", report.num_lights},
                       {"rms_residual", report.rms_residual}, {"width", report.width}, {"height", report.height},
                       {"warnings", report.warnings}});

@@ -25,6 +25,7 @@ struct StageSummary {
 };
 
 // The rig layout: `layout_file`, or SESSION/rig_layout.json when empty.
+std::filesystem::path SessionLayoutFile(const std::filesystem::path& session, const std::filesystem::path& layout_file);
 StatusOr<RigLayout> LoadSessionLayout(const std::filesystem::path& session, const std::filesystem::path& layout_file);
 
 struct CalibrateStageOptions {

@@ -64,7 +64,7 @@ int Finish(const std::string& verb, const SynthMap& map, const Exemplar& e, cons
 
 int RunSynth(SynthArgs& a) {
   const std::string verb = "synth";
-  if (a.method != "roller" && a.method != "quilt")
+  if (!IsSynthMethod(a.method))
     return Fail(verb, "unknown method '" + a.method + "' (roller, quilt)", kExitUsage);
   int width = 0, height = 0;
   if (int code = CheckCommon(verb, a, &width, &height)) return code;

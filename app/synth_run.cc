@@ -4,8 +4,10 @@
 
 namespace mesocap::app {
 
+bool IsSynthMethod(const std::string& name) { return name == "roller" || name == "quilt"; }
+
 std::string SynthMethodOptions::Check() const {
-  if (method != "roller" && method != "quilt") return "unknown method '" + method + "' (roller, quilt)";
+  if (!IsSynthMethod(method)) return "unknown method '" + method + "' (roller, quilt)";
   if (width < 1 || height < 1 || width > 32768 || height > 32768) return "the output size must be 1..32768 a side";
   return "";
 }

@@ -15,6 +15,9 @@
 
 namespace mesocap::app {
 
+// The methods `synth` and `process --synth` accept: roller, quilt.
+bool IsSynthMethod(const std::string& name);
+
 struct SynthMethodOptions {
   std::string method = "quilt";  // roller | quilt
   int width = 512, height = 512;

@@ -30,6 +30,8 @@ SliceIndexEntry EntryFromJson(const Json& e, const std::string& at, const std::f
   s.phi_o_deg = phi("phi_o_deg");
   s.light = DirectionFromAnglesDeg(s.theta_i_deg, s.phi_i_deg);
   s.view = DirectionFromAnglesDeg(s.theta_o_deg, s.phi_o_deg);
+  if (e.is_object() && e.contains("light_distance_m"))
+    s.light_distance_m = JsonNumber(e["light_distance_m"], JsonFieldPath(at, "light_distance_m"), 0, 1e3);
   return s;
 }
 

@@ -19,6 +19,7 @@ struct SliceIndexEntry {
   int board = 0;               // 0 when the index has no boards
   double theta_i_deg = 0, phi_i_deg = 0, theta_o_deg = 0, phi_o_deg = 0;  // theta in [0, 90], phi in [0, 360)
   Eigen::Vector3d light = Eigen::Vector3d::UnitZ(), view = Eigen::Vector3d::UnitZ();
+  double light_distance_m = 0;  // flash to patch centre (measured slices); 0 when the index has none
 };
 
 struct SliceIndex {

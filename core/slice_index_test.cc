@@ -32,6 +32,12 @@ TEST(SliceIndex, ReadsAndNormalisesAzimuths) {
   index = ReadWith(dir, Entry("c.exr", 45, 400));
   ASSERT_TRUE(index.ok());
   EXPECT_NEAR(index->slices[1].phi_i_deg, 40, 1e-9);
+  EXPECT_EQ(index->slices[1].light_distance_m, 0) << "absent: 0";
+  Json with_distance = Entry("c.exr", 45, 0);
+  with_distance["light_distance_m"] = 1.25;
+  index = ReadWith(dir, with_distance);
+  ASSERT_TRUE(index.ok());
+  EXPECT_EQ(index->slices[1].light_distance_m, 1.25);
 }
 
 TEST(SliceIndex, RefusesOutOfRangeAnglesAndPathsLeavingTheFolder) {
@@ -44,6 +50,12 @@ TEST(SliceIndex, RefusesOutOfRangeAnglesAndPathsLeavingTheFolder) {
       {Entry("", 10, 0), "must be a relative path"},
       {Json::array(), "slices[1] must be a JSON object"},
       {{{"file", "c.exr"}}, "slices[1].theta_i_deg is missing"},
+      {[] {
+         Json e = Entry("c.exr", 10, 0);
+         e["light_distance_m"] = "far";
+         return e;
+       }(),
+       "slices[1].light_distance_m must be a number"},
   };
   for (const auto& [entry, fragment] : bad) {
     auto index = ReadWith(dir, entry);

@@ -4,10 +4,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <numbers>
 
 #include <ceres/ceres.h>
 
+#include "core/directions.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/pbr_brdf.h"
@@ -182,7 +182,7 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   auto index = ReadSliceIndex(index_json);
   if (!index.ok()) return index.status();
   std::vector<const SliceIndexEntry*> usable;
-  const double cos_max = std::cos(options.max_theta_deg * std::numbers::pi / 180);
+  const double cos_max = std::cos(DegToRad(options.max_theta_deg));
   for (const SliceIndexEntry& e : index->slices) {
     if (board < 0) board = e.board;
     if (e.board == board && e.light.z() >= cos_max && e.view.z() >= cos_max) usable.push_back(&e);
@@ -195,9 +195,9 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   for (size_t k = 0; k < n; ++k) chosen.push_back(usable[k * usable.size() / n]);
 
   // Texel-major table: for each texel its n observations, RGB.
-  auto first = ReadImage(chosen.front()->file);
+  auto first = ReadImageInfo(chosen.front()->file);  // the size; the slices are read below
   if (!first.ok()) return first.status();
-  const int width = first->width(), height = first->height();
+  const int width = first->width, height = first->height;
   const size_t texels = size_t(width) * height;
   std::vector<float> table(texels * n * 3);
   std::vector<Observation> dirs;

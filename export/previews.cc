@@ -86,6 +86,33 @@ Image ExposeForDisplay(const Image& linear, double percentile) {
   return Scaled(linear, DisplayScale(linear, percentile));
 }
 
+float CommonDisplayScale(const std::vector<const Image*>& linear, double percentile) {
+  float scale = 0;
+  for (const Image* image : linear) {
+    const float s = DisplayScale(*image, percentile);
+    scale = scale == 0 ? s : std::min(scale, s);
+  }
+  return scale == 0 ? 1.0f : scale;
+}
+
+std::vector<Image> ExposeAll(const std::vector<Image>& linear, double percentile) {
+  std::vector<const Image*> images;
+  for (const Image& image : linear) images.push_back(&image);
+  const float scale = CommonDisplayScale(images, percentile);
+  std::vector<Image> out;
+  for (const Image& image : linear) out.push_back(Scaled(image, scale));
+  return out;
+}
+
+Image GreyPicture(const Image& map, float gain, int min_width) {
+  const int zoom = std::max(1, min_width / std::max(1, map.width()));
+  Image picture(zoom * map.width(), zoom * map.height(), 3);
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x)
+      for (int c = 0; c < 3; ++c) picture.at(x, y, c) = std::clamp(gain * map.at(x / zoom, y / zoom, 0), 0.0f, 1.0f);
+  return picture;
+}
+
 std::vector<Image> ExposeTogether(const std::vector<Image>& linear, double percentile) {
   std::vector<Image> out;
   if (linear.empty()) return out;

@@ -29,6 +29,15 @@ float DisplayScale(const Image& linear, double percentile);
 // Linear values -> display: scales so the `percentile` value maps to 1, for HDR slices.
 Image ExposeForDisplay(const Image& linear, double percentile = 0.99);
 
+// The one exposure that keeps the brightest of several images: the lowest of their display
+// scales, so the images keep their relative intensities (a capture's photos). ExposeAll applies it.
+float CommonDisplayScale(const std::vector<const Image*>& linear, double percentile);
+std::vector<Image> ExposeAll(const std::vector<Image>& linear, double percentile = 0.99);
+
+// A one-channel map (an error, a residual) as grey: value x `gain`, clamped to white; each value
+// drawn as a square block, as large as keeps the picture at least `min_width` pixels wide.
+Image GreyPicture(const Image& map, float gain, int min_width = 0);
+
 // Several linear images under one exposure, the first one's (e.g. the truth a row of
 // reconstructions is compared with): its `percentile` value maps to 1.
 std::vector<Image> ExposeTogether(const std::vector<Image>& linear, double percentile = 0.99);

@@ -30,10 +30,11 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-// `image` (values in [0, 1], stored as they are) as a PNG data URI.
-StatusOr<std::string> PngDataUri(const Image& image, const fs::path& scratch, const std::string& name) {
+// `image` (values in [0, 1]) as a PNG data URI, 8-bit in `format` (sRGB for pictures, linear
+// for data such as PTM coefficients).
+StatusOr<std::string> PngDataUri(const Image& image, PixelFormat format, const fs::path& scratch, const std::string& name) {
   const fs::path file = scratch / (name + ".png");
-  MESOCAP_RETURN_IF_ERROR(WriteImage(file, image, {.format = PixelFormat::kUint8Linear}));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(file, image, {.format = format}));
   auto bytes = ReadTextFile(file);
   std::error_code ec;
   fs::remove(file, ec);
@@ -69,21 +70,19 @@ std::vector<CoefficientPlane> PtmPlanes(const Ptm& ptm) {
   return planes;
 }
 
-// The BTF's slices as tiles of an atlas, `columns` to a row, under one display exposure (sRGB).
+// The BTF's slices as tiles of an atlas, `columns` to a row, under one display exposure.
 Image SliceAtlas(const std::vector<ViewerSlice>& slices, int tile, int columns) {
   const int rows = (int(slices.size()) + columns - 1) / columns;
+  std::vector<const Image*> full;
+  for (const ViewerSlice& s : slices) full.push_back(&s.image);
+  const float scale = CommonDisplayScale(full, 0.995);
   Image atlas(columns * tile, rows * tile, 3);
-  float scale = 0;
-  for (const ViewerSlice& s : slices) scale = scale == 0 ? DisplayScale(s.image, 0.995) : std::min(scale, DisplayScale(s.image, 0.995));
   for (size_t k = 0; k < slices.size(); ++k) {
     const Image small = Thumbnail(slices[k].image, tile);
     const int ox = int(k % columns) * tile, oy = int(k / columns) * tile;
     for (int y = 0; y < std::min(tile, small.height()); ++y)
       for (int x = 0; x < tile; ++x)
-        for (int c = 0; c < 3; ++c) {
-          const float v = std::clamp(small.at(x, y, c) * scale, 0.0f, 1.0f);
-          atlas.at(ox + x, oy + y, c) = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
-        }
+        for (int c = 0; c < 3; ++c) atlas.at(ox + x, oy + y, c) = std::clamp(small.at(x, y, c) * scale, 0.0f, 1.0f);
   }
   return atlas;
 }
@@ -252,7 +251,7 @@ StatusOr<std::string> ViewerHtml(const Ptm* ptm, const std::vector<ViewerSlice>&
     const std::vector<CoefficientPlane> planes = PtmPlanes(*ptm);
     Json uris = Json::array(), lo = Json::array(), hi = Json::array();
     for (int k = 0; k < kPtmCoefficients; ++k) {
-      auto uri = PngDataUri(planes[k].image, scratch, "ptm_a" + std::to_string(k));
+      auto uri = PngDataUri(planes[k].image, PixelFormat::kUint8Linear, scratch, "ptm_a" + std::to_string(k));
       if (!uri.ok()) return uri.status();
       uris.push_back(*uri);
       lo.push_back(planes[k].lo);
@@ -263,7 +262,7 @@ StatusOr<std::string> ViewerHtml(const Ptm* ptm, const std::vector<ViewerSlice>&
   }
   if (!slices.empty()) {
     const int columns = int(std::ceil(std::sqrt(double(slices.size()))));
-    auto atlas = PngDataUri(SliceAtlas(slices, tile, columns), scratch, "btf_atlas");
+    auto atlas = PngDataUri(SliceAtlas(slices, tile, columns), PixelFormat::kUint8Srgb, scratch, "btf_atlas");
     if (!atlas.ok()) return atlas.status();
     Json list = Json::array();
     for (const ViewerSlice& s : slices)
