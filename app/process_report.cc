@@ -123,9 +123,7 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
   if (fs::exists(session / "export" / "previews" / "ptm_relit.jpg"))
     report.Picture("export/previews/ptm_relit.jpg", "The top board's PTM (export/material.ptm) relit under three lights");
   if (auto top = TopBoardOfSession(session); top.ok()) {
-    fs::path residual = BoardPtmFile(session, *top);
-    residual.replace_extension("");
-    residual += "_residual.png";
+    const fs::path residual = BoardPtmResidualFile(session, *top, ".png");
     if (fs::exists(residual))
       report.Picture(fs::relative(residual, session).generic_string(),
                      "The top board's PTM fit error per texel (RMS residual x 10: white is 0.1 or more)");
@@ -143,6 +141,17 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
       report.Picture("export/previews/material_sphere.jpg", "The glTF material on a sphere under three lights");
       report.Picture("export/previews/material_cloth.jpg", "The glTF material on a draped sheet under the same lights");
     }
+  }
+  if (auto synth = ReadJsonFile(session / "synth" / "report.json"); synth.ok()) {
+    const Json output = synth->value("output", Json::object());
+    report.Paragraph(Format("synth/: the reconstructed BTF enlarged by %s to %dx%d texels (export/gltf_synth/ carries the "
+                            "glTF material through the same map).",
+                            synth->value("method", std::string("?")).c_str(), output.value("width", 0), output.value("height", 0)));
+    for (int k = 1; k <= 3; ++k)
+      if (const std::string name = Format("synth/preview_light%d.png", k); fs::exists(session / name))
+        report.Picture(name, Format("The enlarged BTF under light %d", k));
+    if (fs::exists(session / "synth" / "patches.png"))
+      report.Picture("synth/patches.png", "Where each part of the enlarged material comes from (one colour per patch)");
   }
   MESOCAP_RETURN_IF_ERROR(AddViewer(session, &report));
   report.Paragraph("Files: calibration/ (rig.json, report.json), slices/ (measured BTF slices, index.json, board_BB.lp), "

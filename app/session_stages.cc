@@ -160,6 +160,10 @@ fs::path BoardPtmFile(const fs::path& session, int board) {
   return session / "ptm" / Format("board_%02d.ptm", board);
 }
 
+fs::path BoardPtmResidualFile(const fs::path& session, int board, const std::string& extension) {
+  return session / "ptm" / Format("board_%02d_residual%s", board, extension.c_str());
+}
+
 StatusOr<int> TopBoardOfSession(const fs::path& session) {
   auto index = ReadSliceIndex(session / "slices" / "index.json");
   if (!index.ok()) return index.status();
@@ -228,11 +232,10 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
     MESOCAP_RETURN_IF_ERROR(WritePtmFile(file, *ptm));
     // The fit's error map: RMS residual per texel, as values (EXR) and to see (PNG: x 10, so white
     // is a residual of 0.1, a tenth of a white surface's value).
-    fs::path residual_file = file;
-    residual_file.replace_extension("");
-    residual_file += "_residual";
-    MESOCAP_RETURN_IF_ERROR(WriteImage(residual_file.string() + ".exr", residual, {.format = PixelFormat::kHalf}));
-    MESOCAP_RETURN_IF_ERROR(WritePng(residual_file.string() + ".png", GreyPicture(residual, 10)));
+    MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / BoardPtmResidualFile(session, board, ".exr").filename(), residual,
+                                       {.format = PixelFormat::kHalf}));
+    MESOCAP_RETURN_IF_ERROR(WritePng(staging->path() / BoardPtmResidualFile(session, board, ".png").filename(),
+                                     GreyPicture(residual, 10)));
     boards.push_back({{"board", board}, {"file", file.filename().string()}, {"lights", report.num_lights},
                       {"rms_residual", report.rms_residual}, {"width", report.width}, {"height", report.height},
                       {"warnings", report.warnings}});

@@ -53,6 +53,8 @@ struct PtmStageOptions {
 StatusOr<StageSummary> RunPtmStage(const std::filesystem::path& session, const std::filesystem::path& layout_file,
                                    const PtmStageOptions& options, bool progress);
 std::filesystem::path BoardPtmFile(const std::filesystem::path& session, int board);
+// Its fit error map: `extension` ".exr" (values) or ".png" (to see).
+std::filesystem::path BoardPtmResidualFile(const std::filesystem::path& session, int board, const std::string& extension);
 
 struct ReconstructStageOptions {
   SliceSetOptions slices;     // size: texels a side of the reconstructed slices
