@@ -38,8 +38,7 @@ struct GlobalOptions {
 };
 
 // The whole command line: program name, version flag, global options and every subcommand's
-// options. The mesocap-commands executable parses with it; the build writes its help texts
-// from it for the light `mesocap` launcher (app/launcher.cc).
+// options.
 void DefineCommandLine(CLI::App& app, GlobalOptions& globals, std::vector<Command>& commands);
 
 // One factory per <verb>_cmd.cc.

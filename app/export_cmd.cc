@@ -15,6 +15,7 @@ namespace fs = std::filesystem;
 struct ExportArgs {
   fs::path session, out;
   std::vector<std::string> formats;
+  ExportOptions options;
 };
 
 int Run(const ExportArgs& a) {
@@ -27,7 +28,7 @@ int Run(const ExportArgs& a) {
   if (auto session = Session::Open(a.session); !session.ok()) return Fail("export", session.status().message());
   const fs::path out = a.out.empty() ? a.session / "export" : a.out;
   for (ExportFormat f : formats) {
-    auto written = ExportSession(a.session, f, out);
+    auto written = ExportSession(a.session, f, out, a.options);
     if (!written.ok()) return Fail("export", written.status().message());
     std::printf("export %s: %s\n", ExportFormatToString(f).c_str(), written->c_str());
   }
@@ -45,6 +46,8 @@ Command ExportCommand() {
     sub->add_option("session", args->session, "Session folder (after `mesocap process`)")->required();
     sub->add_option("--format", args->formats, "ptm (top board's PTM), lp (RTI light file + PNGs), exr (BTF folder), gltf (PBR material fitted to the BTF); repeatable")
         ->required();
+    sub->add_flag("--multipart", args->options.exr_multipart,
+                  "exr: also btf.exr, every slice as a part of one multi-part OpenEXR (named by the slice, with its directions)");
     sub->add_option("--out", args->out, "Output folder (default SESSION/export); each format's item is replaced whole");
   };
   c.run = [args]() { return Run(*args); };

@@ -1,4 +1,4 @@
-// mesocap-commands: one subcommand per stage, run by the `mesocap` launcher (app/launcher.cc).
+// mesocap: one subcommand per stage.
 // Each <verb>_cmd.cc registers its options and runs one library entry point; this file only
 // dispatches and turns failures into exit codes.
 #include <CLI/CLI.hpp>

@@ -107,6 +107,10 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
   report.Table({"stage", "status", "seconds", "outputs", "warnings"}, rows);
   report.Heading("Calibration");
   AddCalibrationTables(session, &report);
+  if (fs::exists(session / "calibration" / kFlashPositionsPlot))
+    report.Picture("calibration/" + std::string(kFlashPositionsPlot),
+                   "Every calibrated flash position around the target (orange), with the boards' patches, the balls and "
+                   "the camera, from above and from the side (top board's frame)");
   if (fs::exists(session / "calibration" / "lights.png"))
     report.Picture("calibration/lights.png", "Flash directions seen from the top board (centre: zenith)");
   if (fs::exists(session / "calibration" / "intrinsics_residuals.png"))

@@ -90,10 +90,37 @@ StatusOr<std::string> ExportLp(const fs::path& session, const fs::path& out_dir)
   return Format("%s (board %d, %zu images)", (out_dir / "lp" / "material.lp").string().c_str(), *top, entries.size());
 }
 
-StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir) {
+// The slices of `index` as the parts of one OpenEXR, in index order, each named by its file's
+// stem and carrying its directions, read and written one at a time.
+Status WriteBtfMultiPart(const SliceIndex& index, const fs::path& path) {
+  if (index.slices.empty()) return Status::Error(path.string() + ": the BTF has no slices");
+  auto first = ReadImageInfo(index.slices.front().file);
+  if (!first.ok()) return first.status();
+  std::vector<ExrPartHeader> parts;
+  for (const SliceIndexEntry& e : index.slices) {
+    ExrPartHeader part;
+    part.name = e.file.stem().string();
+    part.width = first->width;
+    part.height = first->height;
+    part.channels = std::min(first->channels, 4);
+    part.options.format = PixelFormat::kHalf;
+    part.options.channel_names = first->channel_names;
+    part.options.channel_names.resize(size_t(part.channels));
+    part.options.attributes["mesocap:theta_i_deg"] = float(e.theta_i_deg);
+    part.options.attributes["mesocap:phi_i_deg"] = float(e.phi_i_deg);
+    part.options.attributes["mesocap:theta_o_deg"] = float(e.theta_o_deg);
+    part.options.attributes["mesocap:phi_o_deg"] = float(e.phi_o_deg);
+    part.options.attributes["mesocap:file"] = e.file.filename().string();
+    parts.push_back(std::move(part));
+  }
+  return WriteMultiPartExr(path, parts, [&](int k) { return ReadImage(index.slices[size_t(k)].file); });
+}
+
+StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir, const ExportOptions& options) {
   const fs::path btf = session / "btf";
   auto index = ReadSliceIndex(btf / "index.json");
   if (!index.ok()) return Status::Error(index.status().message() + ": " + MakeItWith(session));
+  if (options.exr_multipart) MESOCAP_RETURN_IF_ERROR(WriteBtfMultiPart(*index, out_dir / "btf.exr"));
   auto staging = StagingFolder::Begin(out_dir / "btf");
   if (!staging.ok()) return staging.status();
   std::error_code ec;
@@ -113,7 +140,8 @@ StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir
   fs::copy_file(btf / "index.json", staging->path() / "index.json", ec);
   if (ec) return Status::Error((btf / "index.json").string() + ": cannot copy: " + ec.message());
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  return Format("%s (%zu slices)", (out_dir / "btf").string().c_str(), index->slices.size());
+  return Format("%s (%zu slices)%s", (out_dir / "btf").string().c_str(), index->slices.size(),
+                options.exr_multipart ? ("; " + (out_dir / "btf.exr").string() + " (one part per slice)").c_str() : "");
 }
 
 // The fitted material enlarged by a synthesis map: each output texel takes its source texel's
@@ -211,14 +239,15 @@ StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_di
 
 }  // namespace
 
-StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format, const fs::path& out_dir) {
+StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format, const fs::path& out_dir,
+                                    const ExportOptions& options) {
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) return Status::Error(out_dir.string() + ": cannot create: " + ec.message());
   switch (format) {
     case ExportFormat::kPtm: return ExportPtm(session, out_dir);
     case ExportFormat::kLp: return ExportLp(session, out_dir);
-    case ExportFormat::kExr: return ExportExr(session, out_dir);
+    case ExportFormat::kExr: return ExportExr(session, out_dir, options);
     case ExportFormat::kGltf: return ExportGltf(session, out_dir);
   }
   return Status::Error("unknown export format");

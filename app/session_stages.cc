@@ -6,6 +6,7 @@
 
 #include "app/board_lights.h"
 #include "app/btf_folder.h"
+#include "app/rig_plot.h"
 #include "app/synth_output.h"
 #include "app/synth_run.h"
 #include "calib/intrinsics.h"
@@ -72,9 +73,7 @@ StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout&
 
 // Flash directions seen from the most head-on board (the top of the pyramid).
 Image LightsPlot(const CalibrationResult& result) {
-  const BoardPose* top = nullptr;
-  for (const BoardPose& b : result.boards)
-    if (b.found && (!top || std::abs(b.R(2, 2)) > std::abs(top->R(2, 2)))) top = &b;
+  const BoardPose* top = TopBoardPose(result);
   if (!top) return Image();
   std::vector<Eigen::Vector3d> dirs;
   for (const ShotCalibration& shot : result.shots)
@@ -114,6 +113,8 @@ StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& o) {
   MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out / "report.json", report));
   if (!residual_plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out / "intrinsics_residuals.png", residual_plot));
   if (const Image plot = LightsPlot(*result); !plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out / "lights.png", plot));
+  if (const Image plot = FlashPositionsPlot(*result, *layout); !plot.empty())
+    MESOCAP_RETURN_IF_ERROR(WritePng(out / kFlashPositionsPlot, plot));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   StageSummary summary;
   summary.brief = result->Brief();

@@ -35,8 +35,10 @@ struct CalibrateStageOptions {
   bool progress = true;
 };
 // Intrinsics, board poses, balls, flash position and power per shot -> SESSION/calibration/
-// (rig.json, report.json, intrinsics_residuals.png, lights.png).
+// (rig.json, report.json, intrinsics_residuals.png, lights.png, flash_positions.png).
 StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& options);
+// The flash positions around the target (app/rig_plot.h), in calibration/.
+inline constexpr const char* kFlashPositionsPlot = "flash_positions.png";
 
 // SESSION/calibration/rig.json -> every lit board patch as a BTF slice in SESSION/slices/
 // (index.json, board_BB.lp).

@@ -1,7 +1,5 @@
 #include "core/image_io.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -14,11 +12,10 @@
 #include "core/atomic_file.h"
 #include "core/exr_header_check.h"
 #include "core/image_u8_io.h"
-#include "core/oiio_input.h"
+#include "core/image_codec.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
-namespace oiio = OIIO;
 
 float SrgbToLinear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
@@ -64,29 +61,6 @@ std::string Lower(std::string s) {
   return s;
 }
 
-ImageAttributes AttributesOf(const oiio::ImageSpec& spec) {
-  ImageAttributes out;
-  for (const auto& p : spec.extra_attribs) {
-    const oiio::TypeDesc t = p.type();
-    if (t == oiio::TypeInt || t == oiio::TypeUInt) {
-      out[p.name().string()] = p.get_int();
-    } else if (t == oiio::TypeFloat) {
-      out[p.name().string()] = p.get_float();
-    } else {
-      out[p.name().string()] = p.get_string();
-    }
-  }
-  return out;
-}
-
-void ApplyAttributes(const ImageAttributes& attributes, oiio::ImageSpec* spec) {
-  for (const auto& [name, value] : attributes) {
-    if (const int* i = std::get_if<int>(&value)) spec->attribute(name, *i);
-    if (const float* f = std::get_if<float>(&value)) spec->attribute(name, *f);
-    if (const std::string* s = std::get_if<std::string>(&value)) spec->attribute(name, *s);
-  }
-}
-
 }  // namespace
 
 namespace {
@@ -121,29 +95,40 @@ Status CheckImageSize(const fs::path& path, int64_t width, int64_t height, int64
   return Status::Ok();
 }
 
-bool HasReadableImageExtension(const fs::path& path) {
-  // OIIO's "extension_list" is "format:ext,ext;format:ext...", over every reader plugin.
-  static const std::set<std::string> extensions = [] {
-    std::set<std::string> all;
-    std::string list = oiio::get_string_attribute("extension_list");
-    for (size_t start = 0; start < list.size();) {
-      size_t end = list.find(';', start);
-      if (end == std::string::npos) end = list.size();
-      const std::string entry = list.substr(start, end - start);
-      std::string exts = entry.substr(entry.find(':') + 1);
-      for (size_t a = 0; a <= exts.size();) {
-        size_t b = exts.find(',', a);
-        if (b == std::string::npos) b = exts.size();
-        if (b > a) all.insert("." + Lower(exts.substr(a, b - a)));
-        a = b + 1;
-      }
-      start = end + 1;
+namespace {
+
+// The extensions of `list` ("format:ext,ext;format:ext...").
+std::set<std::string> ExtensionsOf(const std::string& list) {
+  std::set<std::string> all;
+  for (size_t start = 0; start < list.size();) {
+    size_t end = list.find(';', start);
+    if (end == std::string::npos) end = list.size();
+    const std::string entry = list.substr(start, end - start);
+    const std::string exts = entry.substr(entry.find(':') + 1);
+    for (size_t a = 0; a <= exts.size();) {
+      size_t b = exts.find(',', a);
+      if (b == std::string::npos) b = exts.size();
+      if (b > a) all.insert("." + Lower(exts.substr(a, b - a)));
+      a = b + 1;
     }
-    return all;
-  }();
-  return extensions.count(Lower(path.extension().string())) > 0;
+    start = end + 1;
+  }
+  return all;
 }
 
+}  // namespace
+
+bool HasReadableImageExtension(const fs::path& path) {
+  const std::string extension = Lower(path.extension().string());
+  // The formats photos and our own outputs come in, answered without loading the codec.
+  static const std::set<std::string> common = {".jpg", ".jpeg", ".png", ".tif", ".tiff", ".exr"};
+  if (common.count(extension)) return true;
+  static const std::set<std::string> all = [] {
+    auto codec = LoadImageCodec();
+    return codec.ok() ? ExtensionsOf((*codec)->ExtensionList()) : std::set<std::string>{};
+  }();
+  return all.count(extension) > 0;
+}
 
 Status CheckDeclaredImageSize(const fs::path& path) {
   if (Status exr = CheckExrHeader(path); !exr.ok()) return exr;
@@ -157,137 +142,137 @@ PixelFormat DefaultFormatFor(const fs::path& path) {
   return PixelFormat::kUint16Linear;
 }
 
-std::unique_ptr<oiio::ImageInput> OpenImageForExtension(const fs::path& path, const oiio::ImageSpec* config,
-                                                       std::string* error) {
-  const std::string extension = path.extension().string();
-  auto in = extension.size() > 1 ? oiio::ImageInput::create(extension.substr(1)) : nullptr;
-  if (!in) {
-    *error = extension.size() > 1 ? "not an image: no image reader for files named *" + extension
-                                  : std::string("not an image: no file extension to choose an image reader by");
-    oiio::geterror();  // drop OpenImageIO's pending message
-    return nullptr;
+namespace {
+
+SampleType SampleTypeOf(PixelFormat format) {
+  switch (format) {
+    case PixelFormat::kUint8Srgb:
+    case PixelFormat::kUint8Linear: return SampleType::kUint8;
+    case PixelFormat::kUint16Linear: return SampleType::kUint16;
+    case PixelFormat::kHalf: return SampleType::kHalf;
+    case PixelFormat::kFloat: return SampleType::kFloat;
   }
-  oiio::ImageSpec spec;
-  const bool opened = config ? in->open(path.string(), spec, *config) : in->open(path.string(), spec);
-  if (!opened) {
-    *error = in->geterror();
-    if (error->empty()) *error = "not a readable " + std::string(in->format_name()) + " file";
-    return nullptr;
-  }
-  return in;
+  return SampleType::kFloat;
 }
 
-StatusOr<ImageInfo> ReadImageInfo(const fs::path& path) {
+// The request to encode `image` with `options`; 8-bit encodings are made here, into *bytes, so
+// they are exactly reproducible whatever the codec does.
+StatusOr<EncodeRequest> EncodingOf(const fs::path& path, const Image& image, const ImageWriteOptions& options,
+                                   std::vector<uint8_t>* bytes) {
+  if (image.empty()) return Status::Error(path.string() + ": refusing to write an empty image");
+  if (!options.channel_names.empty() && int(options.channel_names.size()) != image.channels())
+    return Status::Error(path.string() + ": " + std::to_string(options.channel_names.size()) + " channel names for " +
+                         std::to_string(image.channels()) + " channels");
+  EncodeRequest request;
+  request.width = image.width();
+  request.height = image.height();
+  request.channels = image.channels();
+  request.stored = SampleTypeOf(options.format);
+  request.jpeg_quality = options.jpeg_quality;
+  request.exr_compression = options.exr_compression;
+  request.attributes = options.attributes;
+  request.channel_names = options.channel_names;
+  request.type = SampleType::kFloat;
+  request.pixels = image.data();
+  if (options.format == PixelFormat::kUint8Srgb || options.format == PixelFormat::kUint8Linear) {
+    bytes->resize(image.size());
+    const float* src = image.data();
+    if (options.format == PixelFormat::kUint8Srgb) {
+      for (size_t i = 0; i < bytes->size(); ++i) (*bytes)[i] = EncodeSrgb8(src[i]);
+    } else {
+      for (size_t i = 0; i < bytes->size(); ++i) (*bytes)[i] = uint8_t(std::lround(std::clamp(src[i], 0.0f, 1.0f) * 255.0f));
+    }
+    request.type = SampleType::kUint8;
+    request.pixels = bytes->data();
+  }
+  return request;
+}
+
+}  // namespace
+
+StatusOr<ImageInfo> ReadImageInfo(const fs::path& path, int part) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   if (fs::file_size(path, ec) == 0) return Status::Error(path.string() + ": empty file");
   if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
-  oiio::ImageSpec config;
-  config.attribute("raw:ColorSpace", "linear");
-  std::string why;
-  auto in = OpenImageForExtension(path, &config, &why);
-  if (!in) return Status::Error(path.string() + ": " + why);
-  const oiio::ImageSpec& spec = in->spec();
-  if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
-  ImageInfo info;
-  info.width = spec.width;
-  info.height = spec.height;
-  info.channels = spec.nchannels;
-  info.format_name = in->format_name();
-  info.bits_per_sample = int(spec.format.size()) * 8;
-  if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0)
-    info.bits_per_sample = bps;
-  info.attributes = AttributesOf(spec);
-  info.channel_names.assign(spec.channelnames.begin(), spec.channelnames.end());
-  in->close();
+  auto codec = LoadImageCodec();
+  if (!codec.ok()) return codec.status();
+  auto info = (*codec)->ReadInfo(path, part);
+  if (!info.ok()) return info.status();
+  if (Status size = CheckImageSize(path, info->width, info->height, info->channels); !size.ok()) return size;
   return info;
 }
 
 StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options, ImageInfo* info_out) {
-  auto info = ReadImageInfo(path);
-  if (!info.ok()) return info.status();
-  oiio::ImageSpec config;
-  config.attribute("raw:ColorSpace", "linear");
-  std::string why;
-  auto in = OpenImageForExtension(path, &config, &why);
-  if (!in) return Status::Error(path.string() + ": " + why);
-  const oiio::ImageSpec& spec = in->spec();
-  if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
-  if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
-  const int channels = std::min(spec.nchannels, options.max_channels);
-  const bool is_8bit = spec.format == oiio::TypeDesc::UINT8;
-  Image image(spec.width, spec.height, channels);
-  bool ok = true;
-  if (is_8bit && options.linearize) {
-    std::vector<uint8_t> bytes(size_t(spec.width) * spec.height * channels);
-    ok = in->read_image(0, 0, 0, channels, oiio::TypeDesc::UINT8, bytes.data());
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
+  if (fs::file_size(path, ec) == 0) return Status::Error(path.string() + ": empty file");
+  if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
+  auto codec = LoadImageCodec();
+  if (!codec.ok()) return codec.status();
+  Image image;
+  std::vector<uint8_t> bytes;  // 8-bit sRGB samples, linearised here
+  ImageInfo info;
+  auto target = [&](const ImageInfo& header) -> StatusOr<DecodeTarget> {
+    info = header;
+    if (header.channels <= 0) return Status::Error(path.string() + ": image has no pixels");
+    if (Status size = CheckImageSize(path, header.width, header.height, header.channels); !size.ok()) return size;
+    const int channels = std::min(header.channels, options.max_channels);
+    image = Image(header.width, header.height, channels);
+    if (header.stored_as_uint8 && options.linearize) {
+      bytes.resize(image.size());
+      return DecodeTarget{bytes.data(), SampleType::kUint8, channels};
+    }
+    return DecodeTarget{image.data(), SampleType::kFloat, channels};
+  };
+  MESOCAP_RETURN_IF_ERROR((*codec)->Read(path, options.part, target));
+  if (!bytes.empty()) {
     const auto& table = SrgbDecodeTable();
     float* dst = image.data();
     for (size_t i = 0; i < bytes.size(); ++i) dst[i] = table[bytes[i]];
-  } else {
-    ok = in->read_image(0, 0, 0, channels, oiio::TypeDesc::FLOAT, image.data());
   }
-  // libjpeg reports a truncated file as a warning and pads with grey: treat it as corrupt.
-  std::string err = in->geterror();
-  in->close();
-  if (!ok || !err.empty()) {
-    if (err.empty()) err = "could not decode pixels";
-    return Status::Error(path.string() + ": " + err);
-  }
-  if (info_out) *info_out = *info;
+  if (info_out) *info_out = std::move(info);
   return image;
 }
 
 Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOptions& options) {
-  if (image.empty()) return Status::Error(path.string() + ": refusing to write an empty image");
-  oiio::TypeDesc type = oiio::TypeDesc::UINT8;
-  switch (options.format) {
-    case PixelFormat::kUint8Srgb: type = oiio::TypeDesc::UINT8; break;
-    case PixelFormat::kUint8Linear: type = oiio::TypeDesc::UINT8; break;
-    case PixelFormat::kUint16Linear: type = oiio::TypeDesc::UINT16; break;
-    case PixelFormat::kHalf: type = oiio::TypeDesc::HALF; break;
-    case PixelFormat::kFloat: type = oiio::TypeDesc::FLOAT; break;
-  }
-  oiio::ImageSpec spec(image.width(), image.height(), image.channels(), type);
-  const std::string ext = Lower(path.extension().string());
-  if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:" + std::to_string(options.jpeg_quality));
-  if (ext == ".exr") spec.attribute("compression", options.exr_compression);
-  ApplyAttributes(options.attributes, &spec);
-  if (!options.channel_names.empty()) {
-    if (int(options.channel_names.size()) != image.channels())
-      return Status::Error(path.string() + ": " + std::to_string(options.channel_names.size()) + " channel names for " +
-                           std::to_string(image.channels()) + " channels");
-    spec.channelnames = options.channel_names;
-  }
+  std::vector<uint8_t> bytes;
+  auto request = EncodingOf(path, image, options, &bytes);
+  if (!request.ok()) return request.status();
+  auto codec = LoadImageCodec();
+  if (!codec.ok()) return codec.status();
+  return WriteFileAtomically(path, [&](const fs::path& temp) { return (*codec)->Write(temp, path, *request); });
+}
 
-  // Encode sRGB ourselves so 8-bit output is exactly reproducible.
-  std::vector<uint8_t> bytes;  // 8-bit encodings made here
-  const void* pixels = image.data();
-  oiio::TypeDesc pixel_type = oiio::TypeDesc::FLOAT;
-  if (options.format == PixelFormat::kUint8Srgb) {
-    bytes.resize(image.size());
-    const float* src = image.data();
-    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = EncodeSrgb8(src[i]);
-    pixels = bytes.data();
-    pixel_type = oiio::TypeDesc::UINT8;
-  } else if (options.format == PixelFormat::kUint8Linear) {
-    bytes.resize(image.size());
-    const float* src = image.data();
-    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(std::lround(std::clamp(src[i], 0.0f, 1.0f) * 255.0f));
-    pixels = bytes.data();
-    pixel_type = oiio::TypeDesc::UINT8;
+Status WriteMultiPartExr(const fs::path& path, const std::vector<ExrPartHeader>& parts,
+                         const std::function<StatusOr<Image>(int k)>& pixels) {
+  std::vector<EncodeRequest> headers;
+  for (const ExrPartHeader& part : parts) {
+    if (part.options.format != PixelFormat::kHalf && part.options.format != PixelFormat::kFloat)
+      return Status::Error(path.string() + ": OpenEXR parts hold half or float samples");
+    std::vector<uint8_t> unused;
+    auto header = EncodingOf(path, Image(part.width, part.height, part.channels), part.options, &unused);
+    if (!header.ok()) return header.status();
+    header->part_name = part.name;
+    header->pixels = nullptr;
+    headers.push_back(std::move(*header));
   }
-
-  return WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
-    auto out = oiio::ImageOutput::create(path.string());
-    if (!out) return Status::Error(path.string() + ": no image writer for this extension");
-    if (!out->open(temp.string(), spec))
-      return Status::Error(path.string() + ": " + out->geterror());
-    const bool wrote = out->write_image(pixel_type, pixels);
-    const std::string err = out->geterror();
-    if (!out->close() || !wrote) return Status::Error(path.string() + ": " + err);
-    return Status::Ok();
-  });
+  auto codec = LoadImageCodec();
+  if (!codec.ok()) return codec.status();
+  Image current;  // the one part held
+  auto part_pixels = [&](int k) -> StatusOr<EncodeRequest> {
+    auto image = pixels(k);
+    if (!image.ok()) return image.status();
+    current = std::move(*image);
+    EncodeRequest request = headers[size_t(k)];
+    request.width = current.width();
+    request.height = current.height();
+    request.channels = current.channels();
+    request.type = SampleType::kFloat;
+    request.pixels = current.data();
+    return request;
+  };
+  return WriteFileAtomically(path, [&](const fs::path& temp) { return (*codec)->WriteExrParts(temp, path, headers, part_pixels); });
 }
 
 }  // namespace mesocap

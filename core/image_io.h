@@ -1,10 +1,12 @@
-// All image file I/O goes through OpenImageIO: JPEG, PNG, TIFF, camera RAW (libraw), OpenEXR.
+// All image file I/O: JPEG, PNG, TIFF, camera RAW (libraw), OpenEXR, through OpenImageIO loaded on
+// first use (core/image_codec.h).
 // Encoding rule (docs/formats.md): 8-bit files hold sRGB-encoded values, 16-bit and float files
 // hold linear values. Reading returns linear floats in [0,1] for integer files unless asked not to.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <variant>
@@ -34,12 +36,14 @@ struct ImageWriteOptions {
 struct ImageReadOptions {
   bool linearize = true;  // decode sRGB 8-bit files to linear
   int max_channels = 4;   // drop alpha and extra channels beyond this many
+  int part = 0;           // multi-part OpenEXR: which part
 };
 
 struct ImageInfo {
   int width = 0, height = 0, channels = 0;
   std::string format_name;   // "jpeg", "png", "openexr", "raw", ...
   int bits_per_sample = 0;   // 8, 16, 32
+  bool stored_as_uint8 = false;  // samples are 8-bit unsigned integers in the file
   ImageAttributes attributes;  // every header/EXIF attribute OpenImageIO reports
   std::vector<std::string> channel_names;
 };
@@ -64,13 +68,24 @@ Status CheckDeclaredImageSize(const std::filesystem::path& path);
 bool HasReadableImageExtension(const std::filesystem::path& path);
 
 // Reads header only (cheap): size, format, EXIF. Error names the file.
-StatusOr<ImageInfo> ReadImageInfo(const std::filesystem::path& path);
+StatusOr<ImageInfo> ReadImageInfo(const std::filesystem::path& path, int part = 0);
 // Reads the whole image. Error names the file and what was wrong (truncated, not an image ...).
 StatusOr<Image> ReadImage(const std::filesystem::path& path, const ImageReadOptions& options = {},
                           ImageInfo* info = nullptr);
 // Writes atomically: a temp file beside `path`, fsync, rename. Nothing is left half-written.
 Status WriteImage(const std::filesystem::path& path, const Image& image,
                   const ImageWriteOptions& options = {});
+
+// One part of a multi-part OpenEXR, as its header declares it.
+struct ExrPartHeader {
+  std::string name;
+  int width = 0, height = 0, channels = 0;
+  ImageWriteOptions options;  // format kHalf or kFloat, compression, attributes, channel names
+};
+// Writes a multi-part OpenEXR atomically: every part's header, then the pixels of part k from
+// `pixels(k)`, one part at a time (only one is held). Each image must match its header.
+Status WriteMultiPartExr(const std::filesystem::path& path, const std::vector<ExrPartHeader>& parts,
+                         const std::function<StatusOr<Image>(int k)>& pixels);
 
 // Picks a sensible format from the extension: .jpg/.jpeg -> 8-bit sRGB, .png/.tif -> 16-bit
 // linear, .exr -> half.

@@ -1,7 +1,5 @@
 #include "core/image_u8_io.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <csetjmp>
 #include <cstdlib>
@@ -11,7 +9,7 @@
 #include <string>
 
 #include "core/image_io.h"
-#include "core/oiio_input.h"
+#include "core/image_codec.h"
 
 #ifdef __linux__
 #include <sys/mman.h>
@@ -22,7 +20,6 @@
 
 namespace mesocap {
 namespace fs = std::filesystem;
-namespace oiio = OIIO;
 
 namespace {
 
@@ -170,28 +167,23 @@ Status CheckJpegDeclaredSizeImpl(const fs::path& path, std::FILE* file) {
   return CheckImageSize(path, width, height, components);
 }
 
-StatusOr<ImageU8> ReadWithOiio(const fs::path& path, int max_channels) {
+// Formats other than baseline 8-bit JPEG, through the image codec (core/image_codec.h).
+StatusOr<ImageU8> ReadWithCodec(const fs::path& path, int max_channels) {
   if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
-  std::string why;
-  auto in = OpenImageForExtension(path, nullptr, &why);
-  if (!in) return Status::Error(path.string() + ": " + why);
-  const oiio::ImageSpec& spec = in->spec();
-  if (spec.nchannels <= 0) return Status::Error(path.string() + ": image has no pixels");
-  if (Status size = CheckImageSize(path, spec.width, spec.height, spec.nchannels); !size.ok()) return size;
-  int bits = int(spec.format.size()) * 8;
-  if (const int bps = spec.get_int_attribute("oiio:BitsPerSample", 0); bps > 0) bits = bps;
-  if (spec.format != oiio::TypeDesc::UINT8 || bits != 8)
-    return Status::Error(path.string() + ": not an 8-bit image (" + std::to_string(bits) +
-                         " bits per sample); read it as float instead");
-  const int channels = std::min(spec.nchannels, max_channels);
-  ImageU8 image(spec.width, spec.height, channels);
-  const bool ok = in->read_image(0, 0, 0, channels, oiio::TypeDesc::UINT8, image.data());
-  std::string err = in->geterror();
-  in->close();
-  if (!ok || !err.empty()) {
-    if (err.empty()) err = "could not decode pixels";
-    return Status::Error(path.string() + ": " + err);
-  }
+  auto codec = LoadImageCodec();
+  if (!codec.ok()) return codec.status();
+  ImageU8 image;
+  auto target = [&](const ImageInfo& header) -> StatusOr<DecodeTarget> {
+    if (header.channels <= 0) return Status::Error(path.string() + ": image has no pixels");
+    if (Status size = CheckImageSize(path, header.width, header.height, header.channels); !size.ok()) return size;
+    if (!header.stored_as_uint8 || header.bits_per_sample != 8)
+      return Status::Error(path.string() + ": not an 8-bit image (" + std::to_string(header.bits_per_sample) +
+                           " bits per sample); read it as float instead");
+    const int channels = std::min(header.channels, max_channels);
+    image = ImageU8(header.width, header.height, channels);
+    return DecodeTarget{image.data(), SampleType::kUint8, channels};
+  };
+  MESOCAP_RETURN_IF_ERROR((*codec)->Read(path, 0, target));
   return image;
 }
 
@@ -239,7 +231,7 @@ StatusOr<ImageU8> ReadImageU8(const fs::path& path, int max_channels) {
     }
   }
   bytes.reset();
-  return ReadWithOiio(path, max_channels);
+  return ReadWithCodec(path, max_channels);
 }
 
 }  // namespace mesocap

@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -82,9 +83,13 @@ const Statuses kAllRan = {{"calibrate", "ran"}, {"resample", "ran"}, {"fit-ptm",
 TEST_F(ProcessTest, RunsEveryStageOnceThenOnlyWhatAChangeAffects) {
   const fs::path s = FreshSession();
   EXPECT_EQ(Process(s), kAllRan);
-  for (const char* out : {"calibration/rig.json", "slices/index.json", "ptm", "btf/index.json", "export/material.ptm",
+  for (const char* out : {"calibration/rig.json", "calibration/flash_positions.png", "slices/index.json", "ptm", "btf/index.json", "export/material.ptm",
                           "export/lp/material.lp", "export/btf/index.json", "report.html", "stages.json"})
     EXPECT_TRUE(fs::exists(s / out)) << out;
+  auto report = ReadTextFile(s / "report.html");
+  ASSERT_TRUE(report.ok());
+  for (const char* shown : {"calibration/flash_positions.png", "report_files/light_coverage.png"})
+    EXPECT_NE(report->find(shown), std::string::npos) << shown;
 
   const Statuses all_skipped = {{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
                                 {"reconstruct", "skipped"}, {"export", "skipped"}};
@@ -164,7 +169,7 @@ TEST_F(ProcessTest, ExportsReadBackAsTheStagesWroteThem) {
   ASSERT_EQ(Process(s), kAllRan);
   const fs::path out = testing::MakeTempDir() / "exported";
   std::string log;
-  ASSERT_EQ(testing::RunMesocap("export " + s.string() + " --format ptm --format lp --format exr --format gltf --out " +
+  ASSERT_EQ(testing::RunMesocap("export " + s.string() + " --format ptm --format lp --format exr --multipart --format gltf --out " +
                                     out.string(),
                                 &log),
             0)
@@ -200,6 +205,22 @@ TEST_F(ProcessTest, ExportsReadBackAsTheStagesWroteThem) {
       differ += stored->data()[i] != float(Eigen::half(truth.data()[i]));
     EXPECT_EQ(differ, 0u) << e.file;
   }
+  // The multi-part EXR: one part per slice, in index order, named by the slice, with its
+  // directions, and bit-identical to the slice file.
+  for (size_t k : {size_t(0), size_t(57), index->slices.size() - 1}) {
+    const SliceIndexEntry& e = index->slices[k];
+    ImageInfo info;
+    auto part = ReadImage(out / "btf.exr", {.part = int(k)}, &info);
+    ASSERT_TRUE(part.ok()) << part.status().message();
+    EXPECT_EQ(std::get<std::string>(info.attributes.at("name")), e.file.stem().string());
+    EXPECT_NEAR(std::get<float>(info.attributes.at("mesocap:theta_i_deg")), e.theta_i_deg, 1e-4);
+    EXPECT_NEAR(std::get<float>(info.attributes.at("mesocap:phi_o_deg")), e.phi_o_deg, 1e-4);
+    auto slice = ReadImage(e.file);
+    ASSERT_TRUE(slice.ok());
+    ASSERT_EQ(part->size(), slice->size());
+    EXPECT_TRUE(std::equal(part->data(), part->data() + part->size(), slice->data())) << k;
+  }
+  EXPECT_FALSE(ReadImageInfo(out / "btf.exr", int(index->slices.size())).ok());
 
   // ptm: the top board's PTM, relit identically from the exported file.
   auto exported = ReadPtmFile(out / "material.ptm");
