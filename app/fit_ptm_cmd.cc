@@ -57,6 +57,144 @@ ImageWriteOptions StoredValueOptions(const fs::path& path) {
   return o;
 }
 
+struct PhaseSeconds {
+  double decode = 0, fit = 0, decode_cpu = 0, fit_cpu = 0;
+};
+
+// Photos that are all baseline 8-bit JPEGs, fitted as stored, stream: every photo's decoder stays
+// open and bands of rows are decoded (in parallel over the photos) and then fitted (in parallel
+// over the rows) while they are in cache. No photo is held whole: memory is the files' bytes, one
+// band per photo and the result. Null readers: not all photos are such JPEGs.
+StatusOr<std::vector<std::unique_ptr<JpegRowReader>>> OpenJpegReaders(const std::vector<LpEntry>& entries, int threads) {
+  const int n = int(entries.size());
+  std::vector<std::unique_ptr<JpegRowReader>> readers(entries.size());
+  std::vector<std::string> errors(entries.size());
+  std::atomic<bool> all_jpeg{true};
+  ParallelFor(
+      0, n,
+      [&](int i) {
+        auto reader = JpegRowReader::Open(entries[size_t(i)].image, 3);
+        if (!reader.ok()) errors[size_t(i)] = reader.status().message();
+        else if (!*reader) all_jpeg = false;
+        else readers[size_t(i)] = std::move(*reader);
+      },
+      threads);
+  for (const std::string& error : errors)
+    if (!error.empty()) return Status::Error(error);
+  if (!all_jpeg) readers.clear();
+  return readers;
+}
+
+// Every photo the size and channel count of the first; the error names both files.
+Status CheckSameShape(const std::vector<LpEntry>& entries, const std::function<std::array<int, 3>(int)>& shape_of) {
+  const auto first = shape_of(0);
+  for (int i = 1; i < int(entries.size()); ++i) {
+    const auto other = shape_of(i);
+    if (other[0] != first[0] || other[1] != first[1])
+      return Status::Error("images differ in size: " + entries[0].image.string() + " is " + std::to_string(first[0]) + "x" +
+                           std::to_string(first[1]) + " but " + entries[size_t(i)].image.string() + " is " +
+                           std::to_string(other[0]) + "x" + std::to_string(other[1]));
+    if (other[2] != first[2])
+      return Status::Error("images differ in channel count: " + entries[0].image.string() + " and " +
+                           entries[size_t(i)].image.string());
+  }
+  return Status::Ok();
+}
+
+StatusOr<Ptm> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& readers, const std::vector<LpEntry>& entries,
+                                const std::vector<Eigen::Vector3d>& lights, const PtmFitOptions& fit, ProgressBar& bar,
+                                PtmFitReport* report, PhaseSeconds* seconds) {
+  const int n = int(readers.size());
+  MESOCAP_RETURN_IF_ERROR(CheckSameShape(entries, [&](int i) {
+    return std::array<int, 3>{readers[size_t(i)]->width(), readers[size_t(i)]->height(), readers[size_t(i)]->channels()};
+  }));
+  const int width = readers[0]->width(), height = readers[0]->height(), channels = readers[0]->channels();
+  auto fitter = PtmRowFitter::Create(lights, width, height, channels, fit);
+  if (!fitter.ok()) return fitter.status();
+  // 32 rows of 36 photos of 2000 pixels: 7 MB, in cache from decoding to fitting.
+  constexpr int kBandRows = 32;
+  const size_t row_bytes = size_t(width) * channels;
+  std::vector<std::vector<uint8_t>> band(size_t(n), std::vector<uint8_t>(kBandRows * row_bytes));
+  std::vector<std::string> errors(readers.size());
+  for (int y0 = 0; y0 < height; y0 += kBandRows) {
+    const int rows = std::min(kBandRows, height - y0);
+    auto decode_start = std::chrono::steady_clock::now();
+    double cpu = ProcessCpuSeconds();
+    ParallelFor(
+        0, n,
+        [&](int i) {
+          uint8_t* row_pointers[kBandRows];
+          for (int r = 0; r < rows; ++r) row_pointers[r] = band[size_t(i)].data() + size_t(r) * row_bytes;
+          if (Status st = readers[size_t(i)]->ReadRows(rows, row_pointers); !st.ok()) errors[size_t(i)] = st.message();
+        },
+        fit.num_threads);
+    seconds->decode += SecondsSince(decode_start);
+    seconds->decode_cpu += ProcessCpuSeconds() - cpu;
+    for (const std::string& error : errors)
+      if (!error.empty()) return Status::Error(error);
+    const auto fit_start = std::chrono::steady_clock::now();
+    cpu = ProcessCpuSeconds();
+    fitter->FitRows(y0, y0 + rows, std::function<const uint8_t*(int, int)>([&](int i, int y) -> const uint8_t* {
+                      return band[size_t(i)].data() + size_t(y - y0) * row_bytes;
+                    }));
+    seconds->fit += SecondsSince(fit_start);
+    seconds->fit_cpu += ProcessCpuSeconds() - cpu;
+    bar.Update(y0 + rows, height + 1, "rows");
+  }
+  readers.clear();  // the files' bytes
+  return fitter->Finish(report);
+}
+
+// Any other photos (PNG, TIFF, 16-bit, --linearize): decoded whole in parallel, then fitted.
+// 8-bit photos fitted as stored stay bytes (36 x 3 MP: 324 MB, not 1.3 GB as floats).
+StatusOr<Ptm> FitWholePhotos(const std::vector<LpEntry>& entries, const std::vector<Eigen::Vector3d>& lights,
+                             const PtmFitOptions& fit, const FitPtmArgs& args, ProgressBar& bar, PtmFitReport* report,
+                             PhaseSeconds* seconds, std::string* read_path) {
+  const int n = int(entries.size());
+  bool eight_bit = !args.linearize;
+  for (int i = 0; i < n && eight_bit; ++i) {
+    auto info = ReadImageInfo(entries[size_t(i)].image);
+    eight_bit = info.ok() && info->bits_per_sample == 8;
+  }
+  *read_path = eight_bit ? "8-bit (decoded to bytes, fitted from bytes)" : "float";
+  std::vector<Image> images(eight_bit ? 0 : size_t(n));
+  std::vector<ImageU8> images_u8(eight_bit ? size_t(n) : 0);
+  std::vector<std::string> errors(entries.size());
+  std::atomic<int> decoded{0};
+  const auto decode_start = std::chrono::steady_clock::now();
+  const double decode_cpu_start = ProcessCpuSeconds();
+  ParallelFor(
+      0, n,
+      [&](int i) {
+        const fs::path& file = entries[size_t(i)].image;
+        if (eight_bit) {
+          auto image = ReadImageU8(file, 3);
+          if (image.ok()) images_u8[size_t(i)] = std::move(*image);
+          else errors[size_t(i)] = image.status().message();
+        } else {
+          auto image = ReadImage(file, {.linearize = args.linearize, .max_channels = 3});
+          if (image.ok()) images[size_t(i)] = std::move(*image);
+          else errors[size_t(i)] = image.status().message();
+        }
+        bar.Update(++decoded, n + 1, file.filename().string());
+      },
+      args.threads);
+  seconds->decode += SecondsSince(decode_start);
+  seconds->decode_cpu += ProcessCpuSeconds() - decode_cpu_start;
+  for (const std::string& error : errors)
+    if (!error.empty()) return Status::Error(error);
+  MESOCAP_RETURN_IF_ERROR(CheckSameShape(entries, [&](int i) {
+    return eight_bit ? std::array<int, 3>{images_u8[size_t(i)].width(), images_u8[size_t(i)].height(), images_u8[size_t(i)].channels()}
+                     : std::array<int, 3>{images[size_t(i)].width(), images[size_t(i)].height(), images[size_t(i)].channels()};
+  }));
+  const auto fit_start = std::chrono::steady_clock::now();
+  const double fit_cpu_start = ProcessCpuSeconds();
+  auto ptm = eight_bit ? FitPtm(images_u8, lights, fit, report) : FitPtm(images, lights, fit, report);
+  seconds->fit = SecondsSince(fit_start);
+  seconds->fit_cpu = ProcessCpuSeconds() - fit_cpu_start;
+  return ptm;
+}
+
 int Run(const FitPtmArgs& args) {
   const std::string verb = "fit-ptm";
   PtmFitOptions fit;
@@ -81,77 +219,30 @@ int Run(const FitPtmArgs& args) {
     return Fail(verb, args.lp + ": " + s.message());
   for (const std::string& warning : light_check.warnings) spdlog::warn("{}: {}", args.lp, warning);
 
-  // Decode all photos in parallel (decoding dominates the fitter's time otherwise). 8-bit photos
-  // (JPEG, 8-bit PNG/TIFF) fitted as stored take the fast path: decoded straight to bytes and
-  // kept as bytes, the fit converting one row block at a time (36 x 3 MP: 324 MB, not 1.3 GB).
   const int n = int(entries->size());
-  bool eight_bit = !args.linearize;
-  for (int i = 0; i < n && eight_bit; ++i) {
-    std::string ext = (*entries)[i].image.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".jpg" || ext == ".jpeg") continue;
-    auto info = ReadImageInfo((*entries)[i].image);
-    eight_bit = info.ok() && info->bits_per_sample == 8;
-  }
-  std::vector<Image> images;
-  std::vector<ImageU8> images_u8;
-  if (eight_bit) images_u8.resize(n);
-  else images.resize(n);
-  std::vector<std::string> errors(n);
   ProgressBar bar("fit-ptm", !args.no_progress);
-  std::atomic<int> decoded{0};
-  ImageReadOptions read;
-  read.linearize = args.linearize;
-  read.max_channels = 3;
-  const auto decode_start = std::chrono::steady_clock::now();
-  const double decode_cpu_start = ProcessCpuSeconds();
-  ParallelFor(
-      0, n,
-      [&](int i) {
-        if (eight_bit) {
-          auto image = ReadImageU8((*entries)[i].image, read.max_channels);
-          if (image.ok()) images_u8[i] = std::move(*image);
-          else errors[i] = image.status().message();
-        } else {
-          auto image = ReadImage((*entries)[i].image, read);
-          if (image.ok()) images[i] = std::move(*image);
-          else errors[i] = image.status().message();
-        }
-        bar.Update(++decoded, n + 1, (*entries)[i].image.filename().string());
-      },
-      args.threads);
-  const double decode_seconds = SecondsSince(decode_start);
-  const double decode_cpu_seconds = ProcessCpuSeconds() - decode_cpu_start;
-  for (int i = 0; i < n; ++i)
-    if (!errors[i].empty()) return Fail(verb, errors[i]);
-  auto size_of = [&](int i) {
-    return eight_bit ? std::array<int, 3>{images_u8[i].width(), images_u8[i].height(), images_u8[i].channels()}
-                     : std::array<int, 3>{images[i].width(), images[i].height(), images[i].channels()};
-  };
-  for (int i = 1; i < n; ++i) {
-    const auto first = size_of(0), other = size_of(i);
-    if (other[0] != first[0] || other[1] != first[1])
-      return Fail(verb, "images differ in size: " + (*entries)[0].image.string() + " is " +
-                            std::to_string(first[0]) + "x" + std::to_string(first[1]) + " but " +
-                            (*entries)[i].image.string() + " is " + std::to_string(other[0]) + "x" +
-                            std::to_string(other[1]));
-    if (other[2] != first[2])
-      return Fail(verb, "images differ in channel count: " + (*entries)[0].image.string() + " and " +
-                            (*entries)[i].image.string());
-  }
-
   PtmFitReport report;
-  const auto fit_start = std::chrono::steady_clock::now();
-  const double fit_cpu_start = ProcessCpuSeconds();
-  auto ptm = eight_bit ? FitPtm(images_u8, lights, fit, &report) : FitPtm(images, lights, fit, &report);
-  const double fit_seconds = SecondsSince(fit_start);
-  const double fit_cpu_seconds = ProcessCpuSeconds() - fit_cpu_start;
+  PhaseSeconds seconds;
+  std::string read_path;
+  StatusOr<Ptm> ptm = Status::Error("no fit");
+  // Reading the files and their JPEG headers counts as decoding.
+  const auto open_start = std::chrono::steady_clock::now();
+  const double open_cpu_start = ProcessCpuSeconds();
+  auto readers = args.linearize ? StatusOr<std::vector<std::unique_ptr<JpegRowReader>>>(std::vector<std::unique_ptr<JpegRowReader>>())
+                                : OpenJpegReaders(*entries, args.threads);
+  if (!readers.ok()) return Fail(verb, readers.status().message());
+  seconds.decode += SecondsSince(open_start);
+  seconds.decode_cpu += ProcessCpuSeconds() - open_cpu_start;
+  if (!readers->empty()) {
+    read_path = "8-bit JPEG streamed in bands of rows (decoded and fitted band by band)";
+    ptm = FitStreamingJpegs(*readers, *entries, lights, fit, bar, &report, &seconds);
+  } else {
+    ptm = FitWholePhotos(*entries, lights, fit, args, bar, &report, &seconds, &read_path);
+  }
   if (!ptm.ok()) return Fail(verb, ptm.status().message());
-  images_u8.clear();
-  images_u8.shrink_to_fit();
-  images.clear();
-  images.shrink_to_fit();
   bar.Update(n + 1, n + 1, "fit");
+  const double decode_seconds = seconds.decode, fit_seconds = seconds.fit;
+  const double decode_cpu_seconds = seconds.decode_cpu, fit_cpu_seconds = seconds.fit_cpu;
 
   PtmNormalsAlbedo maps;
   if (!args.normals.empty() || !args.albedo.empty()) {
@@ -203,7 +294,7 @@ int Run(const FitPtmArgs& args) {
                  {"write_cpu_seconds", write_cpu_seconds},
                  {"megapixel_images_per_second",
                   total_seconds > 0 ? double(report.width) * report.height * n / 1e6 / total_seconds : 0.0}};
-  j["read_path"] = eight_bit ? "8-bit (decoded to bytes, fitted from bytes)" : "float";
+  j["read_path"] = read_path;
   j["inputs"] = Json::array();
   for (const LpEntry& e : *entries) j["inputs"].push_back({{"image", e.image.string()}, {"light", ToJson(e.light_dir)}});
   if (Status s = outputs.Stage(json_path, [&](const fs::path& temp) { return WriteJsonFile(temp, j); }); !s.ok())

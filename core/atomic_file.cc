@@ -220,4 +220,39 @@ StatusOr<std::string> ReadTextFile(const fs::path& path) {
   return ss.str();
 }
 
+OutputFile::OutputFile(const fs::path& path) {
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) error_ = errno;
+}
+
+OutputFile::~OutputFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void OutputFile::WriteAt(uint64_t offset, const void* bytes, size_t size) {
+  const char* p = static_cast<const char*>(bytes);
+  while (ok() && size > 0) {
+    const ssize_t n = ::pwrite(fd_, p, size, off_t(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error_ = n < 0 ? errno : EIO;
+      return;
+    }
+    p += n, size -= size_t(n), offset += uint64_t(n);
+  }
+}
+
+void OutputFile::StartWriteBack(uint64_t offset, size_t size) {
+#ifdef __linux__
+  if (ok()) ::sync_file_range(fd_, off64_t(offset), off64_t(size), SYNC_FILE_RANGE_WRITE);
+#endif
+}
+
+bool OutputFile::Close() {
+  if (fd_ >= 0 && ::close(fd_) != 0 && error_ == 0) error_ = errno;
+  fd_ = -1;
+  if (error_ != 0) errno = error_;
+  return error_ == 0;
+}
+
 }  // namespace mesocap

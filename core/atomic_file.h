@@ -2,6 +2,7 @@
 // flushed to disk and renamed over it, so a reader sees the old file or the new one, never half.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -23,6 +24,26 @@ Status WriteTextAtomically(const std::filesystem::path& path, std::string_view t
 
 // Appends one line and fsyncs it: used for journals, where a crash may cut only the last line.
 Status AppendLineDurably(const std::filesystem::path& path, std::string_view line);
+
+// A file written in parts at their offsets (pwrite), for large outputs written in bands: each
+// part can start its write-back to disk at once (StartWriteBack), so the fsync that
+// WriteFileAtomically ends with finds little left to do. Errors are remembered: ok() and Close()
+// report them (errno).
+class OutputFile {
+ public:
+  explicit OutputFile(const std::filesystem::path& path);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  bool ok() const { return fd_ >= 0 && error_ == 0; }
+  void WriteAt(uint64_t offset, const void* bytes, size_t size);
+  // Starts writing [offset, offset + size) to disk, without waiting for it.
+  void StartWriteBack(uint64_t offset, size_t size);
+  bool Close();  // false if any write or the close failed, errno set
+
+ private:
+  int fd_ = -1, error_ = 0;
+};
 
 // Reads a whole file; error names it.
 StatusOr<std::string> ReadTextFile(const std::filesystem::path& path);

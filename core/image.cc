@@ -2,10 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+
 
 #include "core/status.h"
 
 namespace mesocap {
+
+void* AllocatePixelMemory(size_t bytes) {
+  void* p = std::malloc(std::max<size_t>(bytes, 1));
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+
+void FreePixelMemory(void* p) { std::free(p); }
+
+Image Image::Uninitialized(int width, int height, int channels) {
+  MESOCAP_CHECK(width >= 0 && height >= 0 && channels > 0, "bad image shape");
+  Image image;
+  image.width_ = width;
+  image.height_ = height;
+  image.channels_ = channels;
+  image.data_.resize(size_t(width) * height * channels);
+  return image;
+}
 
 Image::Image(int width, int height, int channels, float fill)
     : width_(width), height_(height), channels_(channels) {

@@ -3,16 +3,48 @@
 #pragma once
 
 #include <cstddef>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 namespace mesocap {
 
+// Memory for pixels, released with FreePixelMemory. (Asking Linux for transparent huge pages
+// saved page faults but, with the usual defrag=madvise, stalled the allocating thread in memory
+// compaction for up to 0.3 s when other programs had fragmented memory: measured on fit-ptm.)
+void* AllocatePixelMemory(size_t bytes);
+void FreePixelMemory(void* p);
+
+// The allocator of Image's samples: pixel memory, and samples left uninitialised unless a value
+// is given (Image::Uninitialized), so a buffer about to be overwritten is not written twice.
+template <typename T>
+struct PixelAllocator {
+  using value_type = T;
+  PixelAllocator() = default;
+  template <typename U>
+  PixelAllocator(const PixelAllocator<U>&) {}  // NOLINT: rebinding
+  T* allocate(size_t n) { return static_cast<T*>(AllocatePixelMemory(n * sizeof(T))); }
+  void deallocate(T* p, size_t) { FreePixelMemory(p); }
+  template <typename U>
+  void construct(U* p) {
+    ::new (static_cast<void*>(p)) U;  // default-initialised: no zeroing
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+  template <typename U>
+  bool operator==(const PixelAllocator<U>&) const { return true; }
+};
+
 class Image {
  public:
   Image() = default;
   Image(int width, int height, int channels, float fill = 0.0f);
+  // Samples not initialised: for a producer that writes every one of them.
+  static Image Uninitialized(int width, int height, int channels);
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -44,7 +76,7 @@ class Image {
 
  private:
   int width_ = 0, height_ = 0, channels_ = 0;
-  std::vector<float> data_;
+  std::vector<float, PixelAllocator<float>> data_;
 };
 
 }  // namespace mesocap

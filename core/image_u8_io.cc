@@ -11,48 +11,24 @@
 #include "core/image_io.h"
 #include "core/image_codec.h"
 
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
-
 // jpeglib.h needs size_t and FILE declared first.
 #include <jpeglib.h>
 
 namespace mesocap {
 namespace fs = std::filesystem;
 
-namespace {
-
-uint8_t* AllocatePixels(size_t bytes) {
-#ifdef __linux__
-  constexpr size_t kHugePage = size_t(2) << 20;
-  if (bytes >= kHugePage) {
-    const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    if (void* p = std::aligned_alloc(kHugePage, rounded)) {
-      madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure only costs speed
-      return static_cast<uint8_t*>(p);
-    }
-  }
-#endif
-  void* p = std::malloc(std::max<size_t>(bytes, 1));
-  if (!p) throw std::bad_alloc();
-  return static_cast<uint8_t*>(p);
-}
-
-}  // namespace
-
-void ImageU8::Free::operator()(uint8_t* p) const { std::free(p); }
+void ImageU8::Free::operator()(uint8_t* p) const { FreePixelMemory(p); }
 
 ImageU8::ImageU8(int width, int height, int channels)
     : width_(width), height_(height), channels_(channels) {
   MESOCAP_CHECK(width > 0 && height > 0 && channels > 0, "ImageU8 needs a positive size");
-  data_.reset(AllocatePixels(size()));  // not zeroed
+  data_.reset(static_cast<uint8_t*>(AllocatePixelMemory(size())));  // not zeroed
 }
 
 ImageU8::ImageU8(const ImageU8& other)
     : width_(other.width_), height_(other.height_), channels_(other.channels_) {
   if (other.data_) {
-    data_.reset(AllocatePixels(size()));
+    data_.reset(static_cast<uint8_t*>(AllocatePixelMemory(size())));
     std::memcpy(data_.get(), other.data_.get(), size());
   }
 }
@@ -96,55 +72,6 @@ struct JpegErrorManager {
 // with grey: fail as OpenImageIO-based ReadImage does. Trace messages (level >= 0) are ignored.
 void JpegEmitMessage(j_common_ptr cinfo, int level) {
   if (level < 0) JpegErrorExit(cinfo);
-}
-
-enum class JpegResult { kOk, kError, kUnsupported, kTooLarge };
-
-// Decodes a JPEG held in memory into *out. Kept free of objects with destructors between
-// setjmp and the calls that may longjmp; *out and *error belong to the caller.
-JpegResult DecodeJpeg(const uint8_t* bytes, size_t size, int max_channels, ImageU8* out,
-                      std::string* error, int64_t* width, int64_t* height) {
-  jpeg_decompress_struct cinfo;
-  JpegErrorManager err;
-  cinfo.err = jpeg_std_error(&err.base);
-  err.base.error_exit = JpegErrorExit;
-  err.base.emit_message = JpegEmitMessage;
-  err.message[0] = '\0';
-  if (setjmp(err.jump)) {
-    jpeg_destroy_decompress(&cinfo);
-    *error = err.message;
-    return JpegResult::kError;
-  }
-  jpeg_create_decompress(&cinfo);
-  jpeg_mem_src(&cinfo, bytes, static_cast<unsigned long>(size));
-  jpeg_read_header(&cinfo, TRUE);
-  // The one size rule of every reader (CheckImageSize), before a byte of pixels is allocated.
-  if (!CheckImageSize("", cinfo.image_width, cinfo.image_height, cinfo.num_components).ok()) {
-    *width = cinfo.image_width, *height = cinfo.image_height;
-    jpeg_destroy_decompress(&cinfo);
-    return JpegResult::kTooLarge;
-  }
-  if (cinfo.data_precision != 8 || (cinfo.jpeg_color_space != JCS_GRAYSCALE &&
-                                    cinfo.jpeg_color_space != JCS_YCbCr &&
-                                    cinfo.jpeg_color_space != JCS_RGB)) {
-    jpeg_destroy_decompress(&cinfo);  // CMYK/YCCK or 12-bit: leave it to OpenImageIO
-    return JpegResult::kUnsupported;
-  }
-  const bool grey = cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
-  cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
-  cinfo.dct_method = JDCT_ISLOW;  // accurate (and SIMD in libjpeg-turbo); not JDCT_IFAST
-  jpeg_start_decompress(&cinfo);
-  *out = ImageU8(int(cinfo.output_width), int(cinfo.output_height), cinfo.output_components);
-  JSAMPROW rows[16];
-  while (cinfo.output_scanline < cinfo.output_height) {
-    const int first = int(cinfo.output_scanline);
-    const int count = std::min<int>(16, int(cinfo.output_height) - first);
-    for (int r = 0; r < count; ++r) rows[r] = out->row(first + r);
-    jpeg_read_scanlines(&cinfo, rows, JDIMENSION(count));
-  }
-  jpeg_finish_decompress(&cinfo);
-  jpeg_destroy_decompress(&cinfo);
-  return JpegResult::kOk;
 }
 
 // The declared size of a JPEG (a file starting with the SOI marker FF D8), read by libjpeg from
@@ -202,36 +129,98 @@ Status CheckJpegDeclaredSize(const fs::path& path) {
 
 StatusOr<ImageU8> ReadImageU8(const fs::path& path, int max_channels) {
   MESOCAP_CHECK(max_channels >= 1, "max_channels must be at least 1");
+  auto reader = JpegRowReader::Open(path, max_channels);
+  if (!reader.ok()) return reader.status();
+  if (!*reader) return ReadWithCodec(path, max_channels);
+  JpegRowReader& jpeg = **reader;
+  ImageU8 image(jpeg.width(), jpeg.height(), jpeg.channels());
+  std::vector<uint8_t*> rows(size_t(jpeg.height()));
+  for (int y = 0; y < jpeg.height(); ++y) rows[size_t(y)] = image.row(y);
+  MESOCAP_RETURN_IF_ERROR(jpeg.ReadRows(jpeg.height(), rows.data()));
+  return image;
+}
+
+// libjpeg's decompressor with its error manager. Every call into libjpeg goes through Guarded,
+// whose frame holds the setjmp that libjpeg's errors jump back to.
+struct JpegRowReader::Decoder {
+  jpeg_decompress_struct cinfo;
+  JpegErrorManager err;
+  std::unique_ptr<uint8_t[]> bytes;
+  bool created = false;
+
+  Decoder() {
+    cinfo.err = jpeg_std_error(&err.base);
+    err.base.error_exit = JpegErrorExit;
+    err.base.emit_message = JpegEmitMessage;
+    err.message[0] = '\0';
+  }
+  ~Decoder() {
+    if (created) jpeg_destroy_decompress(&cinfo);
+  }
+  // Runs `calls` (libjpeg calls only, no objects with destructors); false with err.message set
+  // when libjpeg reported an error or a warning.
+  template <typename Calls>
+  bool Guarded(const Calls& calls) {
+    if (setjmp(err.jump)) return false;
+    calls();
+    return true;
+  }
+};
+
+JpegRowReader::JpegRowReader(fs::path path) : path_(std::move(path)), decoder_(std::make_unique<Decoder>()) {}
+JpegRowReader::~JpegRowReader() = default;
+
+StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   const auto file_size = fs::file_size(path, ec);
   if (ec) return Status::Error(path.string() + ": " + ec.message());
   if (file_size == 0) return Status::Error(path.string() + ": empty file");
+  std::unique_ptr<JpegRowReader> reader(new JpegRowReader(path));
+  Decoder& d = *reader->decoder_;
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) return Status::Error(path.string() + ": cannot open: " + std::strerror(errno));
-  std::unique_ptr<uint8_t[]> bytes(new uint8_t[file_size]);
-  const size_t got = std::fread(bytes.get(), 1, file_size, file);
+  d.bytes.reset(new uint8_t[file_size]);
+  const size_t got = std::fread(d.bytes.get(), 1, file_size, file);
   std::fclose(file);
   if (got != file_size) return Status::Error(path.string() + ": read error");
+  const uint8_t* bytes = d.bytes.get();
+  if (file_size < 3 || bytes[0] != 0xFF || bytes[1] != 0xD8 || bytes[2] != 0xFF) return std::unique_ptr<JpegRowReader>();
 
-  const bool is_jpeg = file_size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
-  if (is_jpeg) {
-    ImageU8 image;
-    std::string error;
-    int64_t width = 0, height = 0;
-    switch (DecodeJpeg(bytes.get(), file_size, max_channels, &image, &error, &width, &height)) {
-      case JpegResult::kOk:
-        return image;
-      case JpegResult::kTooLarge:
-        return CheckImageSize(path, width, height);
-      case JpegResult::kError:
-        return Status::Error(path.string() + ": " + (error.empty() ? "corrupt JPEG" : error));
-      case JpegResult::kUnsupported:
-        break;
-    }
-  }
-  bytes.reset();
-  return ReadWithCodec(path, max_channels);
+  auto corrupt = [&] { return Status::Error(path.string() + ": " + (d.err.message[0] ? d.err.message : "corrupt JPEG")); };
+  if (!d.Guarded([&] {
+        jpeg_create_decompress(&d.cinfo);
+        d.created = true;
+        jpeg_mem_src(&d.cinfo, bytes, static_cast<unsigned long>(file_size));
+        jpeg_read_header(&d.cinfo, TRUE);
+      }))
+    return corrupt();
+  // The one size rule of every reader (CheckImageSize), before a byte of pixels is allocated.
+  MESOCAP_RETURN_IF_ERROR(CheckImageSize(path, d.cinfo.image_width, d.cinfo.image_height, d.cinfo.num_components));
+  if (d.cinfo.data_precision != 8 || (d.cinfo.jpeg_color_space != JCS_GRAYSCALE && d.cinfo.jpeg_color_space != JCS_YCbCr &&
+                                      d.cinfo.jpeg_color_space != JCS_RGB))
+    return std::unique_ptr<JpegRowReader>();  // CMYK/YCCK or 12-bit: the image codec's reader
+  const bool grey = d.cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
+  d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
+  d.cinfo.dct_method = JDCT_ISLOW;  // accurate (and SIMD in libjpeg-turbo); not JDCT_IFAST
+  if (!d.Guarded([&] { jpeg_start_decompress(&d.cinfo); })) return corrupt();
+  reader->width_ = int(d.cinfo.output_width);
+  reader->height_ = int(d.cinfo.output_height);
+  reader->channels_ = d.cinfo.output_components;
+  return reader;
+}
+
+Status JpegRowReader::ReadRows(int count, uint8_t* const* rows) {
+  MESOCAP_CHECK(count >= 0 && next_row_ + count <= height_, "JpegRowReader: reading past the last row");
+  Decoder& d = *decoder_;
+  const bool ok = d.Guarded([&] {
+    for (int done = 0; done < count;)
+      done += int(jpeg_read_scanlines(&d.cinfo, const_cast<JSAMPARRAY>(rows + done), JDIMENSION(count - done)));
+    if (int(d.cinfo.output_scanline) == height_) jpeg_finish_decompress(&d.cinfo);
+  });
+  if (!ok) return Status::Error(path_.string() + ": " + (d.err.message[0] ? d.err.message : "corrupt JPEG"));
+  next_row_ += count;
+  return Status::Ok();
 }
 
 }  // namespace mesocap

@@ -22,8 +22,7 @@ namespace mesocap {
 inline constexpr float kU8ToUnit = 1.0f / 255.0f;
 
 // uint8, N interleaved channels, row-major, contiguous. Pixels are left uninitialised on
-// construction (decoders overwrite every byte; zeroing 9 MB per photo costs measurable time),
-// and large images ask Linux for transparent huge pages (one page fault per 2 MB, not 512).
+// construction (decoders overwrite every byte; zeroing 9 MB per photo costs measurable time).
 class ImageU8 {
  public:
   ImageU8() = default;
@@ -64,6 +63,37 @@ class ImageU8 {
 // file and what was wrong: missing, empty, truncated or corrupt data (libjpeg warnings count as
 // errors, as in ReadImage), not 8-bit.
 StatusOr<ImageU8> ReadImageU8(const std::filesystem::path& path, int max_channels = 4);
+
+// Decodes a baseline 8-bit JPEG (grey, YCbCr or RGB) a band of rows at a time with libjpeg, for
+// pipelines that consume rows in order and should not hold whole photos (fit-ptm streams 36
+// photos through bands of rows: the fit reads each band while it is in cache, and no photo is
+// ever held whole). Holds the file's bytes and libjpeg's state.
+class JpegRowReader {
+ public:
+  // The reader positioned at row 0; null (not an error) for a file that is not such a JPEG (no
+  // JPEG markers, CMYK, 12-bit): read it whole with ReadImageU8. A JPEG that is corrupt, too
+  // large (CheckImageSize) or unreadable is an error naming the file. `max_channels` < 3 gives
+  // grey.
+  static StatusOr<std::unique_ptr<JpegRowReader>> Open(const std::filesystem::path& path, int max_channels = 4);
+  ~JpegRowReader();
+  JpegRowReader(const JpegRowReader&) = delete;
+  JpegRowReader& operator=(const JpegRowReader&) = delete;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+  int next_row() const { return next_row_; }
+  // Decodes the next `count` rows into rows[0..count), each width() * channels() bytes. Corrupt
+  // data (libjpeg's warnings included, as in ReadImage) is an error naming the file.
+  Status ReadRows(int count, uint8_t* const* rows);
+
+ private:
+  struct Decoder;
+  explicit JpegRowReader(std::filesystem::path path);
+  std::filesystem::path path_;
+  std::unique_ptr<Decoder> decoder_;
+  int width_ = 0, height_ = 0, channels_ = 0, next_row_ = 0;
+};
 
 // For a file starting with a JPEG's SOI marker: CheckImageSize on the frame header libjpeg
 // finds, before any decoder opens it (libjpeg inside OpenImageIO allocates a progressive JPEG's

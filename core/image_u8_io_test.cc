@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <random>
+#include <vector>
 
 #include "core/image_io.h"
 #include "tests/testing.h"
@@ -109,6 +110,47 @@ TEST(ImageU8IO, TruncatedEmptyAndTextFilesAreErrorsNamingTheFile) {
     ASSERT_FALSE(r.ok()) << name;
     EXPECT_NE(r.status().message().find(name), std::string::npos) << r.status().message();
   }
+}
+
+// Bands of rows, of any size, give the bytes of the whole image; a truncated file fails in the
+// band its data runs out, naming the file; a file that is not a JPEG gives no reader.
+TEST(ImageU8IO, JpegRowReaderDecodesBandsAsTheWholeImage) {
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "photo.jpg", Textured(83, 71, 3, testing::SeedFromTestName())).ok());
+  auto whole = ReadImageU8(dir / "photo.jpg");
+  ASSERT_TRUE(whole.ok());
+  for (int band : {1, 7, 16, 71}) {
+    auto reader = JpegRowReader::Open(dir / "photo.jpg", 3);
+    ASSERT_TRUE(reader.ok() && *reader) << reader.status().message();
+    JpegRowReader& jpeg = **reader;
+    ASSERT_EQ(jpeg.width(), 83);
+    ASSERT_EQ(jpeg.height(), 71);
+    ASSERT_EQ(jpeg.channels(), 3);
+    ImageU8 banded(83, 71, 3);
+    for (int y = 0; y < 71; y += band) {
+      std::vector<uint8_t*> rows;
+      for (int r = y; r < std::min(71, y + band); ++r) rows.push_back(banded.row(r));
+      ASSERT_TRUE(jpeg.ReadRows(int(rows.size()), rows.data()).ok());
+    }
+    EXPECT_TRUE(banded == *whole) << "band of " << band;
+  }
+  const auto bytes = std::filesystem::file_size(dir / "photo.jpg");
+  std::filesystem::copy_file(dir / "photo.jpg", dir / "cut.jpg");
+  std::filesystem::resize_file(dir / "cut.jpg", bytes * 2 / 3);
+  auto cut = JpegRowReader::Open(dir / "cut.jpg", 3);
+  ASSERT_TRUE(cut.ok() && *cut);
+  ImageU8 rows_out(83, 71, 3);
+  Status last = Status::Ok();
+  for (int y = 0; y < 71 && last.ok(); ++y) {
+    uint8_t* row = rows_out.row(y);
+    last = (*cut)->ReadRows(1, &row);
+  }
+  EXPECT_FALSE(last.ok());
+  EXPECT_NE(last.message().find("cut.jpg"), std::string::npos) << last.message();
+  ASSERT_TRUE(WriteImage(dir / "flat.png", Textured(8, 8, 3, 1)).ok());
+  auto png = JpegRowReader::Open(dir / "flat.png", 3);
+  ASSERT_TRUE(png.ok());
+  EXPECT_EQ(png->get(), nullptr);
 }
 
 TEST(ImageU8IO, CopyAndCompare) {

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <future>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -18,6 +20,7 @@
 
 #include "core/atomic_file.h"
 #include "core/parallel.h"
+#include "export/ptm_quantize.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -30,10 +33,6 @@ constexpr const char* kRgbName = "PTM_FORMAT_RGB";
 constexpr double kFileUnits = 255.0;  // file coefficient = 255 * Ptm coefficient
 constexpr int kMaxSide = 1 << 20;
 
-// Coefficient k of polynomial c (0 for LRGB) at pixel (x, y), in file units.
-inline double FileCoefficient(const Ptm& ptm, int x, int y, int c, int k) {
-  return kFileUnits * ptm.coefficients.at(x, y, c * kPtmCoefficients + k);
-}
 
 // round-half-even (the default rounding mode, as std::nearbyint) and clamp to a byte. SSE2's
 // cvtsd2si rounds in that mode and is inlined; nearbyint is a libm call on baseline x86-64.
@@ -135,28 +134,25 @@ int FirstUnboundedCoefficient(const PtmQuantization& q) {
 
 }  // namespace
 
-PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
-  MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
-  // The range of every coefficient index, one row per task (min and max do not depend on order).
-  const int h = ptm.height();
-  std::vector<std::array<double, 12>> row_range(h);
-  ParallelFor(0, h, [&](int y) {
-    std::array<double, 12>& r = row_range[y];  // lo[0..5], hi[0..5]
-    std::fill(r.begin(), r.begin() + 6, std::numeric_limits<double>::infinity());
-    std::fill(r.begin() + 6, r.end(), -std::numeric_limits<double>::infinity());
-    for (int x = 0; x < ptm.width(); ++x)
-      for (int c = 0; c < ptm.polynomials(); ++c)
-        for (int k = 0; k < 6; ++k) {
-          const double a = FileCoefficient(ptm, x, y, c, k);
-          r[k] = std::min(r[k], a);
-          r[6 + k] = std::max(r[6 + k], a);
-        }
-  });
+namespace {
+
+// Each row's coefficient range and finiteness, rows in parallel.
+std::vector<CoefficientRange> RowRanges(const Ptm& ptm) {
+  std::vector<CoefficientRange> ranges(size_t(ptm.height()));
+  const int count = ptm.width() * ptm.coefficients.channels();
+  ParallelFor(0, ptm.height(), [&](int y) { ranges[size_t(y)] = RowCoefficientRange(ptm.coefficients.row(y), count); });
+  return ranges;
+}
+
+// The quantisation for rows of those (finite) ranges.
+PtmQuantization QuantizationFor(const std::vector<CoefficientRange>& ranges, bool integer_scales) {
+  // In file units: 255 * the float's min is exactly the min of 255 * each (an exact product).
   std::array<double, 6> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
-  for (const auto& r : row_range)
-    for (int k = 0; k < 6; ++k) lo[k] = std::min(lo[k], r[k]), hi[k] = std::max(hi[k], r[6 + k]);
+  for (const CoefficientRange& r : ranges)
+    for (int k = 0; k < 6; ++k)
+      lo[k] = std::min(lo[k], kFileUnits * r.lo[k]), hi[k] = std::max(hi[k], kFileUnits * r.hi[k]);
   PtmQuantization q;
   for (int k = 0; k < 6; ++k) {
     // Byte 0 decodes to -bias * scale and byte 255 to (255 - bias) * scale: find the bias whose
@@ -197,6 +193,13 @@ PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
   return q;
 }
 
+}  // namespace
+
+PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
+  MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
+  return QuantizationFor(RowRanges(ptm), integer_scales);
+}
+
 Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions& options,
                     PtmQuantization* quantization) {
   if (!ptm.IsConsistent())
@@ -204,22 +207,19 @@ Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions&
                          ": cannot write PTM: coefficient and colour images do not match "
                          "the format");
   const int w = ptm.width(), h = ptm.height();
-  // The first non-finite coefficient in file order, rows checked in parallel.
+  // The ranges for the quantisation and, in the same pass, the first non-finite coefficient in
+  // file order.
   const int per_pixel = ptm.coefficients.channels();
-  std::vector<int> first_bad_x(h, -1);
-  ParallelFor(0, h, [&](int y) {
-    const float* row = ptm.coefficients.data() + size_t(y) * w * per_pixel;
-    for (int i = 0; i < w * per_pixel; ++i)
-      if (!std::isfinite(row[i])) {
-        first_bad_x[y] = i / per_pixel;
-        return;
-      }
-  });
+  const std::vector<CoefficientRange> ranges = RowRanges(ptm);
   for (int y = 0; y < h; ++y)
-    if (first_bad_x[y] >= 0)
+    if (!ranges[size_t(y)].finite) {
+      const float* row = ptm.coefficients.row(y);
+      int x = 0;
+      while (x < w * per_pixel && std::isfinite(row[x])) ++x;
       return Status::Error(path.string() + ": cannot write PTM: non-finite coefficient at pixel (" +
-                           std::to_string(first_bad_x[y]) + ", " + std::to_string(y) + ")");
-  const PtmQuantization q = ChoosePtmQuantization(ptm, options.integer_scales);
+                           std::to_string(x / per_pixel) + ", " + std::to_string(y) + ")");
+    }
+  const PtmQuantization q = QuantizationFor(ranges, options.integer_scales);
   const bool lrgb = ptm.format == PtmFormat::kLrgb;
 
   std::string out;
@@ -236,44 +236,53 @@ Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions&
   }
   double inv_scale[6];
   for (int k = 0; k < 6; ++k) inv_scale[k] = 1.0 / double(q.scale[k]);
-  const int polynomials = ptm.polynomials();
-  // File rows (of one polynomial, or of the LRGB colour block) in storage order: per
-  // polynomial, rows bottom to top; then the colour rows, bottom to top.
-  const int file_rows = (polynomials + (lrgb ? 1 : 0)) * h;
-  auto quantize_row = [&](int file_row, unsigned char* dst) {
-    const int block = file_row / h, y = h - 1 - file_row % h;
-    if (block < polynomials) {
-      // FileCoefficient, unrolled over the row.
-      const int stride = ptm.coefficients.channels();
-      const float* src = ptm.coefficients.row(y) + block * kPtmCoefficients;
-      for (int x = 0; x < w; ++x, src += stride)
-        for (int k = 0; k < 6; ++k) *dst++ = QuantizeByte(kFileUnits * src[k] * inv_scale[k] + q.bias[k]);
-    } else {
-      for (int x = 0; x < w; ++x)
-        for (int c = 0; c < 3; ++c) *dst++ = QuantizeByte(kFileUnits * ptm.rgb.at(x, y, c));
-    }
-  };
-  // Bands of rows quantised in parallel into one reused buffer, written in order: memory stays
-  // at a few megabytes whatever the image size.
+  // The file after the header: one block per polynomial (LRGB: one; RGB: red, green, blue) of
+  // 6 bytes per pixel, then for LRGB a block of 3 colour bytes per pixel; in each block, rows run
+  // bottom to top.
+  const int polynomials = ptm.polynomials(), blocks = polynomials + (lrgb ? 1 : 0);
+  auto row_bytes = [&](int block) { return size_t(w) * (block < polynomials ? 6 : 3); };
+  auto block_offset = [&](int block) { return out.size() + size_t(block) * size_t(h) * size_t(w) * 6; };
+  // Bands of image rows, every block of a row quantised from one read of its coefficients (the
+  // RGB blocks interleave in memory: reading them block by block would stream the coefficients
+  // three times). A band's rows are contiguous in each block, reversed: each block's part is one
+  // write at its offset. Two sets of buffers take turns: one band is written (and its write-back
+  // to disk started) while the next is quantised; memory stays at a few megabytes.
+  const int band_rows = int(std::clamp<size_t>((size_t(4) << 20) / (size_t(w) * 6 * blocks), 1, size_t(h)));
   MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
-    std::ofstream file(temp, std::ios::binary | std::ios::trunc);
-    if (!file) return Status::Error(path.string() + ": cannot create");
-    file.write(out.data(), std::streamsize(out.size()));
-    const size_t widest_row = size_t(w) * 6;
-    const int band_rows = int(std::clamp<size_t>((size_t(4) << 20) / widest_row, 1, size_t(h)));
-    std::vector<unsigned char> band(size_t(band_rows) * widest_row);
-    for (int first = 0; first < file_rows && file; first += band_rows) {
-      const int rows = std::min(band_rows, file_rows - first);
-      ParallelFor(0, rows, [&](int r) { quantize_row(first + r, band.data() + size_t(r) * widest_row); });
-      for (int r = 0; r < rows; ++r) {
-        const bool colour_row = (first + r) / h >= polynomials;
-        file.write(reinterpret_cast<const char*>(band.data() + size_t(r) * widest_row),
-                   std::streamsize(colour_row ? size_t(w) * 3 : widest_row));
-      }
+    OutputFile file(temp);
+    if (!file.ok()) return Status::Error(path.string() + ": cannot create: " + std::strerror(errno));
+    file.WriteAt(0, out.data(), out.size());
+    std::vector<unsigned char> buffers[2][4];
+    for (auto& turn : buffers)
+      for (int block = 0; block < blocks; ++block) turn[block].resize(size_t(band_rows) * row_bytes(block));
+    std::future<void> writing;
+    for (int y0 = 0, turn = 0; y0 < h; y0 += band_rows, turn ^= 1) {
+      const int rows = std::min(band_rows, h - y0);
+      auto& band = buffers[turn];
+      ParallelFor(0, rows, [&](int r) {
+        const int y = y0 + r;
+        const size_t slot = size_t(rows - 1 - r);  // file rows run bottom to top
+        for (int block = 0; block < polynomials; ++block)
+          QuantizeCoefficients(ptm.coefficients.row(y) + block * kPtmCoefficients, per_pixel, w, inv_scale, q.bias.data(),
+                               band[block].data() + slot * row_bytes(block));
+        if (lrgb) {
+          unsigned char* dst = band[polynomials].data() + slot * row_bytes(polynomials);
+          const float* rgb = ptm.rgb.row(y);
+          for (int i = 0; i < 3 * w; ++i) dst[i] = QuantizeByte(kFileUnits * rgb[i]);
+        }
+      });
+      if (writing.valid()) writing.get();
+      writing = std::async(std::launch::async, [&, y0, rows, turn] {
+        const size_t first_file_row = size_t(h - y0 - rows);
+        for (int block = 0; block < blocks; ++block) {
+          const size_t offset = block_offset(block) + first_file_row * row_bytes(block);
+          file.WriteAt(offset, buffers[turn][block].data(), size_t(rows) * row_bytes(block));
+          file.StartWriteBack(offset, size_t(rows) * row_bytes(block));
+        }
+      });
     }
-    file.close();
-    if (!file) return Status::Error(path.string() + ": write failed");
-    return Status::Ok();
+    if (writing.valid()) writing.get();
+    return file.Close() ? Status::Ok() : Status::Error(path.string() + ": write failed: " + std::strerror(errno));
   }));
   if (quantization) *quantization = q;
   return Status::Ok();

@@ -12,6 +12,7 @@
 
 #include "core/directions.h"
 #include "core/parallel.h"
+#include "core/simd.h"
 #include "core/text_format.h"
 
 namespace mesocap {
@@ -209,16 +210,8 @@ typedef float Lane __attribute__((vector_size(kLane * sizeof(float))));
 inline void LoadLane(const float* p, Lane& v) { std::memcpy(&v, p, sizeof v); }
 inline void StoreLane(float* p, const Lane& v) { std::memcpy(p, &v, sizeof v); }
 
-// The kernels are also compiled for AVX2 + FMA (x86-64-v3), picked at load time where the CPU
-// has it: 8-wide fused multiply-adds instead of 4-wide multiplies and adds on baseline x86-64.
-#if defined(__x86_64__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define MESOCAP_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
-#endif
-#ifndef MESOCAP_SIMD_CLONES
-#define MESOCAP_SIMD_CLONES
-#endif
+// The kernels are also compiled for AVX2 + FMA (core/simd.h): 8-wide fused multiply-adds instead
+// of 4-wide multiplies and adds on baseline x86-64.
 
 int RoundUpToLane(int len) { return (len + kLane - 1) / kLane * kLane; }
 
@@ -296,192 +289,230 @@ Status CheckPtmImages(const std::vector<ImageT>& images) {
   return Status::Ok();
 }
 
-// The fit for images of element type T (float, or uint8 scaled by `scale` as it is read).
-template <typename ImageT>
-StatusOr<Ptm> FitPtmImpl(const std::vector<ImageT>& images, float scale,
-                         const std::vector<Eigen::Vector3d>& light_dirs,
-                         const PtmFitOptions& options, PtmFitReport* report) {
-  using T = std::remove_cv_t<std::remove_pointer_t<decltype(images[0].data())>>;
+}  // namespace
+
+// The fit of one row: rows[i] is row y of image i, width * channels values of T, each counted
+// as value * scale.
+template <typename T>
+void PtmRowFitter::FitRow(int y, const T* const* rows, float scale) {
+  const int n = n_, width = width_, channels = channels_;
+  const bool lrgb = options_.format == PtmFormat::kLrgb;
+  // Scratch buffers live per thread: allocating them per row costs more than the fit.
+  thread_local std::vector<float> obs, coef, lum, fitted, ymax, inv;
+  thread_local std::vector<double> num, den;
+  float* coef_row = ptm_.coefficients.row(y);
+  float* rgb_row = lrgb ? ptm_.rgb.row(y) : nullptr;
+  double sse = 0;
+  for (int x0 = 0; x0 < width; x0 += kBlockPixels) {
+    const int bw = std::min(kBlockPixels, width - x0);
+    // The block's observations as float, 3 interleaved values per pixel (grey replicated,
+    // alpha dropped), one zero-padded run of `stride` values per light.
+    const int len = 3 * bw, stride = RoundUpToLane(len);
+    obs.resize(size_t(n) * stride);
+    for (int i = 0; i < n; ++i) {
+      const T* src = rows[i] + size_t(x0) * channels;
+      float* dst = obs.data() + size_t(i) * stride;
+      // The inputs are n separate streams, too many for the hardware prefetcher: ask for
+      // the next block of this image while converting this one.
+      if (x0 + kBlockPixels < width) {
+        const char* next = reinterpret_cast<const char*>(src + size_t(bw) * channels);
+        const size_t bytes = size_t(std::min(kBlockPixels, width - x0 - kBlockPixels)) *
+                             channels * sizeof(T);
+        for (size_t b = 0; b < bytes; b += 64) __builtin_prefetch(next + b);
+      }
+      if (channels == 3) {
+        for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
+      } else {
+        for (int x = 0; x < bw; ++x)
+          for (int c = 0; c < 3; ++c)
+            dst[x * 3 + c] = float(src[size_t(x) * channels + (channels == 1 ? 0 : c)]) * scale;
+      }
+      for (int j = len; j < stride; ++j) dst[j] = 0.0f;
+    }
+    if (!lrgb) {
+      coef.resize(size_t(kPtmCoefficients) * stride);
+      SolveBlock(obs.data(), n, stride, p_.data(), coef.data());
+      for (int x = 0; x < bw; ++x)
+        for (int c = 0; c < 3; ++c)
+          for (int k = 0; k < kPtmCoefficients; ++k)
+            coef_row[size_t(x0 + x) * 18 + c * 6 + k] = coef[size_t(k) * stride + x * 3 + c];
+      if (options_.compute_residual)
+        sse += ResidualBlock(obs.data(), n, stride, a_f_.data(), coef.data());
+      continue;
+    }
+    // LRGB: luminance per light, normalised per pixel by its brightest observation.
+    const int lstride = RoundUpToLane(bw);
+    lum.assign(size_t(n) * lstride, 0.0f);
+    ymax.assign(lstride, 0.0f);
+    inv.assign(lstride, 0.0f);
+    for (int i = 0; i < n; ++i) {
+      const float* o = obs.data() + size_t(i) * stride;
+      float* l = lum.data() + size_t(i) * lstride;
+      for (int x = 0; x < bw; ++x) {
+        l[x] = kPtmLumaWeights[0] * o[x * 3] + kPtmLumaWeights[1] * o[x * 3 + 1] +
+               kPtmLumaWeights[2] * o[x * 3 + 2];
+        ymax[x] = std::max(ymax[x], l[x]);
+      }
+    }
+    for (int x = 0; x < bw; ++x)
+      inv[x] = ymax[x] > options_.black_level ? 1.0f / ymax[x] : 0.0f;
+    for (int i = 0; i < n; ++i) {
+      float* l = lum.data() + size_t(i) * lstride;
+      for (int x = 0; x < bw; ++x) l[x] *= inv[x];
+    }
+    coef.resize(size_t(kPtmCoefficients) * lstride);
+    SolveBlock(lum.data(), n, lstride, p_.data(), coef.data());
+    // The colour that best matches the observations given the fitted luminance:
+    // rgb_c = sum_i L_i obs_ic / sum_i L_i^2.
+    num.assign(size_t(bw) * 3, 0.0);
+    den.assign(bw, 0.0);
+    fitted.resize(lstride);
+    for (int i = 0; i < n; ++i) {
+      EvaluateBlock(coef.data(), a_f_.data() + i * kPtmCoefficients, lstride, fitted.data());
+      const float* o = obs.data() + size_t(i) * stride;
+      for (int x = 0; x < bw; ++x) {
+        const double f = fitted[x];
+        den[x] += f * f;
+        for (int c = 0; c < 3; ++c) num[x * 3 + c] += f * o[x * 3 + c];
+      }
+    }
+    for (int x = 0; x < bw; ++x) {
+      float rgb[3] = {0, 0, 0};
+      float gain = 0;  // the factor applied to the fitted polynomial
+      if (inv[x] > 0 && den[x] > 1e-20) {
+        for (int c = 0; c < 3; ++c) rgb[c] = float(std::max(0.0, num[x * 3 + c] / den[x]));
+        // Keep the colour representable in 8 bits: move any excess into the polynomial.
+        const float peak = std::max({rgb[0], rgb[1], rgb[2]});
+        gain = 1.0f;
+        if (peak > 1.0f) {
+          for (float& v : rgb) v /= peak;
+          gain = peak;
+        }
+      }
+      for (int k = 0; k < kPtmCoefficients; ++k) {
+        float& ck = coef[size_t(k) * lstride + x];
+        ck *= gain;
+        coef_row[size_t(x0 + x) * 6 + k] = ck;
+      }
+      for (int c = 0; c < 3; ++c) rgb_row[size_t(x0 + x) * 3 + c] = rgb[c];
+    }
+    for (int i = 0; i < n && options_.compute_residual; ++i) {
+      EvaluateBlock(coef.data(), a_f_.data() + i * kPtmCoefficients, lstride, fitted.data());
+      const float* o = obs.data() + size_t(i) * stride;
+      const float* rgb = rgb_row + size_t(x0) * 3;
+      float light_sse = 0;
+      for (int x = 0; x < bw; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const float r = fitted[x] * rgb[x * 3 + c] - o[x * 3 + c];
+          light_sse += r * r;
+        }
+      sse += light_sse;
+    }
+  }
+  row_sse_[size_t(y)] = sse;
+}
+
+StatusOr<PtmRowFitter> PtmRowFitter::Create(const std::vector<Eigen::Vector3d>& light_dirs, int width, int height,
+                                            int channels, const PtmFitOptions& options) {
   MESOCAP_CHECK(options.Check(), "invalid PtmFitOptions");
-  const auto start = std::chrono::steady_clock::now();
-  if (images.size() != light_dirs.size())
-    return Status::Error("PTM fit: " + std::to_string(images.size()) + " images but " +
-                         std::to_string(light_dirs.size()) +
-                         " light directions; they must pair up");
   PtmLightCheck light_check;
   MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options, &light_check));
-  MESOCAP_RETURN_IF_ERROR(CheckPtmImages(images));
-  const int n = int(images.size());
-  const int width = images[0].width(), height = images[0].height(),
-            channels = images[0].channels();
-
+  if (width <= 0 || height <= 0) return Status::Error("PTM fit: the images are empty");
+  if (channels != 1 && channels != 3 && channels != 4)
+    return Status::Error("PTM fit: images must have 1, 3 or 4 channels, not " + std::to_string(channels));
+  PtmRowFitter fitter;
+  fitter.start_ = std::chrono::steady_clock::now();
+  fitter.options_ = options;
+  fitter.light_check_ = std::move(light_check);
+  fitter.n_ = int(light_dirs.size());
+  fitter.width_ = width;
+  fitter.height_ = height;
+  fitter.channels_ = channels;
   // One shared solve: the pseudo-inverse of the light matrix maps observations to coefficients.
+  const int n = fitter.n_;
   const Eigen::MatrixXd a = LightMatrix(light_dirs);
-  const Eigen::MatrixXd pinv =
-      a.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(n, n));  // 6 x n
-  std::vector<float> p(size_t(kPtmCoefficients) * n), a_f(size_t(n) * kPtmCoefficients);
+  const Eigen::MatrixXd pinv = a.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(n, n));  // 6 x n
+  fitter.p_.resize(size_t(kPtmCoefficients) * n);
+  fitter.a_f_.resize(size_t(n) * kPtmCoefficients);
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < kPtmCoefficients; ++k) {
-      p[k * n + i] = float(pinv(k, i));
-      a_f[i * kPtmCoefficients + k] = float(a(i, k));
+      fitter.p_[k * n + i] = float(pinv(k, i));
+      fitter.a_f_[i * kPtmCoefficients + k] = float(a(i, k));
     }
-  std::vector<const T*> data(n);
-  for (int i = 0; i < n; ++i) data[i] = images[i].data();
-
-  Ptm ptm;
-  ptm.format = options.format;
   const bool lrgb = options.format == PtmFormat::kLrgb;
-  ptm.coefficients = Image(width, height, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
-  if (lrgb) ptm.rgb = Image(width, height, 3);
-  std::vector<double> row_sse(height, 0.0);
+  fitter.ptm_.format = options.format;
+  fitter.ptm_.coefficients = Image::Uninitialized(width, height, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
+  if (lrgb) fitter.ptm_.rgb = Image::Uninitialized(width, height, 3);
+  fitter.row_sse_.assign(size_t(height), 0.0);
+  return fitter;
+}
 
+template <typename T>
+void PtmRowFitter::FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale) {
+  MESOCAP_CHECK(0 <= y0 && y0 <= y1 && y1 <= height_, "PtmRowFitter: rows out of range");
   ParallelFor(
-      0, height,
+      y0, y1,
       [&](int y) {
-        // Scratch buffers live per thread: allocating them per row costs more than the fit.
-        thread_local std::vector<float> obs, coef, lum, fitted, ymax, inv;
-        thread_local std::vector<double> num, den;
-        float* coef_row = ptm.coefficients.row(y);
-        float* rgb_row = lrgb ? ptm.rgb.row(y) : nullptr;
-        double sse = 0;
-        for (int x0 = 0; x0 < width; x0 += kBlockPixels) {
-          const int bw = std::min(kBlockPixels, width - x0);
-          // The block's observations as float, 3 interleaved values per pixel (grey replicated,
-          // alpha dropped), one zero-padded run of `stride` values per light.
-          const int len = 3 * bw, stride = RoundUpToLane(len);
-          obs.resize(size_t(n) * stride);
-          for (int i = 0; i < n; ++i) {
-            const T* src = data[i] + (size_t(y) * width + x0) * channels;
-            float* dst = obs.data() + size_t(i) * stride;
-            // The inputs are n separate streams, too many for the hardware prefetcher: ask for
-            // the next block of this image while converting this one.
-            if (x0 + kBlockPixels < width) {
-              const char* next = reinterpret_cast<const char*>(src + size_t(bw) * channels);
-              const size_t bytes = size_t(std::min(kBlockPixels, width - x0 - kBlockPixels)) *
-                                   channels * sizeof(T);
-              for (size_t b = 0; b < bytes; b += 64) __builtin_prefetch(next + b);
-            }
-            if (channels == 3) {
-              for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
-            } else {
-              for (int x = 0; x < bw; ++x)
-                for (int c = 0; c < 3; ++c)
-                  dst[x * 3 + c] = float(src[size_t(x) * channels + (channels == 1 ? 0 : c)]) * scale;
-            }
-            for (int j = len; j < stride; ++j) dst[j] = 0.0f;
-          }
-          if (!lrgb) {
-            coef.resize(size_t(kPtmCoefficients) * stride);
-            SolveBlock(obs.data(), n, stride, p.data(), coef.data());
-            for (int x = 0; x < bw; ++x)
-              for (int c = 0; c < 3; ++c)
-                for (int k = 0; k < kPtmCoefficients; ++k)
-                  coef_row[size_t(x0 + x) * 18 + c * 6 + k] = coef[size_t(k) * stride + x * 3 + c];
-            if (options.compute_residual)
-              sse += ResidualBlock(obs.data(), n, stride, a_f.data(), coef.data());
-            continue;
-          }
-          // LRGB: luminance per light, normalised per pixel by its brightest observation.
-          const int lstride = RoundUpToLane(bw);
-          lum.assign(size_t(n) * lstride, 0.0f);
-          ymax.assign(lstride, 0.0f);
-          inv.assign(lstride, 0.0f);
-          for (int i = 0; i < n; ++i) {
-            const float* o = obs.data() + size_t(i) * stride;
-            float* l = lum.data() + size_t(i) * lstride;
-            for (int x = 0; x < bw; ++x) {
-              l[x] = kPtmLumaWeights[0] * o[x * 3] + kPtmLumaWeights[1] * o[x * 3 + 1] +
-                     kPtmLumaWeights[2] * o[x * 3 + 2];
-              ymax[x] = std::max(ymax[x], l[x]);
-            }
-          }
-          for (int x = 0; x < bw; ++x)
-            inv[x] = ymax[x] > options.black_level ? 1.0f / ymax[x] : 0.0f;
-          for (int i = 0; i < n; ++i) {
-            float* l = lum.data() + size_t(i) * lstride;
-            for (int x = 0; x < bw; ++x) l[x] *= inv[x];
-          }
-          coef.resize(size_t(kPtmCoefficients) * lstride);
-          SolveBlock(lum.data(), n, lstride, p.data(), coef.data());
-          // The colour that best matches the observations given the fitted luminance:
-          // rgb_c = sum_i L_i obs_ic / sum_i L_i^2.
-          num.assign(size_t(bw) * 3, 0.0);
-          den.assign(bw, 0.0);
-          fitted.resize(lstride);
-          for (int i = 0; i < n; ++i) {
-            EvaluateBlock(coef.data(), a_f.data() + i * kPtmCoefficients, lstride, fitted.data());
-            const float* o = obs.data() + size_t(i) * stride;
-            for (int x = 0; x < bw; ++x) {
-              const double f = fitted[x];
-              den[x] += f * f;
-              for (int c = 0; c < 3; ++c) num[x * 3 + c] += f * o[x * 3 + c];
-            }
-          }
-          for (int x = 0; x < bw; ++x) {
-            float rgb[3] = {0, 0, 0};
-            float gain = 0;  // the factor applied to the fitted polynomial
-            if (inv[x] > 0 && den[x] > 1e-20) {
-              for (int c = 0; c < 3; ++c) rgb[c] = float(std::max(0.0, num[x * 3 + c] / den[x]));
-              // Keep the colour representable in 8 bits: move any excess into the polynomial.
-              const float peak = std::max({rgb[0], rgb[1], rgb[2]});
-              gain = 1.0f;
-              if (peak > 1.0f) {
-                for (float& v : rgb) v /= peak;
-                gain = peak;
-              }
-            }
-            for (int k = 0; k < kPtmCoefficients; ++k) {
-              float& ck = coef[size_t(k) * lstride + x];
-              ck *= gain;
-              coef_row[size_t(x0 + x) * 6 + k] = ck;
-            }
-            for (int c = 0; c < 3; ++c) rgb_row[size_t(x0 + x) * 3 + c] = rgb[c];
-          }
-          for (int i = 0; i < n && options.compute_residual; ++i) {
-            EvaluateBlock(coef.data(), a_f.data() + i * kPtmCoefficients, lstride, fitted.data());
-            const float* o = obs.data() + size_t(i) * stride;
-            const float* rgb = rgb_row + size_t(x0) * 3;
-            float light_sse = 0;
-            for (int x = 0; x < bw; ++x)
-              for (int c = 0; c < 3; ++c) {
-                const float r = fitted[x] * rgb[x * 3 + c] - o[x * 3 + c];
-                light_sse += r * r;
-              }
-            sse += light_sse;
-          }
-        }
-        row_sse[y] = sse;
+        thread_local std::vector<const T*> rows;
+        rows.resize(size_t(n_));
+        for (int i = 0; i < n_; ++i) rows[size_t(i)] = row(i, y);
+        FitRow(y, rows.data(), scale);
       },
-      options.num_threads);
+      options_.num_threads);
+}
 
+void PtmRowFitter::FitRows(int y0, int y1, const std::function<const float*(int, int)>& row) {
+  FitRowsOf<float>(y0, y1, row, 1.0f);
+}
+
+void PtmRowFitter::FitRows(int y0, int y1, const std::function<const uint8_t*(int, int)>& row) {
+  FitRowsOf<uint8_t>(y0, y1, row, kU8ToUnit);
+}
+
+Ptm PtmRowFitter::Finish(PtmFitReport* report) {
   if (report) {
     double sse = 0;
-    for (double v : row_sse) sse += v;  // in row order: independent of the thread count
-    report->num_lights = n;
-    report->width = width;
-    report->height = height;
-    report->light_matrix_condition = light_check.condition;
-    report->warnings = light_check.warnings;
-    report->rms_residual =
-        options.compute_residual ? std::sqrt(sse / (double(width) * height * n * 3)) : -1.0;
-    report->fit_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    for (double v : row_sse_) sse += v;  // in row order: independent of the thread count
+    report->num_lights = n_;
+    report->width = width_;
+    report->height = height_;
+    report->light_matrix_condition = light_check_.condition;
+    report->warnings = light_check_.warnings;
+    report->rms_residual = options_.compute_residual ? std::sqrt(sse / (double(width_) * height_ * n_ * 3)) : -1.0;
+    report->fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
-  return ptm;
+  return std::move(ptm_);
+}
+
+namespace {
+
+// The fit of whole images of one type: FitPtm's two overloads.
+template <typename ImageT>
+StatusOr<Ptm> FitWholeImages(const std::vector<ImageT>& images, const std::vector<Eigen::Vector3d>& light_dirs,
+                             const PtmFitOptions& options, PtmFitReport* report) {
+  using T = std::remove_cv_t<std::remove_pointer_t<decltype(images[0].data())>>;
+  if (images.size() != light_dirs.size())
+    return Status::Error("PTM fit: " + std::to_string(images.size()) + " images but " +
+                         std::to_string(light_dirs.size()) + " light directions; they must pair up");
+  MESOCAP_RETURN_IF_ERROR(ValidatePtmLights(light_dirs, options));
+  MESOCAP_RETURN_IF_ERROR(CheckPtmImages(images));
+  auto fitter = PtmRowFitter::Create(light_dirs, images[0].width(), images[0].height(), images[0].channels(), options);
+  if (!fitter.ok()) return fitter.status();
+  const std::function<const T*(int, int)> row = [&](int i, int y) -> const T* { return images[size_t(i)].row(y); };
+  fitter->FitRows(0, images[0].height(), row);
+  return fitter->Finish(report);
 }
 
 }  // namespace
 
-StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
-                     const std::vector<Eigen::Vector3d>& light_dirs, const PtmFitOptions& options,
-                     PtmFitReport* report) {
-  return FitPtmImpl(images, 1.0f, light_dirs, options, report);
+StatusOr<Ptm> FitPtm(const std::vector<Image>& images, const std::vector<Eigen::Vector3d>& light_dirs,
+                     const PtmFitOptions& options, PtmFitReport* report) {
+  return FitWholeImages(images, light_dirs, options, report);
 }
 
-StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
-                     const std::vector<Eigen::Vector3d>& light_dirs, const PtmFitOptions& options,
-                     PtmFitReport* report) {
-  return FitPtmImpl(images, kU8ToUnit, light_dirs, options, report);
+StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images, const std::vector<Eigen::Vector3d>& light_dirs,
+                     const PtmFitOptions& options, PtmFitReport* report) {
+  return FitWholeImages(images, light_dirs, options, report);
 }
 
 StatusOr<Ptm> FitPtmPerPixelLights(const std::vector<Image>& images, const PixelLightFn& light_dir,

@@ -18,6 +18,9 @@
 // viewers expect display-encoded values, i.e. images read without linearisation).
 #pragma once
 
+#include <chrono>
+#include <cstdint>
+
 #include <Eigen/Core>
 #include <functional>
 #include <string>
@@ -124,6 +127,37 @@ StatusOr<Ptm> FitPtm(const std::vector<Image>& images,
 StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
                      const std::vector<Eigen::Vector3d>& light_dirs,
                      const PtmFitOptions& options = {}, PtmFitReport* report = nullptr);
+
+// The same fit row by row, for callers that stream their photos (fit-ptm decodes bands of rows
+// and never holds a photo whole). Rows may come in any order and grouping: each row's result,
+// the residual included, is the same as FitPtm's, bit for bit.
+class PtmRowFitter {
+ public:
+  // Checks the lights (ValidatePtmLights) and the shape, and allocates the result.
+  static StatusOr<PtmRowFitter> Create(const std::vector<Eigen::Vector3d>& light_dirs, int width, int height,
+                                       int channels, const PtmFitOptions& options = {});
+  // Fits rows [y0, y1) on options.num_threads threads: row(i, y) is row y of image i (width x
+  // channels values; 8-bit values count as v * kU8ToUnit), called from those threads.
+  void FitRows(int y0, int y1, const std::function<const float*(int image, int y)>& row);
+  void FitRows(int y0, int y1, const std::function<const uint8_t*(int image, int y)>& row);
+  // The PTM, once every row is fitted; the fitter is spent.
+  Ptm Finish(PtmFitReport* report = nullptr);
+
+ private:
+  PtmRowFitter() = default;
+  template <typename T>
+  void FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale);
+  template <typename T>
+  void FitRow(int y, const T* const* rows, float scale);
+
+  PtmFitOptions options_;
+  PtmLightCheck light_check_;
+  int n_ = 0, width_ = 0, height_ = 0, channels_ = 0;
+  std::vector<float> p_, a_f_;  // pinv(A) row-major 6 x n; A row-major n x 6
+  Ptm ptm_;
+  std::vector<double> row_sse_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 // Where a point light close to the sample makes the light direction differ from pixel to pixel
 // (a flash 0.5 m from a 64 mm patch: up to ~7 deg): light i's unit direction at pixel (x, y),

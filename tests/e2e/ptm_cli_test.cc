@@ -7,8 +7,12 @@
 #include <fstream>
 #include <numbers>
 
+#include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/image_u8_io.h"
+#include "core/json.h"
 #include "export/lp_file.h"
+#include "export/ptm_file.h"
 #include "reconstruct/ptm.h"
 #include "tests/testing.h"
 
@@ -145,6 +149,54 @@ TEST(PtmCli, FitsAndRelightsHeldOutDirection) {
   EXPECT_LT(vs_truth, 4.0 / 255) << vs_truth * 255 << "/255";
   std::printf("held-out relight RMS: %.3f/255 vs float fit, %.3f/255 vs ground truth\n", vs_float * 255,
               vs_truth * 255);
+}
+
+// fit-ptm streams JPEGs in bands of rows (decode, fit, quantise and write band by band, in
+// parallel): its .ptm must be byte for byte the one the plain path makes in this test: every
+// photo decoded whole, fitted whole (FitPtm) and written by WritePtmFile (whose bytes
+// export/ptm_file_test checks against a serial reference writer). 75 rows: several bands and a
+// partial last one; 37 columns: an odd pixel count for the two-pixel quantisation steps.
+TEST(PtmCli, StreamedJpegFitWritesTheBytesOfTheWholeImagePath) {
+  const auto dir = testing::MakeTempDir();
+  std::vector<LpEntry> entries;
+  std::vector<Eigen::Vector3d> lights = HemisphereLights();
+  for (size_t i = 0; i < lights.size(); ++i) {
+    Image photo(37, 75, 3);
+    for (int y = 0; y < 75; ++y)
+      for (int x = 0; x < 37; ++x)
+        for (int c = 0; c < 3; ++c)
+          photo.at(x, y, c) = float(0.3 + 0.3 * std::max(0.0, lights[i].z()) + 0.2 * std::sin(0.7 * x + 0.3 * y + c) +
+                                    0.05 * ((x * 7 + y * 13 + int(i) * 5) % 11) / 11.0);
+    entries.push_back({dir / ("shot_" + std::to_string(i) + ".jpg"), lights[i]});
+    ASSERT_TRUE(WriteImage(entries.back().image, photo).ok());
+  }
+  ASSERT_TRUE(WriteLpFile(dir / "capture.lp", entries).ok());
+  // The lights as fit-ptm reads them (the .lp's text rounds them).
+  auto read_back = ReadLpFile(dir / "capture.lp");
+  ASSERT_TRUE(read_back.ok());
+  for (size_t i = 0; i < lights.size(); ++i) lights[i] = (*read_back)[i].light_dir;
+  std::vector<ImageU8> photos;
+  for (const LpEntry& e : entries) {
+    auto photo = ReadImageU8(e.image, 3);
+    ASSERT_TRUE(photo.ok());
+    photos.push_back(std::move(*photo));
+  }
+  for (const char* format : {"rgb", "lrgb"}) {
+    std::string out;
+    ASSERT_EQ(RunFitPtm(dir, std::string("--format ") + format, &out), 0) << out;
+    PtmFitOptions options;
+    ASSERT_TRUE(StringToPtmFormat(format, &options.format));
+    auto whole = FitPtm(photos, lights, options);
+    ASSERT_TRUE(whole.ok()) << whole.status().message();
+    ASSERT_TRUE(WritePtmFile(dir / "reference.ptm", *whole).ok());
+    auto streamed = ReadTextFile(dir / "out.ptm"), reference = ReadTextFile(dir / "reference.ptm");
+    ASSERT_TRUE(streamed.ok() && reference.ok());
+    EXPECT_EQ(streamed->size(), reference->size()) << format;
+    EXPECT_TRUE(*streamed == *reference) << format << ": the streamed .ptm differs from the whole-image path";
+    auto report = ReadJsonFile(dir / "out.json");
+    ASSERT_TRUE(report.ok());
+    EXPECT_NE(report->at("read_path").get<std::string>().find("streamed"), std::string::npos);
+  }
 }
 
 TEST(PtmCli, FiveLightsFailWithOneLineAndWriteNothing) {
