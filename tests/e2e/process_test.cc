@@ -32,7 +32,8 @@ namespace fs = std::filesystem;
 // Small enough to process in seconds: 10 shots of 1500 x 1000, slices of 32 texels.
 // The options of every run, then `extra`; the BTF's grid and size unless `extra` names them.
 std::string Options(const fs::path& session, const std::string& extra = "") {
-  std::string options = " --camera " + (session / "truth.json").string() + " --slice-size 32 --no-progress";
+  std::string options = " --slice-size 32 --no-progress";
+  if (extra.find("--camera") == std::string::npos) options += " --camera " + (session / "truth.json").string();
   if (extra.find("--btf-grid") == std::string::npos) options += " --btf-grid coarse";
   if (extra.find("--btf-size") == std::string::npos) options += " --btf-size 32";
   return options + extra;
@@ -294,6 +295,42 @@ TEST_F(ProcessTest, TheReportRelightsInAHeadlessBrowserWithoutErrors) {
   ASSERT_EQ(selftest.value("canvases", 0), 2) << result;
   for (const Json& changed : selftest["changed"]) EXPECT_GT(changed.get<double>(), 0.5) << result;
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
+}
+
+// A lab's offline case: the photos as a plain folder, imported (`mesocap import`, no journal of
+// the virtual camera, no layout) and processed with the layout given: every stage runs and the
+// calibration and slices come out as from the virtual session itself.
+TEST_F(ProcessTest, AnImportedPhotoFolderProcessesLikeTheSessionItCameFrom) {
+  const fs::path virtual_session = FreshSession();
+  ASSERT_EQ(Process(virtual_session), kAllRan);
+  const fs::path photos = testing::MakeTempDir() / "photos";
+  fs::create_directories(photos);
+  for (const auto& e : fs::directory_iterator(virtual_session / "shots")) fs::copy_file(e.path(), photos / e.path().filename());
+  const fs::path imported = testing::MakeTempDir() / "imported";
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("import " + photos.string() + " --out " + imported.string() + " --no-progress", &out), 0) << out;
+  EXPECT_FALSE(fs::exists(imported / "rig_layout.json"));
+  const std::string layout = " --layout " + (virtual_session / "rig_layout.json").string() + " --camera " +
+                             (virtual_session / "truth.json").string();
+  ASSERT_EQ(Process(imported, layout), kAllRan);
+  auto rig = ReadJsonFile(imported / "calibration" / "rig.json"), original = ReadJsonFile(virtual_session / "calibration" / "rig.json");
+  ASSERT_TRUE(rig.ok() && original.ok());
+  ASSERT_EQ(rig->at("shots").size(), original->at("shots").size());
+  for (size_t k = 0; k < rig->at("shots").size(); ++k) {
+    const Json& a = rig->at("shots")[k];
+    const Json& b = original->at("shots")[k];
+    ASSERT_EQ(a.at("ok"), b.at("ok")) << k;
+    if (a.at("ok").get<bool>()) {
+      EXPECT_LT((JsonVector3d(a.at("light_m"), "light_m", 1e3) - JsonVector3d(b.at("light_m"), "light_m", 1e3)).norm(), 1e-9)
+          << k;
+    }
+  }
+  auto slices = ReadSliceIndex(imported / "slices" / "index.json"), original_slices = ReadSliceIndex(virtual_session / "slices" / "index.json");
+  ASSERT_TRUE(slices.ok() && original_slices.ok());
+  EXPECT_EQ(slices->slices.size(), original_slices->slices.size());
+  EXPECT_TRUE(fs::exists(imported / "export" / "gltf" / "material.gltf"));
+  EXPECT_EQ(Process(imported, layout), (Statuses{{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
+                                                 {"reconstruct", "skipped"}, {"export", "skipped"}}));
 }
 
 TEST_F(ProcessTest, MissingStagesAndBadOptionsAreNamedWithTheCommandThatFixesThem) {
