@@ -188,14 +188,20 @@ StatusOr<EncodeRequest> EncodingOf(const fs::path& path, const Image& image, con
   return request;
 }
 
-}  // namespace
-
-StatusOr<ImageInfo> ReadImageInfo(const fs::path& path, int part) {
+// The codec to read `path` with, once the file exists, is not empty and declares a size within
+// the limit.
+StatusOr<ImageCodec*> CodecToRead(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   if (fs::file_size(path, ec) == 0) return Status::Error(path.string() + ": empty file");
   if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
-  auto codec = LoadImageCodec();
+  return LoadImageCodec();
+}
+
+}  // namespace
+
+StatusOr<ImageInfo> ReadImageInfo(const fs::path& path, int part) {
+  auto codec = CodecToRead(path);
   if (!codec.ok()) return codec.status();
   auto info = (*codec)->ReadInfo(path, part);
   if (!info.ok()) return info.status();
@@ -204,11 +210,7 @@ StatusOr<ImageInfo> ReadImageInfo(const fs::path& path, int part) {
 }
 
 StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options, ImageInfo* info_out) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
-  if (fs::file_size(path, ec) == 0) return Status::Error(path.string() + ": empty file");
-  if (Status size = CheckDeclaredImageSize(path); !size.ok()) return size;
-  auto codec = LoadImageCodec();
+  auto codec = CodecToRead(path);
   if (!codec.ok()) return codec.status();
   Image image;
   std::vector<uint8_t> bytes;  // 8-bit sRGB samples, linearised here
