@@ -28,6 +28,8 @@ struct SynthArgs {
   ExemplarOptions exemplar;
   QuiltOptions quilt;
   RollerOptions roller;
+  BlockSynthesisOptions block;
+  bool brute_force = false;
   PaintOptions paint;
   uint32_t seed = 1;
   int threads = -1;
@@ -65,7 +67,7 @@ int Finish(const std::string& verb, const SynthMap& map, const Exemplar& e, cons
 int RunSynth(SynthArgs& a) {
   const std::string verb = "synth";
   if (!IsSynthMethod(a.method))
-    return Fail(verb, "unknown method '" + a.method + "' (roller, quilt)", kExitUsage);
+    return Fail(verb, "unknown method '" + a.method + "' (roller, quilt, ptm-block)", kExitUsage);
   int width = 0, height = 0;
   if (int code = CheckCommon(verb, a, &width, &height)) return code;
   auto e = Load(a, verb);
@@ -75,10 +77,12 @@ int RunSynth(SynthArgs& a) {
   method.width = width, method.height = height, method.seed = a.seed, method.num_threads = a.threads;
   method.roller = a.roller;
   method.quilt = a.quilt;
+  method.block = a.block;
+  method.block.search = a.brute_force ? BlockSearch::kBruteForce : BlockSearch::kRejection;
   method.svd_components = a.exemplar.svd_components;
   Json report;
   std::string note;
-  ProgressBar bar(a.method == "quilt" ? "quilting" : "roller", !a.no_progress);
+  ProgressBar bar(a.method == "quilt" ? "quilting" : a.method, !a.no_progress);
   auto map = RunSynthesisMethod(*e, method, &report, &note, bar.AsCallback());
   if (!map.ok())
     return Fail(verb, a.input.string() + ": " + map.status().message(),
@@ -162,11 +166,20 @@ Command SynthCommand() {
   Command c;
   c.name = "synth";
   c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("synth", "Enlarge a material: a texture-coordinate map by the BTF roller or graphcut quilting");
-    sub->add_option("--method", args->method, "roller or quilt")->capture_default_str();
+    CLI::App* sub = app.add_subcommand(
+        "synth", "Enlarge a material: a texture-coordinate map by the BTF roller, graphcut quilting or block synthesis (ptm-block)");
+    sub->add_option("--method", args->method, "roller, quilt or ptm-block")->capture_default_str();
     AddCommonOptions(sub, *args, true);
     AddQuiltOptions(sub, *args);
     sub->add_option("--tiles", args->roller.tiles, "Roller: tiles with identical borders")->capture_default_str();
+    sub->add_option("--block", args->block.block, "ptm-block: block side in texels (the paper: 30)")->capture_default_str();
+    sub->add_option("--overlap", args->block.overlap, "ptm-block: overlap of neighbouring blocks (0: block / 6)")->capture_default_str();
+    sub->add_option("--tolerance", args->block.tolerance,
+                    "ptm-block: blocks within (1 + tolerance) of the best neighbourhood distance are drawn from at random")
+        ->capture_default_str();
+    sub->add_option("--projections", args->block.projections, "ptm-block: basis vectors of the rejection search's lower bounds")
+        ->capture_default_str();
+    sub->add_flag("--brute-force", args->brute_force, "ptm-block: compute every candidate's distance (same result, slower)");
   };
   c.run = [args]() { return RunSynth(*args); };
   return c;

@@ -4,10 +4,10 @@
 
 namespace mesocap::app {
 
-bool IsSynthMethod(const std::string& name) { return name == "roller" || name == "quilt"; }
+bool IsSynthMethod(const std::string& name) { return name == "roller" || name == "quilt" || name == "ptm-block"; }
 
 std::string SynthMethodOptions::Check() const {
-  if (!IsSynthMethod(method)) return "unknown method '" + method + "' (roller, quilt)";
+  if (!IsSynthMethod(method)) return "unknown method '" + method + "' (roller, quilt, ptm-block)";
   if (width < 1 || height < 1 || width > 32768 || height > 32768) return "the output size must be 1..32768 a side";
   return "";
 }
@@ -41,6 +41,27 @@ StatusOr<SynthMap> RunSynthesisMethod(const Exemplar& e, const SynthMethodOption
                          {"mean_cut_error", r.mean_cut_error}, {"interior_sources", interiors}};
     report["seconds_analysis"] = r.seconds_analysis;
     report["seconds_synthesis"] = r.seconds_synthesis;
+  } else if (a.method == "ptm-block") {
+    BlockSynthesisOptions o = a.block;
+    o.width = width, o.height = height, o.seed = a.seed, o.num_threads = a.num_threads;
+    BlockSynthesisReport r;
+    map = BlockSynthesis(e.features, o, &r, progress);
+    if (!map.ok()) return map.status();
+    report["parameters"] = {{"block", o.block}, {"overlap", r.overlap}, {"tolerance", o.tolerance},
+                            {"projections", o.projections},
+                            {"search", o.search == BlockSearch::kRejection ? "rejection" : "brute force"},
+                            {"features", e.kind == ExemplarKind::kPtm ? "Legendre coefficients per colour channel"
+                                                                       : "the exemplar's features"},
+                            {"seed", o.seed}, {"width", width}, {"height", height}};
+    report["blocks"] = r.blocks;
+    report["candidates_per_query"] = r.candidates_per_query;
+    report["full_distances"] = r.full_distances;
+    report["rejected_fraction"] = r.rejected_fraction;
+    report["mean_cut_error"] = r.mean_cut_error;
+    report["seconds_basis"] = r.seconds_basis;
+    report["seconds_search"] = r.seconds_search;
+    report["seconds_cutting"] = r.seconds_cut;
+    report["seconds_synthesis"] = r.seconds;
   } else {
     QuiltOptions o = a.quilt;
     o.width = width, o.height = height, o.seed = a.seed, o.num_threads = a.num_threads;

@@ -8,6 +8,7 @@
 #include "core/json.h"
 #include "core/progress.h"
 #include "core/status.h"
+#include "synth/block_synthesis.h"
 #include "synth/exemplar.h"
 #include "synth/quilt.h"
 #include "synth/roller.h"
@@ -15,16 +16,17 @@
 
 namespace mesocap::app {
 
-// The methods `synth` and `process --synth` accept: roller, quilt.
+// The methods `synth` and `process --synth` accept: roller, quilt, ptm-block.
 bool IsSynthMethod(const std::string& name);
 
 struct SynthMethodOptions {
-  std::string method = "quilt";  // roller | quilt
+  std::string method = "quilt";  // roller | quilt | ptm-block
   int width = 512, height = 512;
   uint32_t seed = 1;
   int num_threads = -1;
   RollerOptions roller;  // its size, seed and threads come from the fields above
   QuiltOptions quilt;    // likewise
+  BlockSynthesisOptions block;  // likewise
   int svd_components = 40;  // reported only: the exemplar's features were made with it
   std::string Check() const;  // empty when valid
 };

@@ -52,7 +52,7 @@ Eigen::Matrix<T, 3, 1> NormalFromSlope(const T* slope) {
 // is affine in it: core/pbr_brdf.h), clamped to [0, 1], and the residuals it leaves (model minus
 // observed, per observation and channel) when `residuals` is given.
 template <typename T>
-Eigen::Matrix<T, 3, 1> ProjectBaseColor(const std::vector<Observation>& dirs, const float* values, const T& roughness,
+__attribute__((flatten)) Eigen::Matrix<T, 3, 1> ProjectBaseColor(const std::vector<Observation>& dirs, const float* values, const T& roughness,
                                         const T& metallic, const Eigen::Matrix<T, 3, 1>& n, T* residuals) {
   thread_local std::vector<PbrAffine<T>> terms;
   terms.resize(dirs.size());

@@ -12,6 +12,7 @@
 #include "core/slice_index.h"
 #include "core/parallel.h"
 #include "export/ptm_file.h"
+#include "reconstruct/ptm_legendre.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -159,19 +160,6 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
   return result;
 }
 
-Image PtmFeatures(const Ptm& ptm) {
-  Image out(ptm.width(), ptm.height(), 18);
-  for (int y = 0; y < ptm.height(); ++y)
-    for (int x = 0; x < ptm.width(); ++x) {
-      const float* a = ptm.coefficients.pixel(x, y);
-      float* f = out.pixel(x, y);
-      for (int c = 0; c < 3; ++c)
-        for (int k = 0; k < 6; ++k)
-          f[6 * c + k] = ptm.format == PtmFormat::kLrgb ? a[k] * ptm.rgb.at(x, y, c) : a[6 * c + k];
-    }
-  return out;
-}
-
 Exemplar ImageExemplar(Image image) {
   Exemplar e;
   e.kind = ExemplarKind::kImage;
@@ -279,7 +267,9 @@ StatusOr<Exemplar> LoadExemplar(const fs::path& path, const ExemplarOptions& opt
     e.path = path;
     e.width = ptm->width();
     e.height = ptm->height();
-    e.features = PtmFeatures(*ptm);
+    // Each colour channel's reflectance function in the orthonormal Legendre basis: feature
+    // distances are L2 distances between the functions (reconstruct/ptm_legendre.h).
+    e.features = PtmLegendreCoefficients(*ptm);
     e.preview = RelightPtm(*ptm, Eigen::Vector3d::UnitZ());
     e.ptm = std::move(*ptm);
     return e;

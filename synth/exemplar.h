@@ -2,7 +2,8 @@
 // (`mesocap reconstruct` output, or a session's measured slices of one board), or a .ptm.
 // Matching never touches all slices: it uses `features`, one vector per texel: the image's
 // linear colours, the BTF's geometry maps from a streamed SVD of its slices (Zhou 2005 §III-A,
-// n = 40), or the PTM's per-colour polynomial coefficients.
+// n = 40), or the PTM's per-colour polynomials in the orthonormal Legendre basis
+// (reconstruct/ptm_legendre.h).
 #pragma once
 
 #include <filesystem>
@@ -78,9 +79,5 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
                                              int components, int power_iterations, bool normalize = true,
                                              int num_threads = -1,
                                              const ProgressFn& progress = nullptr);
-
-// The PTM's per-colour polynomials as one 18-vector per texel (LRGB: the luminance polynomial
-// times each colour), the quantity relighting is linear in.
-Image PtmFeatures(const Ptm& ptm);
 
 }  // namespace mesocap

@@ -1,0 +1,331 @@
+#include "synth/block_synthesis.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+#include "core/parallel.h"
+#include "core/text_format.h"
+
+namespace mesocap {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+enum Shape { kLeft = 0, kTop = 1, kBoth = 2 };
+
+// The block texels a neighbourhood of `shape` compares (row-major): the left strip of `overlap`
+// columns, the top strip of `overlap` rows, or both.
+std::vector<Eigen::Vector2i> ShapeOffsets(Shape shape, int block, int overlap) {
+  std::vector<Eigen::Vector2i> offsets;
+  for (int dy = 0; dy < block; ++dy)
+    for (int dx = 0; dx < block; ++dx) {
+      const bool left = dx < overlap, top = dy < overlap;
+      if ((shape == kLeft && left) || (shape == kTop && top) || (shape == kBoth && (left || top)))
+        offsets.emplace_back(dx, dy);
+    }
+  return offsets;
+}
+
+}  // namespace
+
+// The lower-bound machinery of one neighbourhood shape: an orthonormal basis of the unfolded
+// neighbourhood vectors and every candidate's projection onto it.
+class BlockSearchIndex {
+ public:
+  std::vector<Eigen::Vector2i> offsets;
+  int features = 0;
+  Eigen::MatrixXd basis;       // k x q, orthonormal columns
+  Eigen::MatrixXd projection;  // q x candidates
+
+  long dimension() const { return long(offsets.size()) * features; }
+
+  // The unfolded neighbourhood of the block whose top-left texel is (x0, y0) in `image`.
+  void Gather(const Image& image, int x0, int y0, double* out) const {
+    for (const Eigen::Vector2i& o : offsets) {
+      const float* p = image.pixel(x0 + o.x(), y0 + o.y());
+      for (int f = 0; f < features; ++f) *out++ = p[f];
+    }
+  }
+};
+
+namespace {
+
+// The first `q` principal directions (uncentred) of the neighbourhoods of up to 2048 evenly
+// spread candidates: a randomized SVD (Halko et al.: 8 extra columns, 2 power iterations). Any
+// orthonormal basis keeps the bounds exact; this one makes them tight.
+Eigen::MatrixXd NeighbourhoodBasis(const BlockSearchIndex& index, const Image& sample, int columns, long candidates, int q) {
+  const long k = index.dimension();
+  const long rows = std::min<long>(candidates, 2048);
+  Eigen::MatrixXd a(rows, k);
+  for (long r = 0; r < rows; ++r) {
+    const long c = r * candidates / rows;
+    Eigen::VectorXd v(k);
+    index.Gather(sample, int(c % columns), int(c / columns), v.data());
+    a.row(r) = v.transpose();
+  }
+  const int width = int(std::min<long>(k, q + 8));
+  std::mt19937 rng(12345);
+  std::normal_distribution<double> gauss;
+  Eigen::MatrixXd omega(k, width);
+  for (long i = 0; i < omega.size(); ++i) omega.data()[i] = gauss(rng);
+  Eigen::MatrixXd y = a * omega;
+  for (int pass = 0; pass < 2; ++pass) {
+    y = Eigen::HouseholderQR<Eigen::MatrixXd>(y).householderQ() * Eigen::MatrixXd::Identity(rows, width);
+    y = a * (a.transpose() * y);
+  }
+  const Eigen::MatrixXd range = Eigen::HouseholderQR<Eigen::MatrixXd>(y).householderQ() * Eigen::MatrixXd::Identity(rows, width);
+  const Eigen::MatrixXd b = range.transpose() * a;  // width x k
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(b, Eigen::ComputeThinV);
+  const Eigen::MatrixXd v = svd.matrixV().leftCols(std::min(q, width));
+  // Orthonormal to double precision, whatever the SVD left.
+  return Eigen::HouseholderQR<Eigen::MatrixXd>(v).householderQ() * Eigen::MatrixXd::Identity(k, v.cols());
+}
+
+// Squared L2 distance between the query's neighbourhood and candidate (x, y)'s, summed in a fixed
+// order; stops early (returning a value above `stop`) once the sum exceeds `stop`.
+double NeighbourhoodDistance(const BlockSearchIndex& index, const Image& sample, const double* query, int x, int y,
+                             double stop) {
+  double sum = 0;
+  const int f = index.features;
+  for (size_t t = 0; t < index.offsets.size(); ++t) {
+    const float* p = sample.pixel(x + index.offsets[t].x(), y + index.offsets[t].y());
+    const double* q = query + t * f;
+    for (int i = 0; i < f; ++i) {
+      const double d = q[i] - double(p[i]);
+      sum += d * d;
+    }
+    if (sum > stop) return sum;
+  }
+  return sum;
+}
+
+// The candidates within (1 + tolerance) of the best distance, in index order.
+std::vector<BlockCandidate> WithinTolerance(std::vector<BlockCandidate> found, double tolerance) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const BlockCandidate& c : found) best = std::min(best, c.distance);
+  const double limit = best * (1 + tolerance);
+  found.erase(std::remove_if(found.begin(), found.end(), [&](const BlockCandidate& c) { return c.distance > limit; }),
+              found.end());
+  std::sort(found.begin(), found.end(), [](const BlockCandidate& a, const BlockCandidate& b) { return a.index < b.index; });
+  return found;
+}
+
+}  // namespace
+
+Status BlockSynthesisOptions::Check(int sample_width, int sample_height) const {
+  if (width < 1 || height < 1) return Status::Error("the output size must be at least 1 x 1");
+  if (block < 2) return Status::Error("the block must be at least 2 texels");
+  if (overlap < 0 || EffectiveOverlap() >= block)
+    return Status::Error(Format("the overlap (%d) must be smaller than the block (%d)", EffectiveOverlap(), block));
+  if (sample_width < block || sample_height < block)
+    return Status::Error(Format("the sample (%dx%d) is smaller than a block (%d x %d): use a smaller --block", sample_width,
+                                sample_height, block, block));
+  if (!(tolerance >= 0)) return Status::Error("the tolerance must be at least 0");
+  if (projections < 1) return Status::Error("at least one projection is needed for the lower bounds");
+  return Status::Ok();
+}
+
+BlockSearcher::BlockSearcher(const Image& sample_features, int block, int overlap, int projections, int num_threads)
+    : sample_(sample_features), block_(block), overlap_(overlap), num_threads_(num_threads) {
+  const auto start = std::chrono::steady_clock::now();
+  const int columns = candidate_columns();
+  const long candidates = candidate_count();
+  for (Shape shape : {kLeft, kTop, kBoth}) {
+    auto index = std::make_unique<BlockSearchIndex>();
+    index->offsets = ShapeOffsets(shape, block, overlap);
+    index->features = sample_features.channels();
+    index->basis = NeighbourhoodBasis(*index, sample_features, columns, candidates, projections);
+    index->projection.resize(index->basis.cols(), candidates);
+    const BlockSearchIndex& ix = *index;
+    Eigen::MatrixXd& projection = index->projection;
+    ParallelFor(
+        0, int(candidates),
+        [&](int c) {
+          thread_local Eigen::VectorXd v;
+          v.resize(ix.dimension());
+          ix.Gather(sample_, c % columns, c / columns, v.data());
+          projection.col(c) = ix.basis.transpose() * v;
+        },
+        num_threads);
+    indexes_[shape] = std::move(index);
+  }
+  seconds_basis_ = SecondsSince(start);
+}
+
+BlockSearcher::~BlockSearcher() = default;
+
+int BlockSearcher::candidate_columns() const { return sample_.width() - block_ + 1; }
+long BlockSearcher::candidate_count() const { return long(candidate_columns()) * (sample_.height() - block_ + 1); }
+
+BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, double tolerance, BlockSearch search) const {
+  MESOCAP_CHECK(x0 > 0 || y0 > 0, "the first block has no neighbourhood to search with");
+  const BlockSearchIndex& index = *indexes_[x0 > 0 && y0 > 0 ? kBoth : (x0 > 0 ? kLeft : kTop)];
+  const int columns = candidate_columns();
+  const long candidates = candidate_count();
+  Eigen::VectorXd query(index.dimension());
+  index.Gather(output, x0, y0, query.data());
+  BlockSearchResult result;
+  const double inf = std::numeric_limits<double>::infinity();
+  if (search == BlockSearch::kBruteForce) {
+    std::vector<double> distance(static_cast<size_t>(candidates));
+    ParallelFor(
+        0, int(candidates),
+        [&](int c) { distance[size_t(c)] = NeighbourhoodDistance(index, sample_, query.data(), c % columns, c / columns, inf); },
+        num_threads_);
+    std::vector<BlockCandidate> all(static_cast<size_t>(candidates));
+    for (long c = 0; c < candidates; ++c) all[size_t(c)] = {c, distance[size_t(c)]};
+    result.full_distances = candidates;
+    result.candidates = WithinTolerance(std::move(all), tolerance);
+    return result;
+  }
+  // Lower bounds from the projections, then full distances in order of the bound until the bound
+  // passes the threshold: every candidate left unevaluated has a bound, hence a distance, above it.
+  const Eigen::VectorXd projected = index.basis.transpose() * query;
+  std::vector<double> bound(static_cast<size_t>(candidates));
+  ParallelFor(
+      0, int(candidates), [&](int c) { bound[size_t(c)] = (index.projection.col(c) - projected).squaredNorm(); },
+      num_threads_);
+  std::vector<long> order(static_cast<size_t>(candidates));
+  std::iota(order.begin(), order.end(), 0L);
+  std::sort(order.begin(), order.end(), [&](long a, long b) { return bound[size_t(a)] < bound[size_t(b)] || (bound[size_t(a)] == bound[size_t(b)] && a < b); });
+  std::vector<BlockCandidate> found;
+  double best = inf, threshold = inf;
+  for (long c : order) {
+    // The bound is exact up to rounding (relative 1e-12 in doubles): a small margin keeps a
+    // candidate whose distance equals the threshold.
+    if (bound[size_t(c)] * (1 - 1e-9) > threshold) break;
+    const double d = NeighbourhoodDistance(index, sample_, query.data(), int(c % columns), int(c / columns), threshold);
+    ++result.full_distances;
+    if (d > threshold) continue;
+    found.push_back({c, d});
+    if (d < best) best = d, threshold = best * (1 + tolerance);
+  }
+  result.rejected = candidates - result.full_distances;
+  result.candidates = WithinTolerance(std::move(found), tolerance);
+  return result;
+}
+
+namespace {
+
+// Minimum-error boundary cut through an overlap (Efros & Freeman): along each of `length` lines,
+// the position in [0, width) where the cut passes, found by dynamic programming on the error
+// error(line, position) with steps of at most one position between lines.
+std::vector<int> MinimumErrorCut(int length, int width, const std::function<double(int, int)>& error, double* cut_error) {
+  std::vector<double> cost(size_t(length) * width);
+  std::vector<int> from(size_t(length) * width, 0);
+  for (int p = 0; p < width; ++p) cost[size_t(p)] = error(0, p);
+  for (int l = 1; l < length; ++l)
+    for (int p = 0; p < width; ++p) {
+      int best = p;
+      for (int q = std::max(0, p - 1); q <= std::min(width - 1, p + 1); ++q)
+        if (cost[size_t(l - 1) * width + q] < cost[size_t(l - 1) * width + best]) best = q;
+      cost[size_t(l) * width + p] = error(l, p) + cost[size_t(l - 1) * width + best];
+      from[size_t(l) * width + p] = best;
+    }
+  std::vector<int> path(static_cast<size_t>(length));
+  int p = int(std::min_element(cost.end() - width, cost.end()) - (cost.end() - width));
+  *cut_error = cost[size_t(length - 1) * width + p] / length;
+  for (int l = length - 1; l >= 0; --l) {
+    path[size_t(l)] = p;
+    p = from[size_t(l) * width + p];
+  }
+  return path;
+}
+
+double TexelError(const Image& a, int ax, int ay, const Image& b, int bx, int by) {
+  const float* p = a.pixel(ax, ay);
+  const float* q = b.pixel(bx, by);
+  double sum = 0;
+  for (int f = 0; f < a.channels(); ++f) sum += double(p[f] - q[f]) * (p[f] - q[f]);
+  return sum;
+}
+
+}  // namespace
+
+StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptions& options, BlockSynthesisReport* report,
+                                  const ProgressFn& progress, Image* built) {
+  MESOCAP_RETURN_IF_ERROR(options.Check(sample.width(), sample.height()));
+  const auto start = std::chrono::steady_clock::now();
+  const int block = options.block, overlap = options.EffectiveOverlap(), step = block - overlap;
+  const int blocks_x = std::max(1, (options.width - overlap + step - 1) / step);
+  const int blocks_y = std::max(1, (options.height - overlap + step - 1) / step);
+  const int canvas_w = blocks_x * step + overlap, canvas_h = blocks_y * step + overlap;
+  BlockSearcher searcher(sample, block, overlap, options.projections, options.num_threads);
+  BlockSynthesisReport r;
+  r.overlap = overlap;
+  r.candidates_per_query = searcher.candidate_count();
+  r.seconds_basis = searcher.seconds_basis();
+  Image canvas(canvas_w, canvas_h, sample.channels());
+  SynthMap full(canvas_w, canvas_h, sample.width(), sample.height(), "ptm-block");
+  std::mt19937 rng(options.seed);
+  long rejected = 0;
+  double cut_error_sum = 0;
+  int cuts = 0;
+  for (int by = 0; by < blocks_y; ++by) {
+    for (int bx = 0; bx < blocks_x; ++bx) {
+      const int x0 = bx * step, y0 = by * step;
+      long chosen = 0;
+      auto search_start = std::chrono::steady_clock::now();
+      if (bx == 0 && by == 0) {
+        chosen = std::uniform_int_distribution<long>(0, searcher.candidate_count() - 1)(rng);
+      } else {
+        const BlockSearchResult found = searcher.Search(canvas, x0, y0, options.tolerance, options.search);
+        ++r.queries;
+        r.full_distances += found.full_distances;
+        rejected += found.rejected;
+        chosen = found.candidates[std::uniform_int_distribution<size_t>(0, found.candidates.size() - 1)(rng)].index;
+      }
+      r.seconds_search += SecondsSince(search_start);
+      const auto cut_start = std::chrono::steady_clock::now();
+      const int sx = int(chosen % searcher.candidate_columns()), sy = int(chosen / searcher.candidate_columns());
+      // The cuts: the new block starts right of the vertical cut and below the horizontal one.
+      std::vector<int> column_cut(static_cast<size_t>(block), 0), row_cut(static_cast<size_t>(block), 0);
+      double cut_error = 0;
+      if (bx > 0) {
+        column_cut = MinimumErrorCut(block, overlap, [&](int dy, int dx) { return TexelError(canvas, x0 + dx, y0 + dy, sample, sx + dx, sy + dy); },
+                                     &cut_error);
+        cut_error_sum += cut_error, ++cuts;
+      }
+      if (by > 0) {
+        row_cut = MinimumErrorCut(block, overlap, [&](int dx, int dy) { return TexelError(canvas, x0 + dx, y0 + dy, sample, sx + dx, sy + dy); },
+                                  &cut_error);
+        cut_error_sum += cut_error, ++cuts;
+      }
+      const int32_t id = by * blocks_x + bx;
+      for (int dy = 0; dy < block; ++dy)
+        for (int dx = 0; dx < block; ++dx) {
+          if (dx < column_cut[size_t(dy)] || dy < row_cut[size_t(dx)]) continue;
+          std::copy_n(sample.pixel(sx + dx, sy + dy), sample.channels(), canvas.pixel(x0 + dx, y0 + dy));
+          full.Set(x0 + dx, y0 + dy, float(sx + dx) + 0.5f, float(sy + dy) + 0.5f, 0, id);
+        }
+      r.seconds_cut += SecondsSince(cut_start);
+      ++r.blocks;
+    }
+    if (progress) progress(by + 1, blocks_y, "blocks");
+  }
+  SynthMap map(options.width, options.height, sample.width(), sample.height(), "ptm-block");
+  for (int y = 0; y < options.height; ++y)
+    for (int x = 0; x < options.width; ++x) {
+      const size_t i = full.index(x, y);
+      map.Set(x, y, full.source_x[i], full.source_y[i], 0, full.patch[i]);
+    }
+  if (built) {
+    *built = Image(options.width, options.height, sample.channels());
+    for (int y = 0; y < options.height; ++y)
+      std::copy_n(canvas.row(y), size_t(options.width) * sample.channels(), built->row(y));
+  }
+  r.rejected_fraction = r.queries ? double(rejected) / (double(r.queries) * r.candidates_per_query) : 0;
+  r.mean_cut_error = cuts ? cut_error_sum / cuts : 0;
+  r.seconds = SecondsSince(start);
+  if (report) *report = r;
+  return map;
+}
+
+}  // namespace mesocap
