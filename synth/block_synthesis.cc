@@ -215,18 +215,23 @@ BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, dou
 namespace {
 
 // Minimum-error boundary cut through an overlap (Efros & Freeman): along each of `length` lines,
-// the position in [0, width) where the cut passes, found by dynamic programming on the error
-// error(line, position) with steps of at most one position between lines.
-std::vector<int> MinimumErrorCut(int length, int width, const std::function<double(int, int)>& error, double* cut_error) {
+// the position in [0, width) of the first new texel, found by dynamic programming, moving at most
+// one position between lines. `error(line, position)` is the cost of cutting there and
+// `shift(line, from, to)` the cost of the path moving between lines (the steps it leaves across).
+std::vector<int> MinimumErrorCut(int length, int width, const std::function<double(int, int)>& error,
+                                 const std::function<double(int, int, int)>& shift, double* cut_error) {
   std::vector<double> cost(size_t(length) * width);
   std::vector<int> from(size_t(length) * width, 0);
   for (int p = 0; p < width; ++p) cost[size_t(p)] = error(0, p);
   for (int l = 1; l < length; ++l)
     for (int p = 0; p < width; ++p) {
+      double best_cost = std::numeric_limits<double>::infinity();
       int best = p;
-      for (int q = std::max(0, p - 1); q <= std::min(width - 1, p + 1); ++q)
-        if (cost[size_t(l - 1) * width + q] < cost[size_t(l - 1) * width + best]) best = q;
-      cost[size_t(l) * width + p] = error(l, p) + cost[size_t(l - 1) * width + best];
+      for (int q = std::max(0, p - 1); q <= std::min(width - 1, p + 1); ++q) {
+        const double c = cost[size_t(l - 1) * width + q] + (q == p ? 0.0 : shift(l, q, p));
+        if (c < best_cost) best_cost = c, best = q;
+      }
+      cost[size_t(l) * width + p] = error(l, p) + best_cost;
       from[size_t(l) * width + p] = best;
     }
   std::vector<int> path(static_cast<size_t>(length));
@@ -239,12 +244,12 @@ std::vector<int> MinimumErrorCut(int length, int width, const std::function<doub
   return path;
 }
 
-double TexelError(const Image& a, int ax, int ay, const Image& b, int bx, int by) {
+double StepError(const Image& a, int ax, int ay, const Image& b, int bx, int by) {
   const float* p = a.pixel(ax, ay);
   const float* q = b.pixel(bx, by);
   double sum = 0;
   for (int f = 0; f < a.channels(); ++f) sum += double(p[f] - q[f]) * (p[f] - q[f]);
-  return sum;
+  return std::sqrt(sum);
 }
 
 }  // namespace
@@ -288,14 +293,30 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
       // The cuts: the new block starts right of the vertical cut and below the horizontal one.
       std::vector<int> column_cut(static_cast<size_t>(block), 0), row_cut(static_cast<size_t>(block), 0);
       double cut_error = 0;
+      // The step between the old texel at block offset `old` and the new one at `fresh`.
+      const auto step_between = [&](int old_x, int old_y, int new_x, int new_y) {
+        return StepError(canvas, x0 + old_x, y0 + old_y, sample, sx + new_x, sy + new_y);
+      };
+      // A cut along lines (rows for the vertical cut, columns for the horizontal one): `at(line,
+      // position)` is the block offset. Cutting at p leaves old p-1 next to new p; moving from q
+      // to q+1 between lines leaves new q on the line before next to old q on this one, and from
+      // q to q-1 old q-1 on the line before next to new q-1 on this one.
+      const auto cut_along = [&](bool rows) {
+        const auto at = [rows](int line, int position) { return rows ? std::pair{position, line} : std::pair{line, position}; };
+        const auto step = [&](std::pair<int, int> old_texel, std::pair<int, int> new_texel) {
+          return step_between(old_texel.first, old_texel.second, new_texel.first, new_texel.second);
+        };
+        return MinimumErrorCut(
+            block, overlap, [&](int l, int p) { return step(at(l, p - 1), at(l, p)); },
+            [&](int l, int q, int p) { return p > q ? step(at(l, q), at(l - 1, q)) : step(at(l - 1, p), at(l, p)); },
+            &cut_error);
+      };
       if (bx > 0) {
-        column_cut = MinimumErrorCut(block, overlap, [&](int dy, int dx) { return TexelError(canvas, x0 + dx, y0 + dy, sample, sx + dx, sy + dy); },
-                                     &cut_error);
+        column_cut = cut_along(true);
         cut_error_sum += cut_error, ++cuts;
       }
       if (by > 0) {
-        row_cut = MinimumErrorCut(block, overlap, [&](int dx, int dy) { return TexelError(canvas, x0 + dx, y0 + dy, sample, sx + dx, sy + dy); },
-                                  &cut_error);
+        row_cut = cut_along(false);
         cut_error_sum += cut_error, ++cuts;
       }
       const int32_t id = by * blocks_x + bx;

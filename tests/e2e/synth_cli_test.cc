@@ -3,8 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/json.h"
+#include "export/ptm_file.h"
+#include "synth/synth_map.h"
 #include "synth/synth_test_support.h"
 #include "tests/testing.h"
 
@@ -39,6 +44,49 @@ TEST(SynthCli, QuiltAndRollerOutputsAndSynthApplyReproducesEverySlice) {
       EXPECT_TRUE(*a == *b) << method << " " << file;  // bit for bit
     }
   }
+}
+
+// ptm-block on a .ptm: the synthesized .ptm relights as the sample's texels the map names, under
+// any light (the coefficients are copied, through the Legendre basis and back); synth-apply writes
+// the same file; the report gives the rejection search's figures.
+TEST(SynthCli, PtmBlockSynthesisOfAPtm) {
+  const fs::path dir = testing::MakeTempDir();
+  Ptm ptm;
+  ptm.format = PtmFormat::kRgb;
+  ptm.coefficients = Image(48, 40, 18);
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int k = 0; k < 18; ++k)
+        ptm.coefficients.at(x, y, k) = float(0.2 + 0.1 * std::sin(0.4 * x + 0.7 * y + k) + (k % 6 == 5 ? 0.4 : 0.0));
+  ASSERT_TRUE(WritePtmFile(dir / "sample.ptm", ptm).ok());
+  std::string log;
+  const fs::path out = dir / "block", applied = dir / "applied";
+  ASSERT_EQ(testing::RunMesocap("synth --method ptm-block --block 12 --input " + (dir / "sample.ptm").string() +
+                                    " --size 70x50 --no-progress --out " + out.string(),
+                                &log),
+            0)
+      << log;
+  auto synthesized = ReadPtmFile(out / "synth.ptm"), sample = ReadPtmFile(dir / "sample.ptm");
+  ASSERT_TRUE(synthesized.ok() && sample.ok()) << log;
+  auto map = ReadSynthMap(out / "map.exr");
+  ASSERT_TRUE(map.ok());
+  EXPECT_EQ(map->method, "ptm-block");
+  const Eigen::Vector3d light = Eigen::Vector3d(0.3, -0.4, 0.8).normalized();
+  const Image a = RelightPtm(*synthesized, light), b = ApplyMapToImage(*map, RelightPtm(*sample, light));
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a.data()[i], b.data()[i], 2.0 / 255) << i;
+  auto report = ReadJsonFile(out / "report.json");
+  ASSERT_TRUE(report.ok());
+  EXPECT_GT((*report)["rejected_fraction"].get<double>(), 0.5);
+  EXPECT_EQ((*report)["parameters"]["block"].get<int>(), 12);
+  ASSERT_EQ(testing::RunMesocap("synth-apply --map " + (out / "map.exr").string() + " --input " + (dir / "sample.ptm").string() +
+                                    " --no-progress --out " + applied.string(),
+                                &log),
+            0)
+      << log;
+  auto again = ReadTextFile(applied / "synth.ptm"), first = ReadTextFile(out / "synth.ptm");
+  ASSERT_TRUE(again.ok() && first.ok());
+  EXPECT_TRUE(*again == *first);
 }
 
 TEST(SynthCli, BadInputsGiveOneLineTheRightCodeAndNoOutput) {
