@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "app/demo_reconstruct.h"
 #include "app/process.h"
+#include "app/demo_synthesis.h"
 #include "app/stage_clock.h"
 #include "calib/calibrate.h"
 #include "calib/resample.h"
@@ -267,6 +268,8 @@ int RunDemo(DemoArgs& a) {
   rec.progress = !a.no_progress;
   rec.clock = &clock;
   if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st.message());
+  if (Status st = AddSynthesisToDemo(a.out, session_dir, rec.top_board, &clock, &report); !st.ok())
+    return Fail("demo", st.message());
 
   clock.Stop();
   AddTiming(clock, &report);
