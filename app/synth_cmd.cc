@@ -30,6 +30,7 @@ struct SynthArgs {
   RollerOptions roller;
   BlockSynthesisOptions block;
   bool brute_force = false;
+  std::string block_basis = "principal";
   PaintOptions paint;
   uint32_t seed = 1;
   int threads = -1;
@@ -79,6 +80,9 @@ int RunSynth(SynthArgs& a) {
   method.quilt = a.quilt;
   method.block = a.block;
   method.block.search = a.brute_force ? BlockSearch::kBruteForce : BlockSearch::kRejection;
+  if (a.block_basis != "principal" && a.block_basis != "walsh")
+    return Fail(verb, "--bound-basis must be principal or walsh, not '" + a.block_basis + "'", kExitUsage);
+  method.block.basis = a.block_basis == "walsh" ? BlockBasis::kWalshHadamard : BlockBasis::kPrincipal;
   method.svd_components = a.exemplar.svd_components;
   Json report;
   std::string note;
@@ -180,6 +184,9 @@ Command SynthCommand() {
     sub->add_option("--projections", args->block.projections, "ptm-block: basis vectors of the rejection search's lower bounds")
         ->capture_default_str();
     sub->add_flag("--brute-force", args->brute_force, "ptm-block: compute every candidate's distance (same result, slower)");
+    sub->add_option("--bound-basis", args->block_basis,
+                    "ptm-block: basis of the lower bounds: principal (the neighbourhoods' SVD) or walsh (Walsh-Hadamard)")
+        ->capture_default_str();
   };
   c.run = [args]() { return RunSynth(*args); };
   return c;

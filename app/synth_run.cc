@@ -53,6 +53,7 @@ StatusOr<SynthMap> RunBlocks(const Exemplar& e, const SynthMethodOptions& a, Jso
   (*report)["parameters"] = {{"block", o.block}, {"overlap", r.overlap}, {"tolerance", o.tolerance},
                              {"projections", o.projections},
                              {"search", o.search == BlockSearch::kRejection ? "rejection" : "brute force"},
+                             {"bound_basis", o.basis == BlockBasis::kPrincipal ? "principal directions" : "Walsh-Hadamard"},
                              {"features", e.kind == ExemplarKind::kPtm ? "Legendre coefficients per colour channel"
                                                                         : "the exemplar's features"},
                              {"seed", o.seed}, {"width", o.width}, {"height", o.height}};

@@ -88,6 +88,25 @@ Eigen::MatrixXd NeighbourhoodBasis(const BlockSearchIndex& index, const Image& s
   return Eigen::HouseholderQR<Eigen::MatrixXd>(v).householderQ() * Eigen::MatrixXd::Identity(k, v.cols());
 }
 
+// The first `q` Walsh functions in sequency order on `k` entries (a vector zero-padded to the next
+// power of two N): row i is the natural-order Hadamard row bitreverse(gray(i)), scaled by
+// 1/sqrt(N). Truncated to k entries the rows are not orthonormal in R^k, but the padded vector's
+// projections on the full rows still sum to at most its squared norm: the bounds stay exact.
+Eigen::MatrixXd WalshBasis(long k, int q) {
+  int bits = 0;
+  while ((long(1) << bits) < k) ++bits;
+  const double scale = 1.0 / std::sqrt(double(long(1) << bits));
+  Eigen::MatrixXd basis(k, std::min<long>(q, long(1) << bits));
+  for (long i = 0; i < basis.cols(); ++i) {
+    const long gray = i ^ (i >> 1);
+    long row = 0;
+    for (int b = 0; b < bits; ++b)
+      if (gray & (long(1) << b)) row |= long(1) << (bits - 1 - b);
+    for (long c = 0; c < k; ++c) basis(c, i) = __builtin_popcountl(row & c) % 2 ? -scale : scale;
+  }
+  return basis;
+}
+
 // Squared L2 distance between the query's neighbourhood and candidate (x, y)'s, summed in a fixed
 // order; stops early (returning a value above `stop`) once the sum exceeds `stop`.
 double NeighbourhoodDistance(const BlockSearchIndex& index, const Image& sample, const double* query, int x, int y,
@@ -132,7 +151,8 @@ Status BlockSynthesisOptions::Check(int sample_width, int sample_height) const {
   return Status::Ok();
 }
 
-BlockSearcher::BlockSearcher(const Image& sample_features, int block, int overlap, int projections, int num_threads)
+BlockSearcher::BlockSearcher(const Image& sample_features, int block, int overlap, int projections, int num_threads,
+                             BlockBasis basis)
     : sample_(sample_features), block_(block), overlap_(overlap), num_threads_(num_threads) {
   const auto start = std::chrono::steady_clock::now();
   const int columns = candidate_columns();
@@ -141,7 +161,8 @@ BlockSearcher::BlockSearcher(const Image& sample_features, int block, int overla
     auto index = std::make_unique<BlockSearchIndex>();
     index->offsets = ShapeOffsets(shape, block, overlap);
     index->features = sample_features.channels();
-    index->basis = NeighbourhoodBasis(*index, sample_features, columns, candidates, projections);
+    index->basis = basis == BlockBasis::kPrincipal ? NeighbourhoodBasis(*index, sample_features, columns, candidates, projections)
+                                                   : WalshBasis(index->dimension(), projections);
     index->projection.resize(index->basis.cols(), candidates);
     const BlockSearchIndex& ix = *index;
     Eigen::MatrixXd& projection = index->projection;
@@ -262,7 +283,7 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
   const int blocks_x = std::max(1, (options.width - overlap + step - 1) / step);
   const int blocks_y = std::max(1, (options.height - overlap + step - 1) / step);
   const int canvas_w = blocks_x * step + overlap, canvas_h = blocks_y * step + overlap;
-  BlockSearcher searcher(sample, block, overlap, options.projections, options.num_threads);
+  BlockSearcher searcher(sample, block, overlap, options.projections, options.num_threads, options.basis);
   BlockSynthesisReport r;
   r.overlap = overlap;
   r.candidates_per_query = searcher.candidate_count();

@@ -28,6 +28,10 @@
 namespace mesocap {
 
 enum class BlockSearch { kRejection, kBruteForce };
+// The bounds' basis: the principal directions of the sample's neighbourhoods, or the first
+// Walsh-Hadamard functions in sequency order (the unfolded vector zero-padded to a power of two),
+// which the paper also suggests for their energy compaction on natural images.
+enum class BlockBasis { kPrincipal, kWalshHadamard };
 
 struct BlockSynthesisOptions {
   int width = 512, height = 512;  // output texels
@@ -37,6 +41,7 @@ struct BlockSynthesisOptions {
   // good; one is drawn at random (Efros & Freeman: 0.1). 0 takes the best.
   double tolerance = 0.1;
   int projections = 8;            // basis vectors of the lower bounds
+  BlockBasis basis = BlockBasis::kPrincipal;
   BlockSearch search = BlockSearch::kRejection;
   uint32_t seed = 1;
   int num_threads = -1;
@@ -76,7 +81,8 @@ struct BlockSearchResult {
 
 class BlockSearcher {
  public:
-  BlockSearcher(const Image& sample_features, int block, int overlap, int projections, int num_threads);
+  BlockSearcher(const Image& sample_features, int block, int overlap, int projections, int num_threads,
+                BlockBasis basis = BlockBasis::kPrincipal);
   ~BlockSearcher();
   BlockSearcher(const BlockSearcher&) = delete;
   BlockSearcher& operator=(const BlockSearcher&) = delete;
