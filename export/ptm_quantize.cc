@@ -6,6 +6,9 @@
 
 #include "core/simd.h"
 
+// Built with -ffp-contract=off (export/CMakeLists.txt): each product and sum rounds as written,
+// in every clone, as the scalar code does.
+
 namespace mesocap {
 namespace {
 
@@ -23,7 +26,7 @@ typedef unsigned char B4 __attribute__((vector_size(4)));
 constexpr double kRoundingMagic = 6755399441055744.0;
 
 // Quantises 4 doubles (file units over step, plus bias) to 4 bytes, as QuantizeByte does.
-MESOCAP_NO_FP_CONTRACT inline void StoreBytes(const D4& value, unsigned char* dst) {
+inline void StoreBytes(const D4& value, unsigned char* dst) {
   const D4 lo = {-1, -1, -1, -1}, hi = {256, 256, 256, 256}, magic = {kRoundingMagic, kRoundingMagic, kRoundingMagic, kRoundingMagic};
   D4 v = value < lo ? lo : value;
   v = v > hi ? hi : v;
@@ -37,7 +40,7 @@ MESOCAP_NO_FP_CONTRACT inline void StoreBytes(const D4& value, unsigned char* ds
   std::memcpy(dst, &bytes, sizeof bytes);
 }
 
-MESOCAP_NO_FP_CONTRACT inline unsigned char QuantizeOne(float value, double inv_scale, int bias) {
+inline unsigned char QuantizeOne(float value, double inv_scale, int bias) {
   double v = 255.0 * double(value);
   v = v * inv_scale;
   v = v + double(bias);
@@ -47,9 +50,7 @@ MESOCAP_NO_FP_CONTRACT inline unsigned char QuantizeOne(float value, double inv_
   return static_cast<unsigned char>(std::clamp(int(r), 0, 255));
 }
 
-}  // namespace
-
-MESOCAP_SIMD_CLONES CoefficientRange RowCoefficientRange(const float* values, int count) {
+MESOCAP_SIMD_CLONES CoefficientRange RangeKernel(const float* values, int count) {
   // Chunks of 24 values (4 pixels' 6 coefficients) in 3 vectors: lane j of vector m holds index
   // (8m + j) % 6, folded to 6 at the end.
   const float inf = std::numeric_limits<float>::infinity();
@@ -88,9 +89,8 @@ MESOCAP_SIMD_CLONES CoefficientRange RowCoefficientRange(const float* values, in
   return range;
 }
 
-MESOCAP_SIMD_CLONES MESOCAP_NO_FP_CONTRACT void QuantizeCoefficients(const float* src, int stride, int pixels,
-                                                                     const double inv_scale[6], const int bias[6],
-                                                                     unsigned char* dst) {
+MESOCAP_SIMD_CLONES void QuantizeKernel(const float* src, int stride, int pixels,
+                                                               const double inv_scale[6], const int bias[6], unsigned char* dst) {
   // Two pixels (12 values) per step, in 3 vectors of 4 with the coefficient pattern k = 0..5, 0..5.
   const D4 units = {255.0, 255.0, 255.0, 255.0};
   const D4 scale[3] = {{inv_scale[0], inv_scale[1], inv_scale[2], inv_scale[3]},
@@ -124,5 +124,14 @@ MESOCAP_SIMD_CLONES MESOCAP_NO_FP_CONTRACT void QuantizeCoefficients(const float
 }
 
 #pragma GCC diagnostic pop
+
+}  // namespace
+
+CoefficientRange RowCoefficientRange(const float* values, int count) { return RangeKernel(values, count); }
+
+void QuantizeCoefficients(const float* src, int stride, int pixels, const double inv_scale[6], const int bias[6],
+                          unsigned char* dst) {
+  QuantizeKernel(src, stride, pixels, inv_scale, bias, dst);
+}
 
 }  // namespace mesocap
