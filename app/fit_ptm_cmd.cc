@@ -61,6 +61,24 @@ struct PhaseSeconds {
   double decode = 0, fit = 0, decode_cpu = 0, fit_cpu = 0;
 };
 
+// Adds the wall and process CPU seconds of its scope to *wall and *cpu.
+class PhaseTimer {
+ public:
+  PhaseTimer(double* wall, double* cpu)
+      : wall_(wall), cpu_(cpu), start_(std::chrono::steady_clock::now()), cpu_start_(ProcessCpuSeconds()) {}
+  ~PhaseTimer() {
+    *wall_ += SecondsSince(start_);
+    *cpu_ += ProcessCpuSeconds() - cpu_start_;
+  }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  double *wall_, *cpu_;
+  std::chrono::steady_clock::time_point start_;
+  double cpu_start_;
+};
+
 // Photos that are all baseline 8-bit JPEGs, fitted as stored, stream: every photo's decoder stays
 // open and bands of rows are decoded (in parallel over the photos) and then fitted (in parallel
 // over the rows) while they are in cache. No photo is held whole: memory is the files' bytes, one
@@ -118,27 +136,25 @@ StatusOr<Ptm> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& rea
   std::vector<std::string> errors(readers.size());
   for (int y0 = 0; y0 < height; y0 += kBandRows) {
     const int rows = std::min(kBandRows, height - y0);
-    auto decode_start = std::chrono::steady_clock::now();
-    double cpu = ProcessCpuSeconds();
-    ParallelFor(
-        0, n,
-        [&](int i) {
-          uint8_t* row_pointers[kBandRows];
-          for (int r = 0; r < rows; ++r) row_pointers[r] = band[size_t(i)].data() + size_t(r) * row_bytes;
-          if (Status st = readers[size_t(i)]->ReadRows(rows, row_pointers); !st.ok()) errors[size_t(i)] = st.message();
-        },
-        fit.num_threads);
-    seconds->decode += SecondsSince(decode_start);
-    seconds->decode_cpu += ProcessCpuSeconds() - cpu;
+    {
+      PhaseTimer timer(&seconds->decode, &seconds->decode_cpu);
+      ParallelFor(
+          0, n,
+          [&](int i) {
+            uint8_t* row_pointers[kBandRows];
+            for (int r = 0; r < rows; ++r) row_pointers[r] = band[size_t(i)].data() + size_t(r) * row_bytes;
+            if (Status st = readers[size_t(i)]->ReadRows(rows, row_pointers); !st.ok()) errors[size_t(i)] = st.message();
+          },
+          fit.num_threads);
+    }
     for (const std::string& error : errors)
       if (!error.empty()) return Status::Error(error);
-    const auto fit_start = std::chrono::steady_clock::now();
-    cpu = ProcessCpuSeconds();
-    fitter->FitRows(y0, y0 + rows, std::function<const uint8_t*(int, int)>([&](int i, int y) -> const uint8_t* {
-                      return band[size_t(i)].data() + size_t(y - y0) * row_bytes;
-                    }));
-    seconds->fit += SecondsSince(fit_start);
-    seconds->fit_cpu += ProcessCpuSeconds() - cpu;
+    {
+      PhaseTimer timer(&seconds->fit, &seconds->fit_cpu);
+      fitter->FitRows(y0, y0 + rows, std::function<const uint8_t*(int, int)>([&](int i, int y) -> const uint8_t* {
+                        return band[size_t(i)].data() + size_t(y - y0) * row_bytes;
+                      }));
+    }
     bar.Update(y0 + rows, height + 1, "rows");
   }
   readers.clear();  // the files' bytes
@@ -161,38 +177,33 @@ StatusOr<Ptm> FitWholePhotos(const std::vector<LpEntry>& entries, const std::vec
   std::vector<ImageU8> images_u8(eight_bit ? size_t(n) : 0);
   std::vector<std::string> errors(entries.size());
   std::atomic<int> decoded{0};
-  const auto decode_start = std::chrono::steady_clock::now();
-  const double decode_cpu_start = ProcessCpuSeconds();
-  ParallelFor(
-      0, n,
-      [&](int i) {
-        const fs::path& file = entries[size_t(i)].image;
-        if (eight_bit) {
-          auto image = ReadImageU8(file, 3);
-          if (image.ok()) images_u8[size_t(i)] = std::move(*image);
-          else errors[size_t(i)] = image.status().message();
-        } else {
-          auto image = ReadImage(file, {.linearize = args.linearize, .max_channels = 3});
-          if (image.ok()) images[size_t(i)] = std::move(*image);
-          else errors[size_t(i)] = image.status().message();
-        }
-        bar.Update(++decoded, n + 1, file.filename().string());
-      },
-      args.threads);
-  seconds->decode += SecondsSince(decode_start);
-  seconds->decode_cpu += ProcessCpuSeconds() - decode_cpu_start;
+  {
+    PhaseTimer timer(&seconds->decode, &seconds->decode_cpu);
+    ParallelFor(
+        0, n,
+        [&](int i) {
+          const fs::path& file = entries[size_t(i)].image;
+          if (eight_bit) {
+            auto image = ReadImageU8(file, 3);
+            if (image.ok()) images_u8[size_t(i)] = std::move(*image);
+            else errors[size_t(i)] = image.status().message();
+          } else {
+            auto image = ReadImage(file, {.linearize = args.linearize, .max_channels = 3});
+            if (image.ok()) images[size_t(i)] = std::move(*image);
+            else errors[size_t(i)] = image.status().message();
+          }
+          bar.Update(++decoded, n + 1, file.filename().string());
+        },
+        args.threads);
+  }
   for (const std::string& error : errors)
     if (!error.empty()) return Status::Error(error);
   MESOCAP_RETURN_IF_ERROR(CheckSameShape(entries, [&](int i) {
     return eight_bit ? std::array<int, 3>{images_u8[size_t(i)].width(), images_u8[size_t(i)].height(), images_u8[size_t(i)].channels()}
                      : std::array<int, 3>{images[size_t(i)].width(), images[size_t(i)].height(), images[size_t(i)].channels()};
   }));
-  const auto fit_start = std::chrono::steady_clock::now();
-  const double fit_cpu_start = ProcessCpuSeconds();
-  auto ptm = eight_bit ? FitPtm(images_u8, lights, fit, report) : FitPtm(images, lights, fit, report);
-  seconds->fit = SecondsSince(fit_start);
-  seconds->fit_cpu = ProcessCpuSeconds() - fit_cpu_start;
-  return ptm;
+  PhaseTimer timer(&seconds->fit, &seconds->fit_cpu);
+  return eight_bit ? FitPtm(images_u8, lights, fit, report) : FitPtm(images, lights, fit, report);
 }
 
 int Run(const FitPtmArgs& args) {
@@ -226,13 +237,12 @@ int Run(const FitPtmArgs& args) {
   std::string read_path;
   StatusOr<Ptm> ptm = Status::Error("no fit");
   // Reading the files and their JPEG headers counts as decoding.
-  const auto open_start = std::chrono::steady_clock::now();
-  const double open_cpu_start = ProcessCpuSeconds();
-  auto readers = args.linearize ? StatusOr<std::vector<std::unique_ptr<JpegRowReader>>>(std::vector<std::unique_ptr<JpegRowReader>>())
-                                : OpenJpegReaders(*entries, args.threads);
+  StatusOr<std::vector<std::unique_ptr<JpegRowReader>>> readers = std::vector<std::unique_ptr<JpegRowReader>>();
+  if (!args.linearize) {
+    PhaseTimer timer(&seconds.decode, &seconds.decode_cpu);
+    readers = OpenJpegReaders(*entries, args.threads);
+  }
   if (!readers.ok()) return Fail(verb, readers.status().message());
-  seconds.decode += SecondsSince(open_start);
-  seconds.decode_cpu += ProcessCpuSeconds() - open_cpu_start;
   if (!readers->empty()) {
     read_path = "8-bit JPEG streamed in bands of rows (decoded and fitted band by band)";
     ptm = FitStreamingJpegs(*readers, *entries, lights, fit, bar, &report, &seconds);

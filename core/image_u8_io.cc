@@ -176,16 +176,23 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   const auto file_size = fs::file_size(path, ec);
   if (ec) return Status::Error(path.string() + ": " + ec.message());
   if (file_size == 0) return Status::Error(path.string() + ": empty file");
-  std::unique_ptr<JpegRowReader> reader(new JpegRowReader(path));
-  Decoder& d = *reader->decoder_;
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) return Status::Error(path.string() + ": cannot open: " + std::strerror(errno));
+  // The markers first: any other file is left to its reader without being read here too.
+  uint8_t magic[3] = {0, 0, 0};
+  const bool is_jpeg = std::fread(magic, 1, 3, file) == 3 && magic[0] == 0xFF && magic[1] == 0xD8 && magic[2] == 0xFF;
+  if (!is_jpeg) {
+    std::fclose(file);
+    return std::unique_ptr<JpegRowReader>();
+  }
+  std::unique_ptr<JpegRowReader> reader(new JpegRowReader(path));
+  Decoder& d = *reader->decoder_;
   d.bytes.reset(new uint8_t[file_size]);
-  const size_t got = std::fread(d.bytes.get(), 1, file_size, file);
+  std::memcpy(d.bytes.get(), magic, 3);
+  const size_t got = 3 + std::fread(d.bytes.get() + 3, 1, file_size - 3, file);
   std::fclose(file);
   if (got != file_size) return Status::Error(path.string() + ": read error");
   const uint8_t* bytes = d.bytes.get();
-  if (file_size < 3 || bytes[0] != 0xFF || bytes[1] != 0xD8 || bytes[2] != 0xFF) return std::unique_ptr<JpegRowReader>();
 
   auto corrupt = [&] { return Status::Error(path.string() + ": " + (d.err.message[0] ? d.err.message : "corrupt JPEG")); };
   if (!d.Guarded([&] {
