@@ -29,6 +29,9 @@ struct SynthArgs {
   QuiltOptions quilt;
   RollerOptions roller;
   BlockSynthesisOptions block;
+  TextonAnalysisOptions texton_analysis;
+  TextonSynthesisOptions texton;
+  fs::path analysis;  // texton: a saved textons.exr to reuse
   bool brute_force = false;
   std::string block_basis = "principal";
   PaintOptions paint;
@@ -51,8 +54,10 @@ StatusOr<Exemplar> Load(const SynthArgs& a, const std::string& verb) {
   return LoadExemplar(a.input, a.exemplar, bar.AsCallback());
 }
 
-int Finish(const std::string& verb, const SynthMap& map, const Exemplar& e, const SynthArgs& a, Json report) {
+int Finish(const std::string& verb, const SynthMap& map, const Exemplar& e, const SynthArgs& a, Json report,
+           std::function<Status(const fs::path&)> write_extra = nullptr) {
   SynthOutputRequest request;
+  request.write_extra = std::move(write_extra);
   request.out = a.out;
   request.report = std::move(report);
   request.num_threads = a.threads;
@@ -68,7 +73,7 @@ int Finish(const std::string& verb, const SynthMap& map, const Exemplar& e, cons
 int RunSynth(SynthArgs& a) {
   const std::string verb = "synth";
   if (!IsSynthMethod(a.method))
-    return Fail(verb, "unknown method '" + a.method + "' (roller, quilt, ptm-block)", kExitUsage);
+    return Fail(verb, "unknown method '" + a.method + "' (roller, quilt, ptm-block, texton)", kExitUsage);
   int width = 0, height = 0;
   if (int code = CheckCommon(verb, a, &width, &height)) return code;
   auto e = Load(a, verb);
@@ -83,16 +88,26 @@ int RunSynth(SynthArgs& a) {
   if (a.block_basis != "principal" && a.block_basis != "walsh")
     return Fail(verb, "--bound-basis must be principal or walsh, not '" + a.block_basis + "'", kExitUsage);
   method.block.basis = a.block_basis == "walsh" ? BlockBasis::kWalshHadamard : BlockBasis::kPrincipal;
+  method.texton_analysis = a.texton_analysis;
+  method.texton = a.texton;
+  method.texton.search = a.brute_force ? TextonSearch::kFull : TextonSearch::kCoherence;
+  method.textons = a.analysis;
+  if (Status st = method.texton_analysis.Check(); a.method == "texton" && !st.ok()) return Fail(verb, st.message(), kExitUsage);
   method.svd_components = a.exemplar.svd_components;
   Json report;
   std::string note;
   ProgressBar bar(a.method == "quilt" ? "quilting" : a.method, !a.no_progress);
-  auto map = RunSynthesisMethod(*e, method, &report, &note, bar.AsCallback());
+  TextonAnalysis textons;
+  auto map = RunSynthesisMethod(*e, method, &report, &note, bar.AsCallback(), &textons);
   if (!map.ok())
     return Fail(verb, a.input.string() + ": " + map.status().message(),
                 map.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
   if (!note.empty()) std::fprintf(stderr, "mesocap synth: %s: %s\n", a.input.string().c_str(), note.c_str());
-  return Finish(verb, *map, *e, a, report);
+  if (a.method != "texton") return Finish(verb, *map, *e, a, report);
+  // The analysis is kept beside the map, so a later run (or a surface) reuses it with --analysis.
+  return Finish(verb, *map, *e, a, report, [&textons](const fs::path& folder) {
+    return textons.levels.empty() ? Status::Ok() : WriteTextonAnalysis(folder / "textons.exr", textons);
+  });
 }
 
 int RunApply(SynthArgs& a) {
@@ -163,6 +178,27 @@ void AddQuiltOptions(CLI::App* sub, SynthArgs& a) {
   sub->add_option("--svd-components", a.exemplar.svd_components, "BTF: geometry maps kept from the SVD (Zhou: 40)")->capture_default_str();
 }
 
+void AddTextonOptions(CLI::App* sub, SynthArgs& a) {
+  sub->add_option("--k", a.texton.k, "texton: k of the k-coherence search (Tong: 11; 1 is Ashikhmin's method)")->capture_default_str();
+  sub->add_option("--neighbourhood", a.texton.neighbourhood, "texton: N, the N x N neighbourhood at a texel's level")
+      ->capture_default_str();
+  sub->add_option("--parent-neighbourhood", a.texton.parent_neighbourhood, "texton: P x P neighbourhood at the level above")
+      ->capture_default_str();
+  sub->add_option("--textons", a.texton_analysis.textons, "texton: n_t, textons at the finest level (a quarter per level above)")
+      ->capture_default_str();
+  sub->add_option("--representative-slices", a.texton_analysis.representative_slices,
+                  "texton: n_s, slices chosen by K-means whose filter responses are clustered")
+      ->capture_default_str();
+  sub->add_option("--levels", a.texton_analysis.levels, "texton: pyramid levels")->capture_default_str();
+  sub->add_option("--texton-dimensions", a.texton_analysis.dimensions,
+                  "texton: principal directions kept of the concatenated filter responses")
+      ->capture_default_str();
+  sub->add_option("--analysis", a.analysis, "texton: reuse a saved analysis (textons.exr of an earlier run on this exemplar)");
+  sub->add_option("--audit", a.texton.audit_fraction,
+                  "texton: share of queries also answered by the full search (reports how often both agree)")
+      ->capture_default_str();
+}
+
 }  // namespace
 
 Command SynthCommand() {
@@ -171,8 +207,9 @@ Command SynthCommand() {
   c.name = "synth";
   c.setup = [args](CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
-        "synth", "Enlarge a material: a texture-coordinate map by the BTF roller, graphcut quilting or block synthesis (ptm-block)");
-    sub->add_option("--method", args->method, "roller, quilt or ptm-block")->capture_default_str();
+        "synth", "Enlarge a material: a texture-coordinate map by the BTF roller, graphcut quilting, block synthesis (ptm-block) "
+                 "or 3D textons with k-coherence search (texton)");
+    sub->add_option("--method", args->method, "roller, quilt, ptm-block or texton")->capture_default_str();
     AddCommonOptions(sub, *args, true);
     AddQuiltOptions(sub, *args);
     sub->add_option("--tiles", args->roller.tiles, "Roller: tiles with identical borders")->capture_default_str();
@@ -183,10 +220,12 @@ Command SynthCommand() {
         ->capture_default_str();
     sub->add_option("--projections", args->block.projections, "ptm-block: basis vectors of the rejection search's lower bounds")
         ->capture_default_str();
-    sub->add_flag("--brute-force", args->brute_force, "ptm-block: compute every candidate's distance (same result, slower)");
+    sub->add_flag("--brute-force", args->brute_force,
+                  "ptm-block: compute every candidate's distance (same result, slower); texton: the full search");
     sub->add_option("--bound-basis", args->block_basis,
                     "ptm-block: basis of the lower bounds: principal (the neighbourhoods' SVD) or walsh (Walsh-Hadamard)")
         ->capture_default_str();
+    AddTextonOptions(sub, *args);
   };
   c.run = [args]() { return RunSynth(*args); };
   return c;

@@ -100,6 +100,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
   // On any failure below, `staged` removes the staging folder as it goes out of scope.
   if (Status st = WriteSynthMap(staging / "map.exr", map); !st.ok()) return st;
   if (Status st = WriteImage(staging / "patches.png", PatchPicture(map)); !st.ok()) return st;
+  if (request.write_extra) MESOCAP_RETURN_IF_ERROR(request.write_extra(staging));
 
   Json seams = Json::array();
   std::vector<Image> previews;

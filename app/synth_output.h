@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@ struct SynthOutputRequest {
   Json report;              // the method's own report; seams, timings and memory are added
   int num_threads = -1;
   bool replace = false;     // an existing `out` is swapped out whole (a re-run); else it must be empty
+  // Files a method keeps beside its map (the texton analysis), written into the staging folder.
+  std::function<Status(const std::filesystem::path& folder)> write_extra;
 };
 
 // Parses WxH ("512x512" or "512").

@@ -2,12 +2,16 @@
 
 #include <chrono>
 
+#include "synth/filter_bank.h"
+
 namespace mesocap::app {
 
-bool IsSynthMethod(const std::string& name) { return name == "roller" || name == "quilt" || name == "ptm-block"; }
+bool IsSynthMethod(const std::string& name) {
+  return name == "roller" || name == "quilt" || name == "ptm-block" || name == "texton";
+}
 
 std::string SynthMethodOptions::Check() const {
-  if (!IsSynthMethod(method)) return "unknown method '" + method + "' (roller, quilt, ptm-block)";
+  if (!IsSynthMethod(method)) return "unknown method '" + method + "' (roller, quilt, ptm-block, texton)";
   if (width < 1 || height < 1 || width > 32768 || height > 32768) return "the output size must be 1..32768 a side";
   return "";
 }
@@ -23,9 +27,7 @@ MethodOptions WithCommon(MethodOptions o, const SynthMethodOptions& a) {
 
 StatusOr<SynthMap> RunRoller(const Exemplar& e, const SynthMethodOptions& a, Json* report, std::string* note) {
   const RollerOptions o = WithCommon(a.roller, a);
-  Image luminance(e.width, e.height, 1);
-  for (size_t t = 0; t < luminance.pixel_count(); ++t)
-    luminance.data()[t] = 0.2126f * e.preview.data()[3 * t] + 0.7152f * e.preview.data()[3 * t + 1] + 0.0722f * e.preview.data()[3 * t + 2];
+  const Image luminance = Luminance(e.preview);
   RollerReport r;
   auto map = RollerSynthesis(e.features, luminance, o, &r);
   if (!map.ok()) return map.status();
@@ -87,15 +89,74 @@ StatusOr<SynthMap> RunQuilt(const Exemplar& e, const SynthMethodOptions& a, Json
   return map;
 }
 
+// The analysis saved at `a.textons`, or a fresh one of the exemplar; a saved one must match the
+// exemplar's size.
+StatusOr<TextonAnalysis> TextonsFor(const Exemplar& e, const SynthMethodOptions& a, const ProgressFn& progress) {
+  if (!a.textons.empty()) {
+    auto saved = ReadTextonAnalysis(a.textons);
+    if (!saved.ok()) return saved.status();
+    if (saved->levels[0].width != e.width || saved->levels[0].height != e.height)
+      return Status::Error(a.textons.string() + ": analyses a " + std::to_string(saved->levels[0].width) + "x" +
+                           std::to_string(saved->levels[0].height) + " sample; the exemplar is " + std::to_string(e.width) +
+                           "x" + std::to_string(e.height));
+    return saved;
+  }
+  TextonAnalysisOptions o = a.texton_analysis;
+  o.seed = a.seed, o.num_threads = a.num_threads;
+  return AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, o, progress);
+}
+
+StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Json* report, std::string* note,
+                              const ProgressFn& progress, TextonAnalysis* analysis_out) {
+  auto analysis = TextonsFor(e, a, progress);
+  if (!analysis.ok()) return analysis.status();
+  const TextonSynthesisOptions o = WithCommon(a.texton, a);
+  TextonSynthesisReport r;
+  auto map = TextonSynthesis(*analysis, o, &r, progress);
+  if (!map.ok()) return map.status();
+  const TextonAnalysisOptions& ao = a.texton_analysis;
+  const TextonLevel& finest = analysis->levels[0];
+  if (a.textons.empty() && finest.textons < ao.textons && note)
+    *note = "n_t = " + std::to_string(ao.textons) + " is more than the sample's texels allow: " + std::to_string(finest.textons) +
+            " textons";
+  (*report)["parameters"] = {{"k", o.k}, {"neighbourhood", o.neighbourhood}, {"parent_neighbourhood", o.parent_neighbourhood},
+                             {"search", o.search == TextonSearch::kCoherence ? "k-coherence" : "full"},
+                             {"filters", kFilterBankSize}, {"representative_slices", ao.representative_slices},
+                             {"textons", ao.textons}, {"levels", ao.levels}, {"dimensions", ao.dimensions},
+                             {"audit_fraction", o.audit_fraction}, {"saved_analysis", a.textons.string()},
+                             {"seed", o.seed}, {"width", o.width}, {"height", o.height}};
+  Json levels = Json::array();
+  for (size_t l = 0; l < analysis->levels.size(); ++l) {
+    const TextonLevel& level = analysis->levels[l];
+    Json entry = {{"width", level.width}, {"height", level.height}, {"textons", level.textons},
+                  {"energy_kept", level.energy_kept}};
+    if (l < r.per_level.size()) {
+      const TextonLevelReport& s = r.per_level[l];
+      entry["queries"] = s.queries, entry["mean_candidates"] = s.mean_candidates;
+      if (s.audited) entry["audited"] = s.audited, entry["full_search_agreement"] = s.full_search_agreement;
+    }
+    levels.push_back(entry);
+  }
+  (*report)["derived"] = {{"representative_slices", analysis->representative_slices}, {"slices", analysis->slice_count},
+                          {"levels", levels}};
+  if (r.audited) (*report)["full_search_agreement"] = r.full_search_agreement;
+  (*report)["seconds_analysis"] = analysis->seconds;
+  (*report)["seconds_neighbour_lists"] = r.seconds_neighbours;
+  (*report)["seconds_synthesis"] = r.seconds_synthesis;
+  if (analysis_out) *analysis_out = std::move(*analysis);
+  return map;
+}
+
 }  // namespace
 
 StatusOr<SynthMap> RunSynthesisMethod(const Exemplar& e, const SynthMethodOptions& a, Json* report_out, std::string* note,
-                                      const ProgressFn& progress) {
+                                      const ProgressFn& progress, TextonAnalysis* analysis) {
   if (std::string why = a.Check(); !why.empty()) return Status::Error(why);
   const auto start = std::chrono::steady_clock::now();
   Json report = {{"method", a.method}};
   auto map = a.method == "roller"      ? RunRoller(e, a, &report, note)
              : a.method == "ptm-block" ? RunBlocks(e, a, &report, progress)
+             : a.method == "texton"    ? RunTextons(e, a, &report, note, progress, analysis)
                                        : RunQuilt(e, a, &report, progress);
   if (!map.ok()) return map.status();
   report["seconds_total_method"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,6 +5,7 @@
 // inputs, found by fuzz/fuzz_image_u8).
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -141,6 +142,10 @@ class OiioCodec final : public ImageCodec {
     if (!out || !out->supports("multiimage")) return Status::Error(path.string() + ": no multi-part OpenEXR writer");
     std::vector<oiio::ImageSpec> specs;
     for (const EncodeRequest& part : parts) specs.push_back(SpecOf(path, part));
+    // OpenEXR requires every part's display window to be the same: the largest part's extent.
+    int full_width = 0, full_height = 0;
+    for (const oiio::ImageSpec& spec : specs) full_width = std::max(full_width, spec.width), full_height = std::max(full_height, spec.height);
+    for (oiio::ImageSpec& spec : specs) spec.full_x = spec.full_y = 0, spec.full_width = full_width, spec.full_height = full_height;
     if (!out->open(file.string(), int(specs.size()), specs.data())) return Status::Error(path.string() + ": " + out->geterror());
     for (size_t k = 0; k < parts.size(); ++k) {
       if (k > 0 && !out->open(file.string(), specs[k], oiio::ImageOutput::AppendSubimage))

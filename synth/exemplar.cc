@@ -281,4 +281,45 @@ StatusOr<Exemplar> LoadExemplar(const fs::path& path, const ExemplarOptions& opt
   return e;
 }
 
+Image Luminance(const Image& rgb) {
+  if (rgb.channels() < 3) return rgb;
+  Image out = Image::Uninitialized(rgb.width(), rgb.height(), 1);
+  for (size_t t = 0; t < rgb.pixel_count(); ++t) {
+    const float* p = rgb.data() + t * rgb.channels();
+    out.data()[t] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+  }
+  return out;
+}
+
+namespace {
+
+Eigen::Vector3d PtmAppearanceLight(int k) {
+  if (k == 0) return Eigen::Vector3d::UnitZ();
+  return DirectionFromAnglesDeg(k <= 8 ? 30 : 60, 45.0 * ((k - 1) % 8) + (k <= 8 ? 0 : 22.5));
+}
+
+}  // namespace
+
+int AppearanceImageCount(const Exemplar& e) {
+  switch (e.kind) {
+    case ExemplarKind::kBtf: return int(e.slices.size());
+    case ExemplarKind::kPtm: return 17;
+    case ExemplarKind::kImage: return 1;
+  }
+  return 1;
+}
+
+StatusOr<Image> AppearanceLuminance(const Exemplar& e, int k) {
+  switch (e.kind) {
+    case ExemplarKind::kBtf: {
+      auto slice = e.ReadSlice(k);
+      if (!slice.ok()) return slice.status();
+      return Luminance(*slice);
+    }
+    case ExemplarKind::kPtm: return Luminance(RelightPtm(e.ptm, PtmAppearanceLight(k), true, 1));
+    case ExemplarKind::kImage: return Luminance(e.image);
+  }
+  return Status::Error("unknown exemplar kind");
+}
+
 }  // namespace mesocap

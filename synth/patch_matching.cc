@@ -6,11 +6,10 @@
 #include <limits>
 #include <mutex>
 
-#include <fftw3.h>
-
 #include "core/directions.h"
 #include "core/parallel.h"
 #include "core/status.h"
+#include "synth/fftw_buffers.h"
 #include "synth/synth_map.h"
 
 namespace mesocap {
@@ -52,34 +51,9 @@ RotatedSample MakeRotatedSample(const Image& features, const Image& constraint, 
 }
 
 namespace {
-
-using Complex = std::complex<float>;
-
-struct FloatBuffer {
-  float* data = nullptr;
-  explicit FloatBuffer(size_t n) : data(fftwf_alloc_real(n)) { std::fill_n(data, n, 0.f); }
-  ~FloatBuffer() { fftwf_free(data); }
-};
-struct ComplexBuffer {
-  Complex* data = nullptr;
-  size_t n = 0;
-  explicit ComplexBuffer(size_t count) : data(reinterpret_cast<Complex*>(fftwf_alloc_complex(count))), n(count) {
-    std::fill_n(data, n, Complex(0));
-  }
-  ComplexBuffer(ComplexBuffer&& o) noexcept : data(o.data), n(o.n) { o.data = nullptr; }
-  ComplexBuffer& operator=(ComplexBuffer&& o) noexcept {
-    std::swap(data, o.data);
-    std::swap(n, o.n);
-    return *this;
-  }
-  ~ComplexBuffer() { fftwf_free(data); }
-};
-
-std::mutex& FftwPlannerMutex() {
-  static std::mutex m;  // FFTW's planner is not thread-safe; executing a plan is
-  return m;
-}
-
+using Complex = FftComplex;
+using FloatBuffer = FftFloatBuffer;
+using ComplexBuffer = FftComplexBuffer;
 }  // namespace
 
 struct PatchMatcher::Impl {

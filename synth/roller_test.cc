@@ -11,12 +11,6 @@
 namespace mesocap {
 namespace {
 
-Image Luminance(const Image& rgb) {
-  Image l(rgb.width(), rgb.height(), 1);
-  for (size_t t = 0; t < l.pixel_count(); ++t) l.data()[t] = (rgb.data()[3 * t] + rgb.data()[3 * t + 1] + rgb.data()[3 * t + 2]) / 3;
-  return l;
-}
-
 TEST(Roller, WeaveTilesWrapSeamlesslyAndTheOutputHasNoVisibleSeams) {
   const Exemplar e = testing::VirtualRigExemplar("weave");
   RollerOptions o;
