@@ -3,9 +3,14 @@
 #include <map>
 #include <mutex>
 
+#include <gtest/gtest.h>
+
+#include "capture/btf_render.h"
+#include "capture/rig_material.h"
 #include "capture/true_btf_folder.h"
 #include "core/directions.h"
 #include "core/status.h"
+#include "synth/synth_quality.h"
 
 namespace mesocap::testing {
 
@@ -32,6 +37,48 @@ Exemplar VirtualRigExemplar(const std::string& material, int size) {
   auto e = LoadExemplar(dir);
   MESOCAP_CHECK(e.ok(), e.status().message());
   return std::move(*e);
+}
+
+Ptm VirtualRigPtm(const std::string& material_name, int size) {
+  auto material = Material::Create(material_name);
+  MESOCAP_CHECK(material.ok(), material.status().message());
+  std::vector<Image> photos;
+  std::vector<Eigen::Vector3d> lights;
+  for (int k = 0; k < 16; ++k) {
+    lights.push_back(DirectionFromAnglesDeg(k < 8 ? 30 : 55, 45.0 * (k % 8) + (k < 8 ? 0 : 22.5)));
+    photos.push_back(RenderTrueBtfSlice(*material, TrueBtfRequestFor(lights.back(), Eigen::Vector3d::UnitZ(), size, 2)));
+  }
+  PtmFitOptions fit;
+  fit.format = PtmFormat::kRgb;
+  auto ptm = FitPtm(photos, lights, fit);
+  MESOCAP_CHECK(ptm.ok(), ptm.status().message());
+  return std::move(*ptm);
+}
+
+std::vector<Image> RelitUnderThreeLights(const Ptm& ptm) {
+  std::vector<Image> relit;
+  for (const Eigen::Vector3d& light : {DirectionFromAnglesDeg(0, 0), DirectionFromAnglesDeg(40, 60), DirectionFromAnglesDeg(60, 200)})
+    relit.push_back(RelightPtm(ptm, light));
+  return relit;
+}
+
+void ExpectGoodSeamsAndStatistics(const std::function<SynthMap(uint32_t)>& synthesize, const std::vector<Image>& slices,
+                                  int block, uint32_t seed, double max_seam_ratio, double statistics_slack) {
+  std::vector<double> ours(slices.size(), 0.0), random_tiling(slices.size(), 0.0);
+  for (uint32_t s = seed; s < seed + 3; ++s) {
+    const SynthMap map = synthesize(s);
+    const SynthMap random = RandomTilingMap(map.sample_width, map.sample_height, map.width, map.height, block, s);
+    for (size_t k = 0; k < slices.size(); ++k) {
+      const Image out = ApplyMapToImage(map, slices[k]), tiled = ApplyMapToImage(random, slices[k]);
+      const SeamMeasure seams = MeasureSeams(map, out, slices[k]), r = MeasureSeams(random, tiled, slices[k]);
+      EXPECT_GT(seams.cut_pairs, 0);
+      EXPECT_LE(seams.ratio(), max_seam_ratio) << "image " << k << ", seed " << s;
+      EXPECT_LT(seams.ratio(), 0.8 * r.ratio()) << "image " << k << ", seed " << s;
+      ours[k] += SubbandDistance(out, slices[k]);
+      random_tiling[k] += SubbandDistance(tiled, slices[k]);
+    }
+  }
+  for (size_t k = 0; k < slices.size(); ++k) EXPECT_LT(ours[k], statistics_slack * random_tiling[k]) << "image " << k;
 }
 
 }  // namespace mesocap::testing

@@ -1,11 +1,14 @@
 // Shared by the synthesis tests: virtual-rig BTF exemplars rendered once per test binary.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "synth/exemplar.h"
+#include "synth/synth_map.h"
 
 namespace mesocap::testing {
 
@@ -14,5 +17,19 @@ namespace mesocap::testing {
 Exemplar VirtualRigExemplar(const std::string& material, int size = 128);
 // The same pairs, for tests that render the truth themselves.
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ExemplarPairs();
+
+// A PTM (RGB) fitted to `material`'s head-on true BTF under 16 lights at 30 and 55 deg, `size`
+// texels a side.
+Ptm VirtualRigPtm(const std::string& material, int size = 96);
+// The PTM relit head-on, at 40 deg and at 60 deg: the images its syntheses are judged on.
+std::vector<Image> RelitUnderThreeLights(const Ptm& ptm);
+
+// Over three seeds from `seed`: every seam ratio (synth_quality.h) of the map applied to each image
+// at most `max_seam_ratio` and below 0.8 x random placement's (patches of `block` texels); per
+// image, the subband distance to the sample summed over the seeds below random tiling's (one
+// seed's comparison swings by a few percent either way with where the first patches land), times
+// `statistics_slack` where a method is known to fall short (said where it is used).
+void ExpectGoodSeamsAndStatistics(const std::function<SynthMap(uint32_t)>& synthesize, const std::vector<Image>& images,
+                                  int block, uint32_t seed, double max_seam_ratio = 1.2, double statistics_slack = 1.0);
 
 }  // namespace mesocap::testing

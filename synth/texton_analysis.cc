@@ -20,6 +20,8 @@ namespace {
 constexpr int kMinLevelSide = 8;  // a coarser level would hold too few texels to cluster
 
 // Each slice divided by its RMS value: every light and view weighs the same in the clustering.
+// (The filters' responses are not equalised: giving the edge filters the Gaussians' weight made
+// the syntheses' subband statistics 1.8-2.4x worse on the virtual-rig weave and stones.)
 Image Normalized(Image s) {
   double sum = 0;
   for (size_t i = 0; i < s.size(); ++i) sum += double(s.data()[i]) * s.data()[i];

@@ -21,12 +21,16 @@ struct Offset {
   int dx = 0, dy = 0;
 };
 
-// The n x n template around a texel, without the texel itself, in scanline order.
+// The n x n template around a texel, without the texel itself, nearest offsets first: a distance
+// summed in this order passes a candidate's bound sooner (near texels differ most).
 std::vector<Offset> Square(int n) {
   std::vector<Offset> v;
   for (int dy = -(n / 2); dy <= n / 2; ++dy)
     for (int dx = -(n / 2); dx <= n / 2; ++dx)
       if (dx || dy) v.push_back({dx, dy});
+  std::stable_sort(v.begin(), v.end(), [](const Offset& a, const Offset& b) {
+    return a.dx * a.dx + a.dy * a.dy < b.dx * b.dx + b.dy * b.dy;
+  });
   return v;
 }
 
@@ -46,6 +50,12 @@ struct SampleLevel {
   std::vector<Offset> own, up;  // templates
   int slots = 0;
   std::vector<uint16_t> vectors;   // texels x slots
+  // Texels whose whole neighbourhood (and their parent's) lies inside the sample: the only
+  // candidates. A default texton in a candidate's neighbourhood sits near every texton (it is
+  // their mean), so border texels would win matches they do not deserve; the full search then
+  // collapses onto them. (All texels when no neighbourhood fits, on a tiny sample.)
+  std::vector<uint8_t> valid;
+  std::vector<int32_t> candidates;
   int list_length = 0;
   std::vector<int32_t> nearest;    // texels x list_length: the texel itself, then the nearest others
 
@@ -65,7 +75,11 @@ SampleLevel MakeSampleLevel(const TextonLevel& level, const TextonLevel* parent,
   s.parent = parent;
   s.distances = TextonDistances(level);
   s.own = Square(n);
-  if (parent) s.parent_distances = TextonDistances(*parent), s.up = Square(p), s.up.push_back({0, 0});
+  if (parent) {
+    s.parent_distances = TextonDistances(*parent);
+    s.up = Square(p);
+    s.up.insert(s.up.begin(), Offset{0, 0});  // the parent itself first
+  }
   s.slots = int(s.own.size() + s.up.size());
   s.vectors.resize(size_t(s.texels()) * s.slots);
   for (int y = 0; y < level.height; ++y)
@@ -82,6 +96,19 @@ SampleLevel MakeSampleLevel(const TextonLevel& level, const TextonLevel* parent,
         *v++ = uint16_t(inside ? parent->label(xx, yy) : parent->default_texton());
       }
     }
+  s.valid.assign(size_t(s.texels()), 0);
+  for (int t = 0; t < s.texels(); ++t) {
+    const uint16_t* v = s.vector(t);
+    bool complete = true;
+    for (size_t j = 0; j < s.own.size(); ++j) complete &= v[j] != level.default_texton();
+    for (size_t j = s.own.size(); j < size_t(s.slots); ++j) complete &= v[j] != parent->default_texton();
+    if (complete) s.valid[t] = 1, s.candidates.push_back(t);
+  }
+  if (s.candidates.empty()) {
+    s.valid.assign(size_t(s.texels()), 1);
+    s.candidates.resize(size_t(s.texels()));
+    std::iota(s.candidates.begin(), s.candidates.end(), 0);
+  }
   return s;
 }
 
@@ -90,12 +117,24 @@ SampleLevel MakeSampleLevel(const TextonLevel& level, const TextonLevel* parent,
 struct Query {
   std::vector<const float*> rows;
   std::vector<int> slots;
-  void Clear() { rows.clear(), slots.clear(); }
-  void Add(const SampleLevel& s, int slot, int label) { rows.push_back(s.Row(slot, label)), slots.push_back(slot); }
+  bool all_slots = true;  // slots are 0, 1, 2, ...: read candidates without the indirection
+  void Clear() { rows.clear(), slots.clear(), all_slots = true; }
+  void Add(const SampleLevel& s, int slot, int label) {
+    all_slots &= slot == int(slots.size());
+    rows.push_back(s.Row(slot, label)), slots.push_back(slot);
+  }
   // Sum over slots; stops once it exceeds `bound` (a candidate that cannot win).
   float Distance(const uint16_t* candidate, float bound) const {
     float d = 0;
-    for (size_t i = 0; i < rows.size(); ++i) {
+    const size_t n = rows.size();
+    if (all_slots) {
+      for (size_t i = 0; i < n; ++i) {
+        d += rows[i][candidate[i]];
+        if (d > bound) break;
+      }
+      return d;
+    }
+    for (size_t i = 0; i < n; ++i) {
       d += rows[i][candidate[slots[i]]];
       if (d > bound) break;
     }
@@ -153,15 +192,14 @@ void BuildNearestLists(SampleLevel& s, const SampleLevel* coarser, int length, i
       Nearest best(s.list_length - 1);
       candidates.clear();
       if (exhaustive) {
-        candidates.resize(texels);
-        std::iota(candidates.begin(), candidates.end(), 0);
+        candidates = s.candidates;
       } else {
         const int px = std::min(x / 2, coarser->width() - 1), py = std::min(y / 2, coarser->height() - 1);
         const int32_t* list = coarser->nearest.data() + size_t(py * coarser->width() + px) * coarser->list_length;
         for (int i = 0; i < coarser->list_length; ++i)
           for (int c = 0; c < 4; ++c) {
             const int cx = 2 * (list[i] % coarser->width()) + c % 2, cy = 2 * (list[i] / coarser->width()) + c / 2;
-            if (cx < s.width() && cy < s.height()) candidates.push_back(cy * s.width() + cx);
+            if (cx < s.width() && cy < s.height() && s.valid[cy * s.width() + cx]) candidates.push_back(cy * s.width() + cx);
           }
       }
       for (int32_t c : candidates)
@@ -231,7 +269,7 @@ class Sweep {
   // Picks the best candidate for the current query into *here; returns its distance.
   float Choose(const OutputGrid& grid, int u, int v, uint64_t draw, int32_t* here) {
     if (o_.search == TextonSearch::kFull) {
-      counters_->candidates += s_.texels();
+      counters_->candidates += long(s_.candidates.size());
       return FullSearch(here);
     }
     ++query_id_;
@@ -239,7 +277,7 @@ class Sweep {
     auto add_coherent = [&](int dx, int dy) {
       const int32_t t = grid.At(u + dx, v + dy);
       const int sx = t % s_.width() - dx, sy = t / s_.width() - dy;  // forward-shifted to (u, v)
-      if (sx < 0 || sy < 0 || sx >= s_.width() || sy >= s_.height()) return;
+      if (sx < 0 || sy < 0 || sx >= s_.width() || sy >= s_.height() || !s_.valid[sy * s_.width() + sx]) return;
       const int32_t* list = s_.nearest.data() + size_t(sy * s_.width() + sx) * s_.list_length;
       for (int i = 0; i < std::min(o_.k, s_.list_length); ++i)
         if (stamp_[list[i]] != query_id_) stamp_[list[i]] = query_id_, candidates_.push_back(list[i]);
@@ -248,7 +286,7 @@ class Sweep {
     if (!causal_) add_coherent(0, 0);
     counters_->candidates += long(candidates_.size());
     if (candidates_.empty()) {  // every neighbour's continuation leaves the sample
-      if (causal_) *here = int32_t(draw % uint64_t(s_.texels()));
+      if (causal_) *here = s_.candidates[draw % s_.candidates.size()];
       return query_.Distance(s_.vector(*here), kInfinity);
     }
     float best = kInfinity;
@@ -263,7 +301,7 @@ class Sweep {
   float FullSearch(int32_t* here) const {
     float best = kInfinity;
     int32_t best_t = 0;
-    for (int32_t t = 0; t < s_.texels(); ++t) {
+    for (int32_t t : s_.candidates) {
       const float d = query_.Distance(s_.vector(t), best);
       if (d < best) best = d, best_t = t;
     }
@@ -392,7 +430,8 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
   std::vector<std::vector<int32_t>> out(levels);
   const int top = levels - 1;
   out[top].resize(size_t(out_w[top]) * out_h[top]);
-  for (size_t i = 0; i < out[top].size(); ++i) out[top][i] = int32_t(Mix(Mix(o.seed) + i) % uint64_t(samples[top].texels()));
+  const std::vector<int32_t>& starts = samples[top].candidates;
+  for (size_t i = 0; i < out[top].size(); ++i) out[top][i] = starts[Mix(Mix(o.seed) + i) % starts.size()];
   for (int l = top; l >= 0; --l) {
     const SampleLevel& s = samples[l];
     const std::string what = "level " + std::to_string(l);

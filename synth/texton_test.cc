@@ -188,7 +188,7 @@ TEST_P(KCoherence, ElevenFindsTheFullSearchBestOnNineQueriesInTen) {
 INSTANTIATE_TEST_SUITE_P(Materials, KCoherence, ::testing::Values("weave", "stones"));
 
 // k = 1 is Ashikhmin's method: each texel continues the source of one of its causal neighbours
-// (forward-shifted by their offset), unless every continuation leaves the sample.
+// (forward-shifted by their offset), unless every continuation leaves the sample's interior.
 TEST(KCoherence, OneContinuesANeighboursSource) {
   const TextonAnalysis a = SmallAnalysis("stones");
   TextonSynthesisOptions o;
@@ -208,8 +208,9 @@ TEST(KCoherence, OneContinuesANeighboursSource) {
       for (int dy = -half; dy <= 0; ++dy)
         for (int dx = -half; dx <= half; ++dx) {
           if (dy == 0 && dx >= 0) continue;
+          // Candidates are texels whose whole neighbourhood lies in the sample.
           const Eigen::Vector2i c = map->SourceTexel(x + dx, y + dy) - Eigen::Vector2i(dx, dy);
-          if (c.x() < 0 || c.y() < 0 || c.x() >= sw || c.y() >= sh) continue;
+          if (c.x() < half || c.y() < half || c.x() >= sw - half || c.y() >= sh - half) continue;
           any_inside = true;
           continues |= c == s;
         }
