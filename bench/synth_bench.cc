@@ -8,9 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "capture/true_btf_folder.h"
-#include "core/directions.h"
-#include "reconstruct/statistical_btf.h"
+#include "bench/bench_exemplar.h"
 #include "reconstruct/ptm.h"
 #include "reconstruct/ptm_legendre.h"
 #include "synth/block_synthesis.h"
@@ -27,18 +25,8 @@ static double Since(std::chrono::steady_clock::time_point t) {
 
 int main(int argc, char** argv) {
   const std::filesystem::path work = argc > 1 ? argv[1] : std::filesystem::temp_directory_path() / "mesocap_synth_bench";
-  const auto folder = work / "weave_81";
-  if (!std::filesystem::exists(folder / "index.json")) {
-    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
-    for (const auto& light : BonnDirections()) pairs.push_back({light, Eigen::Vector3d::UnitZ()});
-    TrueBtfFolderOptions o;
-    o.size = 128;
-    o.samples_per_axis = 1;
-    if (Status st = WriteTrueBtfFolder(*Material::Create("weave"), pairs, o, folder); !st.ok()) {
-      std::fprintf(stderr, "%s\n", st.message().c_str());
-      return 1;
-    }
-  }
+  const auto folder = bench::Weave81(work);
+  if (folder.empty()) return 1;
   auto t = std::chrono::steady_clock::now();
   auto e = LoadExemplar(folder);
   if (!e.ok()) return std::fprintf(stderr, "%s\n", e.status().message().c_str()), 1;

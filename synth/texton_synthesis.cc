@@ -36,9 +36,10 @@ std::vector<Offset> Square(int n) {
 
 bool Causal(const Offset& o) { return o.dy < 0 || (o.dy == 0 && o.dx < 0); }
 
-int Wrap(int i, int n) {
-  i %= n;
-  return i < 0 ? i + n : i;
+int Wrap(int i, int n) {  // offsets are a few texels: no division
+  while (i < 0) i += n;
+  while (i >= n) i -= n;
+  return i;
 }
 
 // One pyramid level of the sample with what the search needs: per texel the labels of its
@@ -127,11 +128,17 @@ struct Query {
   float Distance(const uint16_t* candidate, float bound) const {
     float d = 0;
     const size_t n = rows.size();
-    if (all_slots) {
-      for (size_t i = 0; i < n; ++i) {
-        d += rows[i][candidate[i]];
-        if (d > bound) break;
+    if (all_slots) {  // four independent sums per block of eight slots: no chain of dependent adds
+      size_t i = 0;
+      for (; i + 8 <= n; i += 8) {
+        const float a = rows[i][candidate[i]] + rows[i + 4][candidate[i + 4]];
+        const float b = rows[i + 1][candidate[i + 1]] + rows[i + 5][candidate[i + 5]];
+        const float c = rows[i + 2][candidate[i + 2]] + rows[i + 6][candidate[i + 6]];
+        const float e = rows[i + 3][candidate[i + 3]] + rows[i + 7][candidate[i + 7]];
+        d += (a + b) + (c + e);
+        if (d > bound) return d;
       }
+      for (; i < n; ++i) d += rows[i][candidate[i]];
       return d;
     }
     for (size_t i = 0; i < n; ++i) {
@@ -282,8 +289,9 @@ class Sweep {
       for (int i = 0; i < std::min(o_.k, s_.list_length); ++i)
         if (stamp_[list[i]] != query_id_) stamp_[list[i]] = query_id_, candidates_.push_back(list[i]);
     };
-    for (int j : own_slots_) add_coherent(s_.own[j].dx, s_.own[j].dy);
+    // The texel's own source first: usually close, so the others' sums stop early against it.
     if (!causal_) add_coherent(0, 0);
+    for (int j : own_slots_) add_coherent(s_.own[j].dx, s_.own[j].dy);
     counters_->candidates += long(candidates_.size());
     if (candidates_.empty()) {  // every neighbour's continuation leaves the sample
       if (causal_) *here = s_.candidates[draw % s_.candidates.size()];
