@@ -92,7 +92,10 @@ int RunSynth(SynthArgs& a) {
   method.texton = a.texton;
   method.texton.search = a.brute_force ? TextonSearch::kFull : TextonSearch::kCoherence;
   method.textons = a.analysis;
-  if (Status st = method.texton_analysis.Check(); a.method == "texton" && !st.ok()) return Fail(verb, st.message(), kExitUsage);
+  if (a.method == "texton") {
+    if (Status st = method.texton_analysis.Check(); !st.ok()) return Fail(verb, st.message(), kExitUsage);
+    if (Status st = method.texton.Check(); !st.ok()) return Fail(verb, st.message(), kExitUsage);
+  }
   method.svd_components = a.exemplar.svd_components;
   Json report;
   std::string note;
@@ -184,6 +187,7 @@ void AddTextonOptions(CLI::App* sub, SynthArgs& a) {
       ->capture_default_str();
   sub->add_option("--parent-neighbourhood", a.texton.parent_neighbourhood, "texton: P x P neighbourhood at the level above")
       ->capture_default_str();
+  sub->add_option("--passes", a.texton.passes, "texton: resynthesis passes per level (Tong: 1)")->capture_default_str();
   sub->add_option("--textons", a.texton_analysis.textons, "texton: n_t, textons at the finest level (a quarter per level above)")
       ->capture_default_str();
   sub->add_option("--representative-slices", a.texton_analysis.representative_slices,

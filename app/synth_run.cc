@@ -108,6 +108,10 @@ StatusOr<TextonAnalysis> TextonsFor(const Exemplar& e, const SynthMethodOptions&
 
 StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Json* report, std::string* note,
                               const ProgressFn& progress, TextonAnalysis* analysis_out) {
+  const int n = a.texton.neighbourhood;
+  if (e.width < n || e.height < n)  // said before the analysis, not after it
+    return Status::Error("the sample (" + std::to_string(e.width) + "x" + std::to_string(e.height) + ") is smaller than the " +
+                         std::to_string(n) + "x" + std::to_string(n) + " neighbourhood");
   auto analysis = TextonsFor(e, a, progress);
   if (!analysis.ok()) return analysis.status();
   const TextonSynthesisOptions o = WithCommon(a.texton, a);
@@ -120,6 +124,7 @@ StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Js
     *note = "n_t = " + std::to_string(ao.textons) + " is more than the sample's texels allow: " + std::to_string(finest.textons) +
             " textons";
   (*report)["parameters"] = {{"k", o.k}, {"neighbourhood", o.neighbourhood}, {"parent_neighbourhood", o.parent_neighbourhood},
+                             {"passes", o.passes},
                              {"search", o.search == TextonSearch::kCoherence ? "k-coherence" : "full"},
                              {"filters", kFilterBankSize}, {"representative_slices", ao.representative_slices},
                              {"textons", ao.textons}, {"levels", ao.levels}, {"dimensions", ao.dimensions},

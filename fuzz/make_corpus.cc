@@ -14,6 +14,8 @@
 #include "core/rig_layout.h"
 #include "core/session.h"
 #include "export/lp_file.h"
+#include "synth/synth_map.h"
+#include "synth/texton_analysis.h"
 #include "export/ptm_file.h"
 #include "fuzz/fuzz_support.h"
 
@@ -219,6 +221,26 @@ void Images(const fs::path& all, const fs::path& u8) {
   write(u8 / "rgb_8x8_8bit.png", Pattern(8, 8, 3, 9), PixelFormat::kUint8Srgb);
 }
 
+// A map and a two-level texton analysis, as synth writes them beside its outputs.
+void SynthFiles(const fs::path& dir) {
+  SynthMap map(8, 6, 16, 16, "texton");
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) map.Set(x, y, float(x + 2) + 0.5f, float(y) + 0.5f, 0.f, y / 3);
+  Check(WriteSynthMap(dir / "map.exr", map));
+  TextonAnalysis analysis;
+  analysis.slice_count = 3;
+  analysis.representative_slices = {0, 2};
+  for (int l = 0; l < 2; ++l) {
+    TextonLevel level;
+    level.width = level.height = 8 >> l;
+    level.textons = 4 >> l;
+    for (int t = 0; t < level.width * level.height; ++t) level.labels.push_back(t % level.textons);
+    level.gamma = Eigen::MatrixXd::Identity(level.textons + 1, level.textons + 1);
+    analysis.levels.push_back(level);
+  }
+  Check(WriteTextonAnalysis(dir / "textons.exr", analysis));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -240,5 +262,6 @@ int main(int argc, char** argv) {
   SliceIndexes(dir("slice_index"), dir("btf_index"));
   fs::copy(out / "slice_index", dir("slice_set"), fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   Images(dir("image"), dir("image_u8"));
+  SynthFiles(dir("synth_files"));
   return 0;
 }

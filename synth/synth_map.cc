@@ -120,7 +120,8 @@ StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path) {
     map.source_x[i] = p[column[0]];
     map.source_y[i] = p[column[1]];
     map.rotation_deg[i] = p[column[2]];
-    map.patch[i] = std::isfinite(p[column[3]]) ? int32_t(p[column[3]]) : -1;
+    const float id = p[column[3]];  // cast only what an int32 holds (a crafted file may hold anything)
+    map.patch[i] = std::isfinite(id) && id >= -1.f && id < 2147483520.f ? int32_t(id) : -1;
   }
   if (Status st = ValidateMap(map); !st.ok()) return Status::Error(path.string() + ": " + st.message());
   return map;

@@ -169,7 +169,9 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
     with_default.topRows(level.textons) = clusters.centres;
     with_default.row(level.textons) = clusters.centres.colwise().mean();
     level.gamma = with_default * with_default.transpose();
-    level.gamma = (0.5 * (level.gamma + level.gamma.transpose())).eval();  // exactly symmetric
+    // Exactly symmetric, and in float precision, as textons.exr stores it: a run reusing the saved
+    // analysis finds the same map as the run that made it.
+    level.gamma = (0.5 * (level.gamma + level.gamma.transpose())).cast<float>().cast<double>();
     level.energy_kept = vectors->energy_kept;
     analysis.levels.push_back(std::move(level));
     if (vocabulary) vocabulary->push_back({std::move(vectors->features), clusters.centres});

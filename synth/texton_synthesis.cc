@@ -395,7 +395,7 @@ std::vector<int32_t> CoherentPatches(const std::vector<int32_t>& out, int w, int
 
 }  // namespace
 
-Status TextonSynthesisOptions::Check(const TextonAnalysis& analysis) const {
+Status TextonSynthesisOptions::Check() const {
   if (width < 1 || height < 1 || width > 32768 || height > 32768) return Status::Error("the output size must be 1..32768 a side");
   if (k < 1 || k > 64) return Status::Error("k must be 1..64");
   if (neighbourhood < 3 || neighbourhood % 2 == 0 || neighbourhood > 15)
@@ -405,6 +405,11 @@ Status TextonSynthesisOptions::Check(const TextonAnalysis& analysis) const {
   if (levels < 0) return Status::Error("the levels must be at least 0 (0: all)");
   if (passes < 0 || passes > 16) return Status::Error("the passes must be 0..16");
   if (!(audit_fraction >= 0 && audit_fraction <= 1)) return Status::Error("the audit fraction must be 0..1");
+  return Status::Ok();
+}
+
+Status TextonSynthesisOptions::Check(const TextonAnalysis& analysis) const {
+  MESOCAP_RETURN_IF_ERROR(Check());
   if (analysis.levels.empty()) return Status::Error("the texton analysis has no levels");
   const TextonLevel& finest = analysis.levels[0];
   if (finest.width < neighbourhood || finest.height < neighbourhood)

@@ -49,7 +49,8 @@ struct TextonSynthesisOptions {
   double audit_fraction = 0;
   uint32_t seed = 1;
   int num_threads = -1;
-  Status Check(const TextonAnalysis& analysis) const;
+  Status Check() const;                               // the options alone
+  Status Check(const TextonAnalysis& analysis) const;  // and against the sample analysed
 };
 
 struct TextonLevelReport {

@@ -104,11 +104,12 @@ TEST(TextonAnalysis, LabelsEveryTexelWithItsNearestTextonAndGammaIsAGramMatrix) 
     // Gamma: the textons' dot products (default texton = their mean), symmetric and PSD.
     const int n = level.textons + 1;
     ASSERT_EQ(level.gamma.rows(), n);
-    EXPECT_NEAR(level.gamma(2, 5), v.textons.row(2).dot(v.textons.row(5)), 1e-9 * (1 + std::abs(level.gamma(2, 5))));
-    EXPECT_NEAR(level.gamma(n - 1, n - 1), v.textons.colwise().mean().squaredNorm(), 1e-9 * level.gamma(n - 1, n - 1));
+    // (Gamma is rounded to float, as textons.exr stores it.)
+    EXPECT_NEAR(level.gamma(2, 5), v.textons.row(2).dot(v.textons.row(5)), 1e-6 * (1 + std::abs(level.gamma(2, 5))));
+    EXPECT_NEAR(level.gamma(n - 1, n - 1), v.textons.colwise().mean().squaredNorm(), 1e-6 * level.gamma(n - 1, n - 1));
     EXPECT_EQ((level.gamma - level.gamma.transpose()).norm(), 0.0);
     const Eigen::VectorXd eigen = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(level.gamma).eigenvalues();
-    EXPECT_GE(eigen.minCoeff(), -1e-9 * eigen.maxCoeff());
+    EXPECT_GE(eigen.minCoeff(), -1e-6 * eigen.maxCoeff());
   }
 }
 
@@ -129,7 +130,7 @@ TEST(TextonAnalysis, SurvivesAFileRoundTrip) {
   for (size_t l = 0; l < a->levels.size(); ++l) {
     EXPECT_EQ(b->levels[l].labels, a->levels[l].labels);
     EXPECT_EQ(b->levels[l].textons, a->levels[l].textons);
-    EXPECT_LE((b->levels[l].gamma - a->levels[l].gamma).cwiseAbs().maxCoeff(), 1e-6 * a->levels[l].gamma.cwiseAbs().maxCoeff());
+    EXPECT_EQ(b->levels[l].gamma, a->levels[l].gamma);  // float precision, stored exactly
   }
 }
 

@@ -11,6 +11,7 @@
 #include "export/ptm_file.h"
 #include "synth/synth_map.h"
 #include "synth/synth_test_support.h"
+#include "synth/texton_analysis.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -87,6 +88,59 @@ TEST(SynthCli, PtmBlockSynthesisOfAPtm) {
   auto again = ReadTextFile(applied / "synth.ptm"), first = ReadTextFile(out / "synth.ptm");
   ASSERT_TRUE(again.ok() && first.ok());
   EXPECT_TRUE(*again == *first);
+}
+
+// texton: the analysis is saved beside the map and a second run reusing it (--analysis) finds the
+// same map; a saved analysis of another sample, a bad option or a sample smaller than the
+// neighbourhood is refused with nothing written; too many textons for the sample are capped, said.
+TEST(SynthCli, TextonSynthesisSavesItsAnalysisAndReusesIt) {
+  const Exemplar e = testing::VirtualRigExemplar("weave", 64);
+  const fs::path dir = testing::MakeTempDir();
+  std::string log;
+  const std::string common = " --input " + e.path.string() + " --size 96x80 --textons 100 --no-progress --out ";
+  ASSERT_EQ(testing::RunMesocap("synth --method texton --audit 0.1" + common + (dir / "first").string(), &log), 0) << log;
+  auto analysis = ReadTextonAnalysis(dir / "first" / "textons.exr");
+  ASSERT_TRUE(analysis.ok()) << analysis.status().message();
+  EXPECT_EQ(analysis->levels[0].textons, 100);
+  EXPECT_EQ(analysis->slice_count, int(e.slices.size()));
+  auto report = ReadJsonFile(dir / "first" / "report.json");
+  ASSERT_TRUE(report.ok());
+  EXPECT_EQ((*report)["method"], "texton");
+  EXPECT_GE((*report)["full_search_agreement"].get<double>(), 0.9);
+  EXPECT_EQ((*report)["derived"]["levels"].size(), analysis->levels.size());
+  ASSERT_EQ(testing::RunMesocap("synth --method texton --analysis " + (dir / "first" / "textons.exr").string() + common +
+                                    (dir / "second").string(),
+                                &log),
+            0)
+      << log;
+  auto first = ReadSynthMap(dir / "first" / "map.exr"), second = ReadSynthMap(dir / "second" / "map.exr");
+  ASSERT_TRUE(first.ok() && second.ok());
+  EXPECT_EQ(first->method, "texton");
+  EXPECT_EQ(first->source_x, second->source_x);
+  EXPECT_EQ(first->source_y, second->source_y);
+
+  Image small(20, 20, 3);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 20; ++x) small.at(x, y, x % 3) = float((x * 7 + y * 3) % 5) / 5;
+  ASSERT_TRUE(WriteImage(dir / "small.png", small).ok());
+  const std::string small_in = " --input " + (dir / "small.png").string() + " --no-progress --out ";
+  EXPECT_EQ(testing::RunMesocap("synth --method texton --analysis " + (dir / "first" / "textons.exr").string() + small_in +
+                                    (dir / "a").string(),
+                                &log),
+            1);
+  EXPECT_NE(log.find("textons.exr: analyses a 64x64 sample; the exemplar is 20x20"), std::string::npos) << log;
+  EXPECT_EQ(testing::RunMesocap("synth --method texton --k 0" + small_in + (dir / "b").string(), &log), 2);
+  EXPECT_NE(log.find("k must be"), std::string::npos) << log;
+  ASSERT_TRUE(WriteImage(dir / "tiny.png", Image(12, 12, 3, 0.5f)).ok());
+  EXPECT_EQ(testing::RunMesocap("synth --method texton --neighbourhood 13 --size 30 --input " + (dir / "tiny.png").string() +
+                                    " --no-progress --out " + (dir / "c").string(),
+                                &log),
+            1);
+  EXPECT_NE(log.find("tiny.png: the sample (12x12) is smaller than the 13x13 neighbourhood"), std::string::npos) << log;
+  for (const char* f : {"a", "b", "c"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
+  ASSERT_EQ(testing::RunMesocap("synth --method texton --textons 1000 --size 30" + small_in + (dir / "d").string(), &log), 0)
+      << log;
+  EXPECT_NE(log.find("n_t = 1000 is more than the sample's texels allow: 400 textons"), std::string::npos) << log;
 }
 
 TEST(SynthCli, BadInputsGiveOneLineTheRightCodeAndNoOutput) {
