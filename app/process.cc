@@ -215,7 +215,7 @@ std::string ProcessOptions::Check() const {
     if (f != "all" && std::count(ProcessStageNames().begin(), ProcessStageNames().end(), f) == 0)
       return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, all)";
   if (!synth.method.empty() && !IsSynthMethod(synth.method))
-    return "--synth must be roller, quilt or ptm-block, not '" + synth.method + "'";
+    return "--synth must be roller, quilt, ptm-block or texton, not '" + synth.method + "'";
   if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
   if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";
   if (std::string why = resample.Check(); !why.empty()) return why;

@@ -61,7 +61,7 @@ Command ProcessCommand() {
         ->capture_default_str();
     sub->add_flag("--btf-pixel-only", args->options.reconstruct.pixel_only, "Reconstruct from pixel histograms only (no subbands)");
     sub->add_option("--synth", args->options.synth.method,
-                    "Also enlarge the reconstructed BTF: roller, quilt or ptm-block (SESSION/synth/; export adds gltf_synth/)");
+                    "Also enlarge the reconstructed BTF: roller, quilt, ptm-block or texton (SESSION/synth/; export adds gltf_synth/)");
     sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();
     sub->add_option("--synth-seed", args->options.synth.seed, "Random seed of the synthesis")->capture_default_str();
     sub->add_option("--force", args->options.force, "Rerun this stage even if unchanged (repeatable; 'all' for every stage)");

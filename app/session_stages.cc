@@ -305,7 +305,8 @@ StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOp
   Json report;
   std::string note;
   ProgressBar bar(options.method, progress);
-  auto map = RunSynthesisMethod(*exemplar, method, &report, &note, bar.AsCallback());
+  TextonAnalysis textons;
+  auto map = RunSynthesisMethod(*exemplar, method, &report, &note, bar.AsCallback(), &textons);
   if (!map.ok()) return Status::Error(index.string() + ": " + map.status().message());
   // Which slices to synthesize: those whose light and view lie on the coarse grid, then the rest,
   // up to max_slices (a 6561-slice BTF at 512 x 512 would be gigabytes).
@@ -319,6 +320,8 @@ StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOp
         request.slices.push_back(int(k));
   std::sort(request.slices.begin(), request.slices.end());
   request.report = std::move(report);
+  if (!textons.levels.empty())
+    request.write_extra = [&textons](const fs::path& folder) { return WriteTextonAnalysis(folder / "textons.exr", textons); };
   ProgressBar write_bar("synth slices", progress);
   MESOCAP_RETURN_IF_ERROR(WriteSynthesisOutputs(*map, *exemplar, request, write_bar.AsCallback()));
   StageSummary summary;

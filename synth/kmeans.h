@@ -12,9 +12,12 @@ namespace mesocap {
 
 struct KMeansOptions {
   int clusters = 400;
-  int max_iterations = 30;  // Lloyd iterations; stops earlier when no label changes
+  int max_iterations = 30;  // Lloyd iterations
   uint32_t seed = 1;
   int num_threads = -1;
+  // Stops once an iteration changes fewer than this share of the labels (0: only when none
+  // changes). The last step is always an assignment, so labels are each point's nearest centre.
+  double min_changed = 0.001;
 };
 
 struct KMeansResult {
@@ -23,7 +26,7 @@ struct KMeansResult {
   // with `centres` gives these labels back).
   std::vector<int> labels;
   int iterations = 0;
-  bool converged = false;
+  bool converged = false;  // stopped by min_changed, not by max_iterations
 };
 
 // `points` holds one point per row. Clusters are capped at the number of points; a cluster left
