@@ -50,16 +50,8 @@ INSTANTIATE_TEST_SUITE_P(Materials, QuiltOnMaterial,
                                            QuiltCase{"stones", 1.45, true}),
                          [](const auto& info) { return info.param.material; });
 
-Image NoiseImage(int w, int h, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0, 1);
-  Image image(w, h, 3);
-  for (size_t i = 0; i < image.size(); ++i) image.data()[i] = u(rng);
-  return image;
-}
-
 TEST(Quilt, RotatedPatchesKeepTheMapInsideTheSample) {
-  const Image sample = NoiseImage(64, 64, testing::SeedFromTestName());
+  const Image sample = testing::NoiseImage(64, 64, 3, testing::SeedFromTestName());
   QuiltOptions o;
   o.width = o.height = 96;
   o.rotations = 8;
@@ -75,7 +67,7 @@ TEST(Quilt, RotatedPatchesKeepTheMapInsideTheSample) {
 }
 
 TEST(Quilt, SameSeedSameMap) {
-  const Image sample = NoiseImage(48, 48, 3);
+  const Image sample = testing::NoiseImage(48, 48, 3, 3);
   QuiltOptions o;
   o.width = o.height = 80;
   o.randomness = 0.05;
@@ -88,7 +80,7 @@ TEST(Quilt, SameSeedSameMap) {
 TEST(Quilt, RefusesASampleSmallerThanTheWorkPatch) {
   QuiltOptions o;
   o.patch_radius = 20;
-  auto map = QuiltSynthesis(NoiseImage(30, 30, 1), o, nullptr);
+  auto map = QuiltSynthesis(testing::NoiseImage(30, 30, 3, 1), o, nullptr);
   ASSERT_FALSE(map.ok());
   EXPECT_NE(map.status().message().find("smaller than the work patch"), std::string::npos) << map.status().message();
 }

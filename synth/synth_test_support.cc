@@ -2,6 +2,7 @@
 
 #include <map>
 #include <mutex>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -37,6 +38,14 @@ Exemplar VirtualRigExemplar(const std::string& material, int size) {
   auto e = LoadExemplar(dir);
   MESOCAP_CHECK(e.ok(), e.status().message());
   return std::move(*e);
+}
+
+Image NoiseImage(int width, int height, int channels, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0, 1);
+  Image image(width, height, channels);
+  for (size_t i = 0; i < image.size(); ++i) image.data()[i] = u(rng);
+  return image;
 }
 
 Ptm VirtualRigPtm(const std::string& material_name, int size) {

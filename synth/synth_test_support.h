@@ -18,6 +18,9 @@ Exemplar VirtualRigExemplar(const std::string& material, int size = 128);
 // The same pairs, for tests that render the truth themselves.
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ExemplarPairs();
 
+// Uniform noise in [0, 1), `channels` per texel, from `seed`.
+Image NoiseImage(int width, int height, int channels, uint32_t seed);
+
 // A PTM (RGB) fitted to `material`'s head-on true BTF under 16 lights at 30 and 55 deg, `size`
 // texels a side.
 Ptm VirtualRigPtm(const std::string& material, int size = 96);

@@ -17,21 +17,13 @@
 namespace mesocap {
 namespace {
 
-Image RandomImage(int w, int h, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0, 1);
-  Image im(w, h, 1);
-  for (size_t i = 0; i < im.size(); ++i) im.data()[i] = u(rng);
-  return im;
-}
-
 int MirrorIndex(int i, int n) {
   while (i < 0 || i >= n) i = i < 0 ? -i - 1 : 2 * n - 1 - i;
   return i;
 }
 
 TEST(FilterBank, MatchesADirectConvolutionWithMirroredBorders) {
-  const Image im = RandomImage(37, 29, testing::SeedFromTestName());
+  const Image im = testing::NoiseImage(37, 29, 1, testing::SeedFromTestName());
   const FilterBank bank(37, 29);
   const Image r = bank.Responses(im);
   const auto filters = LeungMalikFilters();
@@ -135,7 +127,7 @@ TEST(TextonAnalysis, SurvivesAFileRoundTrip) {
 }
 
 TEST(TextonAnalysis, APlainImageWorksAndTooManyTextonsAreCapped) {
-  const Exemplar e = ImageExemplar(RandomImage(12, 12, 3));
+  const Exemplar e = ImageExemplar(testing::NoiseImage(12, 12, 1, 3));
   TextonAnalysisOptions o;  // 400 textons asked of 144 texels
   auto a = Analyse(e, o);
   ASSERT_TRUE(a.ok()) << a.status().message();
