@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "core/parallel.h"
+#include "core/splitmix.h"
 
 namespace mesocap {
 namespace {
@@ -55,13 +56,6 @@ double IntersectPlane(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const 
   return s > 0 ? s : -1;
 }
 
-// Counter-based RNG: one independent stream per (seed, stream, index).
-uint64_t Mix(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // Standard normal quantiles at 4096 equally likely levels: a table lookup per noise value
 // instead of a log and a cosine (sensor noise needs the shape, not 53 bits of it).
@@ -85,8 +79,9 @@ const std::vector<float>& GaussianTable() {
   return table;
 }
 
+// Counter-based: one independent stream per (seed, stream, index).
 float GaussianAt(uint64_t seed, uint64_t stream, uint64_t index) {
-  return GaussianTable()[Mix(seed ^ Mix(stream ^ Mix(index))) >> 52];
+  return GaussianTable()[SplitMix64(seed ^ SplitMix64(stream ^ SplitMix64(index))) >> 52];
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/splitmix.h"
 #include "core/text_format.h"
 
 namespace mesocap {
@@ -130,11 +131,7 @@ StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path) {
 Image PatchPicture(const SynthMap& map) {
   Image out(map.width, map.height, 3);
   auto colour = [](int32_t id, int c) {  // a hash of (id, channel): maps of many patches draw fast
-    uint64_t z = (uint64_t(uint32_t(id)) << 2 | uint64_t(c)) + 0x9E3779B97F4A7C15ull;  // splitmix64
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return 0.15f + 0.7f * float(z >> 40) / float(1 << 24);
+    return 0.15f + 0.7f * float(SplitMix64(uint64_t(uint32_t(id)) << 2 | uint64_t(c)) >> 40) / float(1 << 24);
   };
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x) {

@@ -1,14 +1,15 @@
 #include "synth/texton_synthesis.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <limits>
 #include <numeric>
-#include <atomic>
 #include <optional>
 #include <string>
 
 #include "core/parallel.h"
+#include "core/splitmix.h"
 
 namespace mesocap {
 namespace {
@@ -224,13 +225,6 @@ struct Counters {
   long queries = 0, candidates = 0, audited = 0, agreed = 0;
 };
 
-uint64_t Mix(uint64_t z) {  // splitmix64: a hash, so a texel's random draws do not depend on order
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 // The output of one level being synthesized: sample texel indices, out_w x out_h, wrapping. In a
 // banded pass, rows outside the band being worked on are read from the pass's starting state.
 struct OutputGrid {
@@ -263,10 +257,10 @@ class Sweep {
       for (size_t j = 0; j < s_.up.size(); ++j)
         query_.Add(s_, int(s_.own.size() + j), s_.parent->labels[parent->At(u / 2 + s_.up[j].dx, v / 2 + s_.up[j].dy)]);
     int32_t& here = (*grid.texels)[size_t(v) * grid.width + u];
-    const uint64_t draw = Mix(salt_ ^ (uint64_t(v) << 32 | uint32_t(u)));
+    const uint64_t draw = SplitMix64(salt_ ^ (uint64_t(v) << 32 | uint32_t(u)));
     const float chosen = Choose(grid, u, v, draw, &here);
     ++counters_->queries;
-    if (o_.audit_fraction > 0 && double(Mix(draw) >> 11) * 0x1p-53 < o_.audit_fraction) {
+    if (o_.audit_fraction > 0 && double(SplitMix64(draw) >> 11) * 0x1p-53 < o_.audit_fraction) {
       ++counters_->audited;
       counters_->agreed += chosen <= FullSearch(nullptr) * (1 + 1e-5f) + 1e-9f;
     }
@@ -444,11 +438,11 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
   const int top = levels - 1;
   out[top].resize(size_t(out_w[top]) * out_h[top]);
   const std::vector<int32_t>& starts = samples[top].candidates;
-  for (size_t i = 0; i < out[top].size(); ++i) out[top][i] = starts[Mix(Mix(o.seed) + i) % starts.size()];
+  for (size_t i = 0; i < out[top].size(); ++i) out[top][i] = starts[SplitMix64(SplitMix64(o.seed) + i) % starts.size()];
   for (int l = top; l >= 0; --l) {
     const SampleLevel& s = samples[l];
     const std::string what = "level " + std::to_string(l);
-    auto salt = [&](int pass) { return Mix(Mix(o.seed) ^ (uint64_t(l) << 8 | uint64_t(pass))); };
+    auto salt = [&](int pass) { return SplitMix64(SplitMix64(o.seed) ^ (uint64_t(l) << 8 | uint64_t(pass))); };
     if (l == top) {
       if (!CausalPass(s, o, salt(0), out[l], out_w[l], out_h[l], &per_level[l], progress, what))
         return Status::Error("cancelled");
