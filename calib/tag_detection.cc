@@ -11,20 +11,18 @@ namespace mesocap {
 std::vector<TagDetection> DetectTags(const Image& im, const TagDetectOptions& options) {
   // Linear luminance scaled so the bright end (not the mirror highlights) reaches 255: detecting
   // on sRGB-encoded values moves blurred edges toward white by about 0.2 px.
-  const int W = im.width(), H = im.height(), C = im.channels();
-  std::vector<float> lum(size_t(W) * H);
-  for (size_t i = 0; i < lum.size(); ++i) {
-    const float* p = im.data() + i * C;
-    const float l = C >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
-    lum[i] = std::isfinite(l) && l > 0.0f ? l : 0.0f;  // an EXR may hold NaN, inf or negatives
-  }
+  const int W = im.width(), H = im.height();
+  Image luminance = Luminance(im);
+  float* lum = luminance.data();
+  const size_t n = luminance.size();
+  for (size_t i = 0; i < n; ++i) lum[i] = std::isfinite(lum[i]) && lum[i] > 0.0f ? lum[i] : 0.0f;  // an EXR may hold NaN, inf or negatives
   std::vector<float> sample;
-  for (size_t i = 0; i < lum.size(); i += 97) sample.push_back(lum[i]);
+  for (size_t i = 0; i < n; i += 97) sample.push_back(lum[i]);
   const size_t k = size_t(0.995 * (sample.size() - 1));
   std::nth_element(sample.begin(), sample.begin() + k, sample.end());
   const float scale = 255.0f / std::max(sample[k], 1e-6f);
-  std::vector<uint8_t> buf(lum.size());
-  for (size_t i = 0; i < lum.size(); ++i) buf[i] = uint8_t(std::min(255.0f, std::round(lum[i] * scale)));
+  std::vector<uint8_t> buf(n);
+  for (size_t i = 0; i < n; ++i) buf[i] = uint8_t(std::min(255.0f, std::round(lum[i] * scale)));
 
   // Debian's libapriltag exports no image_u8_create: the detector reads our buffer.
   image_u8_t gray{W, H, W, buf.data()};

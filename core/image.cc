@@ -62,4 +62,14 @@ Image Image::FromMat(const cv::Mat& mat) {
   return image;
 }
 
+Image Luminance(const Image& image) {
+  const int channels = image.channels();
+  Image out = Image::Uninitialized(image.width(), image.height(), 1);
+  for (size_t t = 0; t < image.pixel_count(); ++t) {
+    const float* p = image.data() + t * channels;
+    out.data()[t] = channels >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
+  }
+  return out;
+}
+
 }  // namespace mesocap

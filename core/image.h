@@ -79,4 +79,8 @@ class Image {
   std::vector<float, PixelAllocator<float>> data_;
 };
 
+// Rec. 709 luminance of a linear RGB(A) image, one channel; an image of fewer than three channels
+// gives its first channel.
+Image Luminance(const Image& image);
+
 }  // namespace mesocap

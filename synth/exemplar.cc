@@ -281,16 +281,6 @@ StatusOr<Exemplar> LoadExemplar(const fs::path& path, const ExemplarOptions& opt
   return e;
 }
 
-Image Luminance(const Image& rgb) {
-  if (rgb.channels() < 3) return rgb;
-  Image out = Image::Uninitialized(rgb.width(), rgb.height(), 1);
-  for (size_t t = 0; t < rgb.pixel_count(); ++t) {
-    const float* p = rgb.data() + t * rgb.channels();
-    out.data()[t] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
-  }
-  return out;
-}
-
 namespace {
 
 Eigen::Vector3d PtmAppearanceLight(int k) {

@@ -67,9 +67,6 @@ Exemplar ImageExemplar(Image image);
 StatusOr<Exemplar> BtfExemplar(std::vector<ExemplarSlice> slices, const ExemplarOptions& options = {},
                                const ProgressFn& progress = nullptr);
 
-// Rec. 709 luminance of a linear RGB image (one channel; a one-channel image is returned as is).
-Image Luminance(const Image& rgb);
-
 // The exemplar's appearance as luminance images, for texton analysis: a BTF's slices, the image,
 // or a PTM relit under 17 lights (head-on, 8 at 30 deg and 8 at 60 deg from the normal).
 int AppearanceImageCount(const Exemplar& exemplar);
