@@ -51,9 +51,6 @@ Eigen::MatrixXd TestRows(int k, int channels, int columns) {
   return rows;
 }
 
-Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> AsMatrix(const Image& image) {
-  return {image.data(), Eigen::Index(image.pixel_count()), Eigen::Index(image.channels())};
-}
 
 Eigen::MatrixXd Orthonormalize(const Eigen::MatrixXd& y) {
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(y);
@@ -79,6 +76,19 @@ Status ForEachSlice(int count, const std::function<StatusOr<Image>(int)>& read_s
 
 }  // namespace
 
+TexelMatrixMap TexelMatrix(const Image& image) {
+  return {image.data(), Eigen::Index(image.pixel_count()), Eigen::Index(image.channels())};
+}
+
+Image DividedByRms(Image image) {
+  double sum = 0;
+  for (size_t i = 0; i < image.size(); ++i) sum += double(image.data()[i]) * image.data()[i];
+  const double rms = std::sqrt(sum / std::max<size_t>(1, image.size()));
+  if (rms > 0)
+    for (size_t i = 0; i < image.size(); ++i) image.data()[i] = float(image.data()[i] / rms);
+  return image;
+}
+
 StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<StatusOr<Image>(int)>& read_raw,
                                              int components, int power_iterations, bool normalize, int num_threads,
                                              const ProgressFn& progress) {
@@ -88,12 +98,7 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
   const std::function<StatusOr<Image>(int)> read_slice = [&](int k) -> StatusOr<Image> {
     auto s = read_raw(k);
     if (!s.ok() || !normalize) return s;
-    double sum = 0;
-    for (size_t i = 0; i < s->size(); ++i) sum += double(s->data()[i]) * s->data()[i];
-    const double rms = std::sqrt(sum / std::max<size_t>(1, s->size()));
-    if (rms > 0)
-      for (size_t i = 0; i < s->size(); ++i) s->data()[i] = float(s->data()[i] / rms);
-    return s;
+    return DividedByRms(std::move(*s));
   };
   auto first = read_slice(0);
   if (!first.ok()) return first.status();
@@ -118,7 +123,7 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
   double frobenius = 0;
   Eigen::MatrixXd y = Eigen::MatrixXd::Zero(texels, sketch);
   MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
-    const Eigen::MatrixXd a = AsMatrix(s).cast<double>();
+    const Eigen::MatrixXd a = TexelMatrix(s).cast<double>();
     y.noalias() += a * TestRows(k, channels, sketch);
     frobenius += a.squaredNorm();
     report(k);
@@ -128,7 +133,7 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
     ++pass;
     y.setZero();
     MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
-      const Eigen::MatrixXd a = AsMatrix(s).cast<double>();
+      const Eigen::MatrixXd a = TexelMatrix(s).cast<double>();
       y.noalias() += a * (a.transpose() * q);
       report(k);
     }));
@@ -138,7 +143,7 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
   ++pass;
   Eigen::MatrixXd bbt = Eigen::MatrixXd::Zero(sketch, sketch);
   MESOCAP_RETURN_IF_ERROR(ForEachSlice(count, read_slice, num_threads, [&](int k, const Image& s) {
-    const Eigen::MatrixXd b = q.transpose() * AsMatrix(s).cast<double>();
+    const Eigen::MatrixXd b = q.transpose() * TexelMatrix(s).cast<double>();
     bbt.noalias() += b * b.transpose();
     report(k);
   }));

@@ -72,6 +72,14 @@ StatusOr<Exemplar> BtfExemplar(std::vector<ExemplarSlice> slices, const Exemplar
 int AppearanceImageCount(const Exemplar& exemplar);
 StatusOr<Image> AppearanceLuminance(const Exemplar& exemplar, int k);
 
+// An image as a texels x channels matrix (row-major, sharing the image's memory).
+using TexelMatrixMap = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+TexelMatrixMap TexelMatrix(const Image& image);
+
+// The image divided by the RMS of its values (unchanged if all are zero): a slice so normalised
+// weighs the same in a distance whatever its exposure.
+Image DividedByRms(Image image);
+
 // Geometry maps of a set of same-size slices read one at a time (never all in memory): the
 // top `components` left singular vectors of the texel x (slice, channel) matrix scaled by their
 // singular values, so distances between texels' feature vectors approximate their distances over

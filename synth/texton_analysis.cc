@@ -19,18 +19,6 @@ namespace {
 
 constexpr int kMinLevelSide = 8;  // a coarser level would hold too few texels to cluster
 
-// Each slice divided by its RMS value: every light and view weighs the same in the clustering.
-// (The filters' responses are not equalised: giving the edge filters the Gaussians' weight made
-// the syntheses' subband statistics 1.8-2.4x worse on the virtual-rig weave and stones.)
-Image Normalized(Image s) {
-  double sum = 0;
-  for (size_t i = 0; i < s.size(); ++i) sum += double(s.data()[i]) * s.data()[i];
-  const double rms = std::sqrt(sum / std::max<size_t>(1, s.size()));
-  if (rms > 0)
-    for (size_t i = 0; i < s.size(); ++i) s.data()[i] = float(s.data()[i] / rms);
-  return s;
-}
-
 // Gaussian pyramid level `level` of a one-channel image (OpenCV's 5-tap pyrDown per level).
 Image Reduced(Image image, int level) {
   for (int l = 0; l < level; ++l) {
@@ -96,13 +84,6 @@ StatusOr<std::vector<int>> RepresentativeSlices(int count, const std::function<S
   return chosen;
 }
 
-Eigen::MatrixXd AsPoints(const Image& vectors) {
-  Eigen::MatrixXd points(Eigen::Index(vectors.pixel_count()), vectors.channels());
-  for (size_t t = 0; t < vectors.pixel_count(); ++t)
-    for (int c = 0; c < vectors.channels(); ++c) points(Eigen::Index(t), c) = vectors.data()[t * vectors.channels() + c];
-  return points;
-}
-
 }  // namespace
 
 Status TextonAnalysisOptions::Check() const {
@@ -131,7 +112,10 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
     if (s->width() != width || s->height() != height || s->channels() != 1)
       return Status::Error("slice " + std::to_string(k) + " is " + std::to_string(s->width()) + "x" +
                            std::to_string(s->height()) + ", slice 0 is " + std::to_string(width) + "x" + std::to_string(height));
-    return Reduced(Normalized(std::move(*s)), level);
+    // Each slice divided by its RMS value: every light and view weighs the same in the clustering.
+    // (The filters' responses are not equalised: giving the edge filters the Gaussians' weight
+    // made the syntheses' subband statistics 1.8-2.4x worse on the virtual-rig weave and stones.)
+    return Reduced(DividedByRms(std::move(*s)), level);
   };
 
   TextonAnalysis analysis;
@@ -158,7 +142,7 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
         o.dimensions, 1, /*normalize=*/false, o.num_threads,
         [&](int done, int total, const std::string&) { return ReportProgress(progress, done, total, what); });
     if (!vectors.ok()) return vectors.status();
-    const Eigen::MatrixXd points = AsPoints(vectors->features);
+    const Eigen::MatrixXd points = TexelMatrix(vectors->features).cast<double>();
     const int wanted = std::max(1, o.textons >> (2 * l));  // a quarter per coarser level (Tong §5.1)
     const KMeansResult clusters = KMeans(points, {wanted, o.kmeans_iterations, o.seed + uint32_t(l), o.num_threads});
     TextonLevel level;
