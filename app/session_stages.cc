@@ -320,8 +320,7 @@ StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOp
         request.slices.push_back(int(k));
   std::sort(request.slices.begin(), request.slices.end());
   request.report = std::move(report);
-  if (!textons.levels.empty())
-    request.write_extra = [&textons](const fs::path& folder) { return WriteTextonAnalysis(folder / "textons.exr", textons); };
+  request.write_extra = TextonAnalysisWriter(textons);
   ProgressBar write_bar("synth slices", progress);
   MESOCAP_RETURN_IF_ERROR(WriteSynthesisOutputs(*map, *exemplar, request, write_bar.AsCallback()));
   StageSummary summary;

@@ -106,11 +106,8 @@ int RunSynth(SynthArgs& a) {
     return Fail(verb, a.input.string() + ": " + map.status().message(),
                 map.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
   if (!note.empty()) std::fprintf(stderr, "mesocap synth: %s: %s\n", a.input.string().c_str(), note.c_str());
-  if (a.method != "texton") return Finish(verb, *map, *e, a, report);
-  // The analysis is kept beside the map, so a later run (or a surface) reuses it with --analysis.
-  return Finish(verb, *map, *e, a, report, [&textons](const fs::path& folder) {
-    return textons.levels.empty() ? Status::Ok() : WriteTextonAnalysis(folder / "textons.exr", textons);
-  });
+  // A texton analysis is kept beside the map, so a later run (or a surface) reuses it with --analysis.
+  return Finish(verb, *map, *e, a, report, TextonAnalysisWriter(textons));
 }
 
 int RunApply(SynthArgs& a) {

@@ -108,10 +108,7 @@ StatusOr<TextonAnalysis> TextonsFor(const Exemplar& e, const SynthMethodOptions&
 
 StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Json* report, std::string* note,
                               const ProgressFn& progress, TextonAnalysis* analysis_out) {
-  const int n = a.texton.neighbourhood;
-  if (e.width < n || e.height < n)  // said before the analysis, not after it
-    return Status::Error("the sample (" + std::to_string(e.width) + "x" + std::to_string(e.height) + ") is smaller than the " +
-                         std::to_string(n) + "x" + std::to_string(n) + " neighbourhood");
+  MESOCAP_RETURN_IF_ERROR(a.texton.CheckSample(e.width, e.height));  // said before the analysis, not after it
   auto analysis = TextonsFor(e, a, progress);
   if (!analysis.ok()) return analysis.status();
   const TextonSynthesisOptions o = WithCommon(a.texton, a);
@@ -153,6 +150,11 @@ StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Js
 }
 
 }  // namespace
+
+std::function<Status(const std::filesystem::path&)> TextonAnalysisWriter(const TextonAnalysis& analysis) {
+  if (analysis.levels.empty()) return nullptr;
+  return [&analysis](const std::filesystem::path& folder) { return WriteTextonAnalysis(folder / "textons.exr", analysis); };
+}
 
 StatusOr<SynthMap> RunSynthesisMethod(const Exemplar& e, const SynthMethodOptions& a, Json* report_out, std::string* note,
                                       const ProgressFn& progress, TextonAnalysis* analysis) {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "core/json.h"
@@ -43,5 +44,9 @@ struct SynthMethodOptions {
 StatusOr<SynthMap> RunSynthesisMethod(const Exemplar& exemplar, const SynthMethodOptions& options, Json* report,
                                       std::string* note, const ProgressFn& progress = nullptr,
                                       TextonAnalysis* analysis = nullptr);
+
+// What keeps a texton analysis beside the map (SynthOutputRequest::write_extra): textons.exr,
+// which `synth --analysis` reuses; null when there is none. `analysis` must outlive the writer.
+std::function<Status(const std::filesystem::path&)> TextonAnalysisWriter(const TextonAnalysis& analysis);
 
 }  // namespace mesocap::app

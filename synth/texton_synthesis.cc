@@ -223,6 +223,10 @@ void BuildNearestLists(SampleLevel& s, const SampleLevel* coarser, int length, i
 
 struct Counters {
   long queries = 0, candidates = 0, audited = 0, agreed = 0;
+  Counters& operator+=(const Counters& o) {
+    queries += o.queries, candidates += o.candidates, audited += o.audited, agreed += o.agreed;
+    return *this;
+  }
 };
 
 // The output of one level being synthesized: sample texel indices, out_w x out_h, wrapping. In a
@@ -355,9 +359,7 @@ bool ResynthesisPass(const SampleLevel& s, const TextonSynthesisOptions& o, uint
       if (!ReportProgress(progress, ++rows_done, h, what)) cancelled = true;
     }
   }, o.num_threads);
-  for (const Counters& c : band_counters)
-    counters->queries += c.queries, counters->candidates += c.candidates, counters->audited += c.audited,
-        counters->agreed += c.agreed;
+  for (const Counters& c : band_counters) *counters += c;
   return !cancelled;
 }
 
@@ -402,15 +404,17 @@ Status TextonSynthesisOptions::Check() const {
   return Status::Ok();
 }
 
+Status TextonSynthesisOptions::CheckSample(int sample_width, int sample_height) const {
+  if (sample_width >= neighbourhood && sample_height >= neighbourhood) return Status::Ok();
+  return Status::Error("the sample (" + std::to_string(sample_width) + "x" + std::to_string(sample_height) +
+                       ") is smaller than the " + std::to_string(neighbourhood) + "x" + std::to_string(neighbourhood) +
+                       " neighbourhood");
+}
+
 Status TextonSynthesisOptions::Check(const TextonAnalysis& analysis) const {
   MESOCAP_RETURN_IF_ERROR(Check());
   if (analysis.levels.empty()) return Status::Error("the texton analysis has no levels");
-  const TextonLevel& finest = analysis.levels[0];
-  if (finest.width < neighbourhood || finest.height < neighbourhood)
-    return Status::Error("the sample (" + std::to_string(finest.width) + "x" + std::to_string(finest.height) +
-                         ") is smaller than the " + std::to_string(neighbourhood) + "x" + std::to_string(neighbourhood) +
-                         " neighbourhood");
-  return Status::Ok();
+  return CheckSample(analysis.levels[0].width, analysis.levels[0].height);
 }
 
 StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonSynthesisOptions& o,
@@ -482,7 +486,7 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
     Counters counters;
     report->per_level.clear();
     for (const Counters& c : per_level) {
-      counters.queries += c.queries, counters.candidates += c.candidates, counters.audited += c.audited, counters.agreed += c.agreed;
+      counters += c;
       report->per_level.push_back({c.queries, c.queries ? double(c.candidates) / c.queries : 0, c.audited,
                                    c.audited ? double(c.agreed) / c.audited : 0});
     }

@@ -50,7 +50,8 @@ struct TextonSynthesisOptions {
   uint32_t seed = 1;
   int num_threads = -1;
   Status Check() const;                               // the options alone
-  Status Check(const TextonAnalysis& analysis) const;  // and against the sample analysed
+  Status CheckSample(int width, int height) const;    // a sample the neighbourhood fits in
+  Status Check(const TextonAnalysis& analysis) const;  // both, on the sample analysed
 };
 
 struct TextonLevelReport {
