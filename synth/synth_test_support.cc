@@ -23,12 +23,27 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ExemplarPairs() {
   return pairs;
 }
 
+namespace {
+
+// The exemplar folders this process rendered, removed when it exits.
+struct RenderedFolders {
+  std::vector<std::filesystem::path> folders;
+  ~RenderedFolders() {
+    std::error_code ec;
+    for (const auto& f : folders) std::filesystem::remove_all(f, ec);
+  }
+};
+
+}  // namespace
+
 Exemplar VirtualRigExemplar(const std::string& material, int size) {
   static std::mutex mutex;
+  static RenderedFolders rendered;
   std::lock_guard<std::mutex> lock(mutex);
   const auto dir = std::filesystem::temp_directory_path() /
                    ("mesocap_synth_exemplar_" + std::to_string(getpid()) + "_" + material + "_" + std::to_string(size));
   if (!std::filesystem::exists(dir / "index.json")) {
+    rendered.folders.push_back(dir);
     auto m = Material::Create(material);
     MESOCAP_CHECK(m.ok(), m.status().message());
     TrueBtfFolderOptions options;
