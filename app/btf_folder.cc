@@ -31,6 +31,15 @@ std::vector<Eigen::Vector3d> GridDirections(const std::string& grid) {
   return dirs;
 }
 
+void AddColourSpaceOption(CLI::App* command, std::string* text, const std::string& name) {
+  command
+      ->add_option(name, *text,
+                   "Colour channels histograms are matched in: chromaticity (brightness and r, g chromaticities: "
+                   "keeps colours true), pca (the top view's principal colour axes) or rgb (each on its own, as the paper)")
+      ->check(CLI::IsMember({"chromaticity", "pca", "rgb"}))
+      ->capture_default_str();
+}
+
 std::vector<DirectionPair> GridPairs(const std::string& grid) {
   const std::vector<Eigen::Vector3d> dirs = GridDirections(grid);
   std::vector<DirectionPair> pairs;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Core>
 
 #include "core/json.h"
@@ -34,6 +35,10 @@ bool OnCoarseGrid(const Eigen::Vector3d& direction);
 
 // The slice file of a direction pair: angles to 0.1 deg, so distinct pairs may share a name.
 std::string BtfSliceName(const DirectionPair& pair);
+
+// `--colour-space` (or `name`) for the commands that reconstruct: the colour channels histograms
+// are matched in (reconstruct/colour.h), by name; ParseColourSpace reads it.
+void AddColourSpaceOption(CLI::App* command, std::string* text, const std::string& name = "--colour-space");
 
 struct BtfFolderReport {
   int slices = 0;

@@ -245,7 +245,7 @@ Status AddEvaluation(const DemoReconstructionInputs& in, Report* report) {
                            "the 81 x 81 grid (64 x 64 texels): the statistical reconstruction beats both baselines on "
                            "pixel W1 in %.1f%% of pairs (issue 5 asks for 80%%), on subband W1 in %.1f%%. "
                            "`mesocap evaluate --material NAME` runs all 5832 pairs.",
-                           eval->pairs.size(), 100 * eval->FractionBeatingBoth(false), 100 * eval->FractionBeatingBoth(true)));
+                           eval->pairs.size(), 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels), 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands)));
   report->Table({"method", "median RMSE", "median W1 pixels", "median W1 subbands"}, rows);
   std::printf("demo: evaluate: %s\n", eval->Brief().c_str());
   return Status::Ok();

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "app/btf_folder.h"
 #include "app/commands.h"
 #include "app/process.h"
 #include "app/synth_output.h"
@@ -60,6 +61,7 @@ Command ProcessCommand() {
     sub->add_option("--btf-grid", args->options.reconstruct.grid, "Direction pairs of the reconstructed BTF: bonn (6561) or coarse (289)")
         ->capture_default_str();
     sub->add_flag("--btf-pixel-only", args->options.reconstruct.pixel_only, "Reconstruct from pixel histograms only (no subbands)");
+    AddColourSpaceOption(sub, &args->options.reconstruct.colour_space, "--btf-colour-space");
     sub->add_option("--synth", args->options.synth.method,
                     "Also enlarge the reconstructed BTF: roller, quilt, ptm-block or texton (SESSION/synth/; export adds gltf_synth/)");
     sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();

@@ -31,6 +31,7 @@ struct ReconstructArgs {
   std::vector<std::string> pairs;  // "theta_i,phi_i,theta_o,phi_o"
   std::string grid = "bonn";
   bool pixel_only = false;
+  std::string colour_space = "chromaticity";
   bool no_progress = false;
 };
 
@@ -80,6 +81,7 @@ int Run(ReconstructArgs& a) {
   if (pairs.empty()) return Fail("reconstruct", "--grid must be bonn or coarse, not '" + a.grid + "'", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("reconstruct", a.out.string() + ": exists and is not empty", kExitUsage);
   a.options.btf.match_subbands = !a.pixel_only;
+  a.options.btf.colour_space = *ParseColourSpace(a.colour_space);
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
 
   SliceSetReport loaded;
@@ -95,7 +97,8 @@ int Run(ReconstructArgs& a) {
   const auto fail = [](const std::string& message, int code = kExitFailure) { return Fail("reconstruct", message, code); };
   ProgressBar bar("reconstruct", !a.no_progress);
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, a.pixel_only, a.options.btf.num_threads, staging->path(),
-                                       {{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}},
+                                       {{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only},
+                                        {"colour_space", a.colour_space}},
                                        bar.AsCallback());
   if (!written.ok())
     return fail(written.status().message(), written.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
@@ -125,6 +128,7 @@ Command ReconstructCommand() {
     sub->add_option("--size", args->options.size, "Resample slices to this many texels a side (power of two; 0 keeps theirs)")
         ->capture_default_str();
     sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands)");
+    AddColourSpaceOption(sub, &args->colour_space);
     sub->add_option("--threads", args->options.btf.num_threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   };

@@ -62,6 +62,7 @@ struct ReconstructStageOptions {
   SliceSetOptions slices;     // size: texels a side of the reconstructed slices
   std::string grid = "bonn";  // GridPairs()
   bool pixel_only = false;
+  std::string colour_space = "chromaticity";  // AddColourSpaceOption
 };
 // The statistical BTF (Ngan & Durand) over a grid of direction pairs -> SESSION/btf/.
 StatusOr<StageSummary> RunReconstructStage(const std::filesystem::path& session, const ReconstructStageOptions& options,

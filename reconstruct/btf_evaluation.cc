@@ -9,6 +9,7 @@
 #include "core/directions.h"
 #include "core/parallel.h"
 #include "core/text_format.h"
+#include "reconstruct/colour.h"
 
 namespace mesocap {
 namespace {
@@ -78,6 +79,7 @@ std::array<Image, kBtfMethods> ReconstructAllMethods(const StatisticalBtf& btf, 
 PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Image& truth,
                        const SliceStatisticsOptions& options) {
   const SliceStatistics truth_stats = ComputeSliceStatistics(truth, options);
+  const double truth_saturation = SaturationQuantile(truth, 0.95);
   PairScore score;
   for (int m = 0; m < kBtfMethods; ++m) {
     score.rmse[m] = RmsDifference(methods[m], truth);
@@ -90,30 +92,61 @@ PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Imag
     }
     score.wasserstein_pixels[m] = wp;
     score.wasserstein_bands[m] = wb;
+    score.wasserstein_chromaticity[m] = ChromaticityDistance(methods[m], truth);
+    score.saturation_ratio[m] = truth_saturation > 0 ? SaturationQuantile(methods[m], 0.95) / truth_saturation : 1.0;
   }
   return score;
 }
 
-double BtfEvaluation::FractionBeatingBoth(bool bands) const {
+double BtfEvaluation::FractionBeatingBoth(MethodScores score) const {
   if (pairs.empty()) return 0;
   int wins = 0;
   for (const PairScore& p : pairs) {
-    const auto& w = bands ? p.wasserstein_bands : p.wasserstein_pixels;
+    const auto& w = p.*score;
     wins += w[0] < w[1] && w[0] < w[2];
   }
   return double(wins) / double(pairs.size());
 }
 
-std::array<double, kBtfMethods> BtfEvaluation::Median(std::array<double, kBtfMethods> PairScore::*score) const {
+namespace {
+
+double MedianOf(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+std::vector<double> SaturationErrors(const std::vector<PairScore>& pairs, int method) {
+  std::vector<double> v;
+  for (const PairScore& p : pairs) v.push_back(std::abs(p.saturation_ratio[method] - 1));
+  return v;
+}
+
+}  // namespace
+
+std::array<double, kBtfMethods> BtfEvaluation::Median(MethodScores score) const {
   std::array<double, kBtfMethods> median{};
   for (int m = 0; m < kBtfMethods; ++m) {
     std::vector<double> v;
     for (const PairScore& p : pairs) v.push_back((p.*score)[m]);
-    if (v.empty()) continue;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    median[m] = v[v.size() / 2];
+    median[m] = MedianOf(std::move(v));
   }
   return median;
+}
+
+std::array<double, kBtfMethods> BtfEvaluation::MedianSaturationError() const {
+  std::array<double, kBtfMethods> out{};
+  for (int m = 0; m < kBtfMethods; ++m) out[m] = MedianOf(SaturationErrors(pairs, m));
+  return out;
+}
+
+std::array<double, kBtfMethods> BtfEvaluation::WorstSaturationError() const {
+  std::array<double, kBtfMethods> out{};
+  for (int m = 0; m < kBtfMethods; ++m) {
+    const std::vector<double> v = SaturationErrors(pairs, m);
+    out[m] = v.empty() ? 0 : *std::max_element(v.begin(), v.end());
+  }
+  return out;
 }
 
 Json BtfEvaluation::ToJson() const {
@@ -122,12 +155,16 @@ Json BtfEvaluation::ToJson() const {
     const std::string name = BtfMethodToString(BtfMethod(m));
     summary[name] = {{"median_rmse", Median(&PairScore::rmse)[m]},
                      {"median_wasserstein_pixels", Median(&PairScore::wasserstein_pixels)[m]},
-                     {"median_wasserstein_bands", Median(&PairScore::wasserstein_bands)[m]}};
+                     {"median_wasserstein_bands", Median(&PairScore::wasserstein_bands)[m]},
+                     {"median_wasserstein_chromaticity", Median(&PairScore::wasserstein_chromaticity)[m]},
+                     {"median_saturation_error", MedianSaturationError()[m]},
+                     {"worst_saturation_error", WorstSaturationError()[m]}};
   }
   Json j = {{"held_out_pairs", pairs.size()},
             {"input_slices", input_slices},
-            {"fraction_beating_both_wasserstein_pixels", FractionBeatingBoth(false)},
-            {"fraction_beating_both_wasserstein_bands", FractionBeatingBoth(true)},
+            {"fraction_beating_both_wasserstein_pixels", FractionBeatingBoth(&PairScore::wasserstein_pixels)},
+            {"fraction_beating_both_wasserstein_bands", FractionBeatingBoth(&PairScore::wasserstein_bands)},
+            {"fraction_beating_both_wasserstein_chromaticity", FractionBeatingBoth(&PairScore::wasserstein_chromaticity)},
             {"methods", summary},
             {"seconds_inputs", seconds_inputs},
             {"seconds_statistics", seconds_statistics},
@@ -138,7 +175,9 @@ Json BtfEvaluation::ToJson() const {
     Json e = PairJson(p.light, p.view);
     for (int m = 0; m < kBtfMethods; ++m)
       e[BtfMethodToString(BtfMethod(m))] = {{"rmse", p.rmse[m]}, {"w_pixels", p.wasserstein_pixels[m]},
-                                            {"w_bands", p.wasserstein_bands[m]}};
+                                            {"w_bands", p.wasserstein_bands[m]},
+                                            {"w_chromaticity", p.wasserstein_chromaticity[m]},
+                                            {"saturation_ratio", p.saturation_ratio[m]}};
     list.push_back(e);
   }
   j["pairs"] = list;
@@ -147,9 +186,13 @@ Json BtfEvaluation::ToJson() const {
 
 std::string BtfEvaluation::Brief() const {
   const auto w = Median(&PairScore::wasserstein_pixels);
-  return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (subbands %.0f%%); "
-                "median W1 statistical %.5f, top view %.5f, BRDF-modulated %.5f",
-                pairs.size(), 100.0 * FractionBeatingBoth(false), 100.0 * FractionBeatingBoth(true), w[0], w[1], w[2]);
+  return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (subbands %.0f%%, "
+                "chromaticity %.0f%%); median W1 statistical %.5f, top view %.5f, BRDF-modulated %.5f; 95th-percentile "
+                "saturation within %.1f%% of the truth's at the median, %.1f%% at worst",
+                pairs.size(), 100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels),
+                100.0 * FractionBeatingBoth(&PairScore::wasserstein_bands),
+                100.0 * FractionBeatingBoth(&PairScore::wasserstein_chromaticity), w[0], w[1], w[2],
+                100.0 * MedianSaturationError()[0], 100.0 * WorstSaturationError()[0]);
 }
 
 StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options_in,
@@ -180,12 +223,13 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
 
   // 2. Statistics of every input slice; the top view's slices are the base textures.
   start = std::chrono::steady_clock::now();
-  std::vector<MeasuredView> measured;
   int top = 0;
-  for (int v = 0; v < views; ++v) {
-    measured.push_back(MeasureView(options.input_views[v], options.input_lights, slices[v], options.btf));
+  for (int v = 1; v < views; ++v)
     if (options.input_views[v].normalized().z() > options.input_views[top].normalized().z()) top = v;
-  }
+  options.btf = WithColourChannels(options.btf, slices[top]);
+  std::vector<MeasuredView> measured;
+  for (int v = 0; v < views; ++v)
+    measured.push_back(MeasureView(options.input_views[v], options.input_lights, slices[v], options.btf));
   auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights, std::move(measured), options.btf);
   if (!btf.ok()) return btf.status();
   slices.clear();

@@ -45,17 +45,24 @@ struct PairScore {
   Eigen::Vector3d light, view;
   // Per method (BtfMethod order), averaged over colour channels.
   std::array<double, kBtfMethods> rmse{}, wasserstein_pixels{}, wasserstein_bands{};
+  // Colour (3-channel slices, reconstruct/colour.h): W1 of the chromaticity histograms, and the
+  // 95th-percentile saturation over the truth's.
+  std::array<double, kBtfMethods> wasserstein_chromaticity{}, saturation_ratio{};
 };
+using MethodScores = std::array<double, kBtfMethods> PairScore::*;
 
 struct BtfEvaluation {
   std::vector<PairScore> pairs;
   int input_slices = 0;
   double seconds_inputs = 0, seconds_statistics = 0, seconds_scoring = 0;
   double reconstruct_ms_per_slice = 0;  // thread time per reconstructed slice
-  // Share of pairs where the statistical reconstruction beats both baselines.
-  double FractionBeatingBoth(bool bands) const;
+  // Share of pairs where the statistical reconstruction beats both baselines on a score.
+  double FractionBeatingBoth(MethodScores score) const;
   // Median of a score over pairs, per method.
-  std::array<double, kBtfMethods> Median(std::array<double, kBtfMethods> PairScore::*score) const;
+  std::array<double, kBtfMethods> Median(MethodScores score) const;
+  // Per method, the median and the largest over pairs of |saturation ratio - 1|.
+  std::array<double, kBtfMethods> MedianSaturationError() const;
+  std::array<double, kBtfMethods> WorstSaturationError() const;
   Json ToJson() const;
   std::string Brief() const;
 };
@@ -70,7 +77,7 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
                                                const ProgressFn& progress = nullptr, std::optional<StatisticalBtf>* model = nullptr);
 
 // RMSE, pixel W1 and subband W1 of each method's slice against `truth`, averaged over colour
-// channels (and subbands); light and view are left for the caller.
+// channels (and subbands), and the colour scores; light and view are left for the caller.
 PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Image& truth,
                        const SliceStatisticsOptions& options = {});
 

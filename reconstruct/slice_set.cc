@@ -74,31 +74,43 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     if (views[b].z() > views[top].z()) top = int(b);
   rep.top_board = board_ids[top];
 
-  // Statistics of every slice, streamed; the top board's slices are also kept.
+  // The top board's slices first: they are kept as base textures and give the colour basis the
+  // statistics are taken in. Then every other slice's statistics, streamed.
   std::vector<const IndexedSlice*> all;
   std::vector<int> view_of;
+  for (const auto& s : boards[board_ids[top]]) all.push_back(&s), view_of.push_back(top);
+  const int top_count = int(all.size());
   for (size_t b = 0; b < board_ids.size(); ++b)
-    for (const auto& s : boards[board_ids[b]]) all.push_back(&s), view_of.push_back(int(b));
+    if (int(b) != top)
+      for (const auto& s : boards[board_ids[b]]) all.push_back(&s), view_of.push_back(int(b));
   std::vector<SliceStatistics> stats(all.size());
   std::vector<Image> images(all.size());
   std::vector<std::string> errors(all.size());
   std::atomic<int> done = 0;
   std::atomic<bool> cancelled = false;
-  ParallelFor(0, int(all.size()), [&](int k) {
-    if (cancelled) return;
+  auto read = [&](int k) -> Image {
     auto image = ReadImage(all[k]->file);
     if (!image.ok()) {
       errors[k] = image.status().message();
-    } else {
-      Image slice = ResampleSquare(*image, options.size);
-      if (!IsPowerOfTwo(slice.width()) || slice.width() != slice.height()) {
-        errors[k] = "slice is " + std::to_string(slice.width()) + "x" + std::to_string(slice.height()) +
-                    ", not a power-of-two square (use --size)";
-      } else {
-        stats[k] = ComputeSliceStatistics(slice, options.btf.statistics);
-        if (view_of[k] == top) images[k] = std::move(slice);
-      }
+      return {};
     }
+    Image slice = ResampleSquare(*image, options.size);
+    if (!IsPowerOfTwo(slice.width()) || slice.width() != slice.height()) {
+      errors[k] = "slice is " + std::to_string(slice.width()) + "x" + std::to_string(slice.height()) +
+                  ", not a power-of-two square (use --size)";
+      return {};
+    }
+    return slice;
+  };
+  ParallelFor(0, top_count, [&](int k) { images[k] = read(k); }, options.btf.num_threads);
+  // (An unreadable slice is an empty image, which the basis skips.)
+  const StatisticalBtfOptions btf_options = WithColourChannels(options.btf, std::span(images.data(), top_count));
+  ParallelFor(0, int(all.size()), [&](int k) {
+    if (cancelled) return;
+    const Image slice = k < top_count ? Image() : read(k);
+    const Image& measured = k < top_count ? images[k] : slice;
+    if (errors[k].empty())
+      stats[k] = ComputeSliceStatistics(btf_options.colour.Forward(measured), btf_options.statistics);
     if (!ReportProgress(progress, ++done, int(all.size()), "slice statistics")) cancelled = true;
   }, options.btf.num_threads);
   if (cancelled) return Status::Error("cancelled");
@@ -128,7 +140,7 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   }
   rep.views = int(usable.size());
   rep.top_lights = int(top_lights.size());
-  auto btf = StatisticalBtf::Create(std::move(top_slices), std::move(top_lights), std::move(usable), options.btf);
+  auto btf = StatisticalBtf::Create(std::move(top_slices), std::move(top_lights), std::move(usable), btf_options);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!btf.ok()) return Status::Error(index_json.string() + ": " + btf.status().message());
   return btf;

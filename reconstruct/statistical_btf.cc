@@ -10,6 +10,11 @@ namespace mesocap {
 
 bool StatisticalBtfOptions::Check() const { return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0; }
 
+StatisticalBtfOptions WithColourChannels(StatisticalBtfOptions options, std::span<const Image> top_slices) {
+  options.colour = ColourChannels::For(options.colour_space, top_slices);
+  return options;
+}
+
 MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::Vector3d>& lights,
                          const std::vector<Image>& slices, const StatisticalBtfOptions& options,
                          const ProgressFn& progress) {
@@ -17,7 +22,7 @@ MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::V
   MeasuredView measured{view.normalized(), lights, std::vector<SliceStatistics>(slices.size())};
   std::atomic<int> done = 0;
   ParallelFor(0, int(slices.size()), [&](int k) {
-    measured.statistics[k] = ComputeSliceStatistics(slices[k], options.statistics);
+    measured.statistics[k] = ComputeSliceStatistics(options.colour.Forward(slices[k]), options.statistics);
     ReportProgress(progress, ++done, int(slices.size()), "statistics");
   }, options.num_threads);
   return measured;
@@ -96,16 +101,22 @@ bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vec
 }
 
 Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
-  const Image base = BaseTexture(light);
+  const Image base = options_.colour.Forward(BaseTexture(light));
   const SliceStatistics target = TargetStatistics(light, view);
-  if (options_.match_subbands) return MatchSliceStatistics(base, target, options_.statistics);
-  Image out = base;
-  for (int c = 0; c < out.channels(); ++c) {
-    std::vector<float> plane = ChannelPlane(out, c);
-    MatchToInverseCdf(plane, target.pixels[c]);
-    SetChannelPlane(&out, c, plane);
+  Image matched;
+  if (options_.match_subbands) {
+    matched = MatchSliceStatistics(base, target, options_.statistics);
+  } else {
+    matched = base;
+    for (int c = 0; c < matched.channels(); ++c) {
+      std::vector<float> plane = ChannelPlane(matched, c);
+      MatchToInverseCdf(plane, target.pixels[c]);
+      SetChannelPlane(&matched, c, plane);
+    }
   }
-  return out;
+  // Statistics extrapolated beyond the outer view ring, and the way back to RGB, can leave
+  // values below zero: Inverse clamps them.
+  return options_.colour.Inverse(matched);
 }
 
 std::vector<Eigen::Vector3d> BonnDirections() {

@@ -5,6 +5,7 @@
 // blended as inverse CDFs.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,6 +13,7 @@
 #include "core/image.h"
 #include "core/progress.h"
 #include "core/status.h"
+#include "reconstruct/colour.h"
 #include "reconstruct/direction_interpolation.h"
 #include "reconstruct/slice_statistics.h"
 
@@ -31,9 +33,17 @@ struct StatisticalBtfOptions {
   // on a 24-shot virtual session this halves the median pixel W1 to the true BTF (0.0149 ->
   // 0.0068 at 64 texels, 60 pairs). Lights on the target's own direction are unaffected.
   bool cosine_weighted_lights = true;
+  // The colour channels histograms are matched in (reconstruct/colour.h); kRgb is the paper's.
+  // `colour` is derived from it and the top view by WithColourChannels before any statistics.
+  ColourSpace colour_space = ColourSpace::kChromaticity;
+  ColourChannels colour;
   int num_threads = -1;
   bool Check() const;
 };
+
+// `options` with the colour channels of `colour_space` for this top view's slices. Every statistic
+// and reconstruction of one BTF must use the same options.
+StatisticalBtfOptions WithColourChannels(StatisticalBtfOptions options, std::span<const Image> top_slices);
 
 // One measured view: its direction and the statistics of its slices, one per light.
 // Directions are unit vectors in the patch frame (z = normal).
@@ -65,7 +75,7 @@ class StatisticalBtf {
   // True when every view the pair borrows statistics from measured lights around `light` (the
   // light lies inside that view's triangulated light hull): no light extrapolation.
   bool LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
-  // The reconstructed slice. Thread-safe.
+  // The reconstructed slice: finite, non-negative radiance. Thread-safe.
   Image Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
 
   int width() const { return top_slices_.front().width(); }

@@ -110,6 +110,47 @@ TEST(StatisticalBtf, CosineWeightedLightsInterpolateALambertianFalloffExactly) {
   }
 }
 
+// The synthetic BTF in colour: each texel's value times a fixed tint.
+Image Tinted(const Image& grey) {
+  Image out(grey.width(), grey.height(), 3);
+  const float tint[3] = {1.0f, 0.6f, 0.3f};
+  for (size_t i = 0; i < grey.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) out.data()[3 * i + c] = grey.data()[i] * tint[c];
+  return out;
+}
+
+// Views at 0 and 30 deg only: a view at 85 deg extrapolates the statistics far beyond the outer
+// ring, where the tone curve's darkest values run below zero. The slices stay finite and
+// non-negative in every colour space, and each still gives a measured view's slice back.
+TEST(StatisticalBtf, ColourSlicesStayFiniteAndNonNegativeWhereStatisticsExtrapolateBelowZero) {
+  SyntheticBtf truth(32, testing::SeedFromTestName());
+  const std::vector<Eigen::Vector3d> lights = BonnDirections();
+  const std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ(), DirectionFromAnglesDeg(30, 0),
+                                              DirectionFromAnglesDeg(30, 120), DirectionFromAnglesDeg(30, 240)};
+  for (const ColourSpace space : {ColourSpace::kRgb, ColourSpace::kPrincipalAxes, ColourSpace::kChromaticity}) {
+    StatisticalBtfOptions options;
+    options.colour_space = space;
+    std::vector<std::vector<Image>> slices(views.size());
+    for (size_t v = 0; v < views.size(); ++v)
+      for (const auto& light : lights) slices[v].push_back(Tinted(truth.Slice(light, views[v])));
+    options = WithColourChannels(options, slices[0]);
+    EXPECT_EQ(options.colour.basis().isIdentity(), space != ColourSpace::kPrincipalAxes);
+    std::vector<MeasuredView> measured;
+    for (size_t v = 0; v < views.size(); ++v) measured.push_back(MeasureView(views[v], lights, slices[v], options));
+    auto btf = StatisticalBtf::Create(slices[0], lights, std::move(measured), options);
+    ASSERT_TRUE(btf.ok()) << btf.status().message();
+    const Eigen::Vector3d light = DirectionFromAnglesDeg(20, 50), grazing = DirectionFromAnglesDeg(85, 200);
+    const SliceStatistics target = btf->TargetStatistics(light, grazing);
+    float lowest = 0;
+    for (const InverseCdf& q : target.pixels) lowest = std::min(lowest, q.values.front());
+    EXPECT_LT(lowest, 0) << "the fixture should extrapolate below zero";
+    const Image slice = btf->Reconstruct(light, grazing);
+    for (size_t i = 0; i < slice.size(); ++i) ASSERT_TRUE(std::isfinite(slice.data()[i]) && slice.data()[i] >= 0) << i;
+    const Image measured_view = btf->Reconstruct(lights[23], views[1]);
+    EXPECT_LT(RelativeRms(measured_view, Tinted(truth.Slice(lights[23], views[1]))), 0.08) << ColourSpaceName(space);
+  }
+}
+
 TEST(StatisticalBtf, RejectsBadInput) {
   SyntheticBtf truth(32, testing::SeedFromTestName());
   Fixture f;

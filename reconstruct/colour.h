@@ -1,0 +1,60 @@
+// Colour for the statistical BTF: the decorrelated colour space its histograms are matched in
+// (Heeger & Bergen 1995's colour extension: principal axes of the sample's colours, so that
+// matching each axis on its own does not invent colours the way matching R, G and B on their own
+// does), and the colour measures a reconstruction is scored on against the truth.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/image.h"
+
+namespace mesocap {
+
+// The colour channels a slice's histograms are matched in (3-channel slices; others pass as they
+// are):
+// - kRgb: R, G and B, each on its own (Ngan & Durand, as Heeger & Bergen's grey method);
+// - kPrincipalAxes: the top view's principal colour axes (Heeger & Bergen's colour extension);
+// - kChromaticity: brightness R + G + B and the chromaticities r = R / (R + G + B), g = G / (...):
+//   a highlight's white then lies inside the colour histograms instead of in a tail that matching
+//   hands to dark texels as vivid colour.
+enum class ColourSpace { kRgb, kPrincipalAxes, kChromaticity };
+std::string ColourSpaceName(ColourSpace space);  // "rgb", "pca", "chromaticity"
+std::optional<ColourSpace> ParseColourSpace(const std::string& name);
+
+class ColourChannels {
+ public:
+  ColourChannels() = default;  // RGB
+  // The principal axes come from `top_slices` (empty images are skipped).
+  static ColourChannels For(ColourSpace space, std::span<const Image> top_slices);
+  ColourSpace space() const { return space_; }
+  const Eigen::Matrix3f& basis() const { return basis_; }
+  Image Forward(const Image& rgb) const;
+  // Back to RGB, as storable radiance (ClampToStorableRadiance).
+  Image Inverse(const Image& channels) const;
+
+ private:
+  ColourSpace space_ = ColourSpace::kRgb;
+  Eigen::Matrix3f basis_ = Eigen::Matrix3f::Identity();  // kPrincipalAxes: rows are the axes
+};
+
+// Rows: the principal axes of the images' RGB colours (covariance eigenvectors, largest variance
+// first, each signed so its largest component is positive). Identity unless the images have 3
+// channels and some colour variance.
+Eigen::Matrix3f DecorrelatingColourBasis(std::span<const Image> images);
+
+// Radiance as it may be stored: non-finite values to 0, then clamped to [0, largest half float].
+void ClampToStorableRadiance(Image* image);
+
+// W1 between the two images' chromaticity histograms: r = R / (R + G + B) and g = G / (R + G + B)
+// over texels with R + G + B > 0, the mean of the two marginals' distances. 0 without 3 channels.
+double ChromaticityDistance(const Image& a, const Image& b);
+
+// The `q` quantile of the texels' HSV saturation (max - min) / max over texels with max > 0.
+// 0 without 3 channels.
+double SaturationQuantile(const Image& image, double q);
+
+}  // namespace mesocap
