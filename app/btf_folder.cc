@@ -40,6 +40,12 @@ void AddColourSpaceOption(CLI::App* command, std::string* text, const std::strin
       ->capture_default_str();
 }
 
+void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& name) {
+  command->add_flag(name, *no_prior,
+                    "For lights beyond a view's measured lights, hold the statistics of their edge (the paper) instead "
+                    "of moving them by the top view's change in light");
+}
+
 std::vector<DirectionPair> GridPairs(const std::string& grid) {
   const std::vector<Eigen::Vector3d> dirs = GridDirections(grid);
   std::vector<DirectionPair> pairs;

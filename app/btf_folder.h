@@ -39,6 +39,9 @@ std::string BtfSliceName(const DirectionPair& pair);
 // `--colour-space` (or `name`) for the commands that reconstruct: the colour channels histograms
 // are matched in (reconstruct/colour.h), by name; ParseColourSpace reads it.
 void AddColourSpaceOption(CLI::App* command, std::string* text, const std::string& name = "--colour-space");
+// `--no-top-view-prior` (or `name`): hold a view's statistics at the edge of its measured lights
+// for lights beyond them, as the paper does (StatisticalBtfOptions::top_view_prior).
+void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& name = "--no-top-view-prior");
 
 struct BtfFolderReport {
   int slices = 0;

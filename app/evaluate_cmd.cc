@@ -32,6 +32,7 @@ struct EvaluateArgs {
   bool pixel_only = false;
   double max_view_extrapolation = 1e9;
   std::string colour_space = "chromaticity";
+  bool no_top_view_prior = false;
   int threads = -1;
   bool no_progress = false;
 };
@@ -72,6 +73,7 @@ int Run(const EvaluateArgs& a) {
   options.max_pairs = a.pairs;
   options.btf.max_view_extrapolation = a.max_view_extrapolation;
   options.btf.colour_space = *ParseColourSpace(a.colour_space);
+  options.btf.top_view_prior = !a.no_top_view_prior;
   ProgressBar bar("evaluate", !a.no_progress);
   std::optional<StatisticalBtf> model;
   auto eval = EvaluateStatisticalBtf(truth, options, bar.AsCallback(), &model);
@@ -82,7 +84,7 @@ int Run(const EvaluateArgs& a) {
   j["material"] = a.material;
   j["size"] = a.size;
   j["provenance"] = MakeProvenance({{"material", a.material}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
-                                      {"colour_space", a.colour_space}});
+                                      {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior}});
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";
   for (int m = 0; m < kBtfMethods; ++m)
@@ -151,6 +153,7 @@ Command EvaluateCommand() {
                     "Extrapolate view statistics at most this many ring spacings beyond the outer ring")
         ->capture_default_str();
     AddColourSpaceOption(sub, &args->colour_space);
+    AddTopViewPriorFlag(sub, &args->no_top_view_prior);
     sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   };

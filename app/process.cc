@@ -159,7 +159,8 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                     [&a, progress] { return RunPtmStage(a.session, a.calibrate.layout_file, a.ptm, progress); }});
   stages.push_back({"reconstruct", {"resample"}, {},
                     {{"size", a.reconstruct.slices.size}, {"grid", a.reconstruct.grid},
-                     {"pixel_only", a.reconstruct.pixel_only}, {"colour_space", a.reconstruct.colour_space}},
+                     {"pixel_only", a.reconstruct.pixel_only}, {"colour_space", a.reconstruct.colour_space},
+                     {"top_view_prior", !a.reconstruct.no_top_view_prior}},
                     {"btf"},
                     [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
   if (!a.synth.method.empty())

@@ -32,6 +32,7 @@ struct ReconstructArgs {
   std::string grid = "bonn";
   bool pixel_only = false;
   std::string colour_space = "chromaticity";
+  bool no_top_view_prior = false;
   bool no_progress = false;
 };
 
@@ -82,6 +83,7 @@ int Run(ReconstructArgs& a) {
   if (!IsMissingOrEmptyDir(a.out)) return Fail("reconstruct", a.out.string() + ": exists and is not empty", kExitUsage);
   a.options.btf.match_subbands = !a.pixel_only;
   a.options.btf.colour_space = *ParseColourSpace(a.colour_space);
+  a.options.btf.top_view_prior = !a.no_top_view_prior;
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
 
   SliceSetReport loaded;
@@ -98,7 +100,7 @@ int Run(ReconstructArgs& a) {
   ProgressBar bar("reconstruct", !a.no_progress);
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, a.pixel_only, a.options.btf.num_threads, staging->path(),
                                        {{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only},
-                                        {"colour_space", a.colour_space}},
+                                        {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior}},
                                        bar.AsCallback());
   if (!written.ok())
     return fail(written.status().message(), written.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
@@ -129,6 +131,7 @@ Command ReconstructCommand() {
         ->capture_default_str();
     sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands)");
     AddColourSpaceOption(sub, &args->colour_space);
+    AddTopViewPriorFlag(sub, &args->no_top_view_prior);
     sub->add_option("--threads", args->options.btf.num_threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   };

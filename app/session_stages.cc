@@ -262,6 +262,7 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   const std::optional<ColourSpace> colour_space = ParseColourSpace(options.colour_space);
   if (!colour_space) return Status::Error("unknown BTF colour space '" + options.colour_space + "'");
   slice_options.btf.colour_space = *colour_space;
+  slice_options.btf.top_view_prior = !options.no_top_view_prior;
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
   const fs::path index = session / "slices" / "index.json";
   if (!fs::exists(index))
@@ -276,7 +277,8 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, options.pixel_only, slice_options.btf.num_threads,
                                        staging->path(),
                                        {{"index", index.string()}, {"size", slice_options.size}, {"grid", options.grid},
-                                        {"pixel_only", options.pixel_only}, {"colour_space", options.colour_space}},
+                                        {"pixel_only", options.pixel_only}, {"colour_space", options.colour_space},
+                                        {"top_view_prior", !options.no_top_view_prior}},
                                        bar.AsCallback());
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));

@@ -63,6 +63,7 @@ struct ReconstructStageOptions {
   std::string grid = "bonn";  // GridPairs()
   bool pixel_only = false;
   std::string colour_space = "chromaticity";  // AddColourSpaceOption
+  bool no_top_view_prior = false;             // AddTopViewPriorFlag
 };
 // The statistical BTF (Ngan & Durand) over a grid of direction pairs -> SESSION/btf/.
 StatusOr<StageSummary> RunReconstructStage(const std::filesystem::path& session, const ReconstructStageOptions& options,

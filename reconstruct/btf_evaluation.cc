@@ -98,14 +98,28 @@ PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Imag
   return score;
 }
 
-double BtfEvaluation::FractionBeatingBoth(MethodScores score) const {
-  if (pairs.empty()) return 0;
-  int wins = 0;
+std::string LightCoverageToString(LightCoverage coverage) {
+  switch (coverage) {
+    case LightCoverage::kInside: return "inside";
+    case LightCoverage::kNear: return "near";
+    case LightCoverage::kFar: return "far";
+  }
+  return "unknown";
+}
+
+double BtfEvaluation::FractionBeatingBoth(MethodScores score, std::optional<LightCoverage> coverage) const {
+  int wins = 0, count = 0;
   for (const PairScore& p : pairs) {
+    if (coverage && p.coverage != *coverage) continue;
     const auto& w = p.*score;
     wins += w[0] < w[1] && w[0] < w[2];
+    ++count;
   }
-  return double(wins) / double(pairs.size());
+  return count ? double(wins) / double(count) : 0.0;
+}
+
+int BtfEvaluation::CountWith(LightCoverage coverage) const {
+  return int(std::count_if(pairs.begin(), pairs.end(), [&](const PairScore& p) { return p.coverage == coverage; }));
 }
 
 namespace {
@@ -173,6 +187,7 @@ Json BtfEvaluation::ToJson() const {
   Json list = Json::array();
   for (const PairScore& p : pairs) {
     Json e = PairJson(p.light, p.view);
+    e["light_coverage"] = LightCoverageToString(p.coverage);
     for (int m = 0; m < kBtfMethods; ++m)
       e[BtfMethodToString(BtfMethod(m))] = {{"rmse", p.rmse[m]}, {"w_pixels", p.wasserstein_pixels[m]},
                                             {"w_bands", p.wasserstein_bands[m]},
@@ -206,19 +221,26 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   const int num_threads = options.btf.num_threads;
   BtfEvaluation eval;
 
-  // 1. The measured data: every input view under every input light.
+  // 1. The measured data: every input view under each of its lights.
   auto start = std::chrono::steady_clock::now();
-  const int views = int(options.input_views.size()), lights = int(options.input_lights.size());
-  std::vector<std::vector<Image>> slices(views, std::vector<Image>(lights));
+  const int views = int(options.input_views.size());
+  if (options.input_lights_by_view.empty()) options.input_lights_by_view.assign(views, options.input_lights);
+  if (int(options.input_lights_by_view.size()) != views) return Status::Error("one list of input lights per input view");
+  std::vector<std::pair<int, int>> inputs;  // (view, light)
+  for (int v = 0; v < views; ++v)
+    for (int l = 0; l < int(options.input_lights_by_view[v].size()); ++l) inputs.push_back({v, l});
+  std::vector<std::vector<Image>> slices(views);
+  for (int v = 0; v < views; ++v) slices[v].resize(options.input_lights_by_view[v].size());
   std::atomic<int> done = 0;
   std::atomic<bool> cancelled = false;
-  ParallelFor(0, views * lights, [&](int k) {
+  ParallelFor(0, int(inputs.size()), [&](int k) {
     if (cancelled) return;
-    slices[k / lights][k % lights] = truth(options.input_lights[k % lights], options.input_views[k / lights]);
-    if (!ReportProgress(progress, ++done, views * lights, "render inputs")) cancelled = true;
+    const auto [v, l] = inputs[k];
+    slices[v][l] = truth(options.input_lights_by_view[v][l], options.input_views[v]);
+    if (!ReportProgress(progress, ++done, int(inputs.size()), "render inputs")) cancelled = true;
   }, num_threads);
   if (cancelled) return Status::Error("cancelled");
-  eval.input_slices = views * lights;
+  eval.input_slices = int(inputs.size());
   eval.seconds_inputs = Seconds(start);
 
   // 2. Statistics of every input slice; the top view's slices are the base textures.
@@ -229,8 +251,8 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   options.btf = WithColourChannels(options.btf, slices[top]);
   std::vector<MeasuredView> measured;
   for (int v = 0; v < views; ++v)
-    measured.push_back(MeasureView(options.input_views[v], options.input_lights, slices[v], options.btf));
-  auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights, std::move(measured), options.btf);
+    measured.push_back(MeasureView(options.input_views[v], options.input_lights_by_view[v], slices[v], options.btf));
+  auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights_by_view[top], std::move(measured), options.btf);
   if (!btf.ok()) return btf.status();
   slices.clear();
   eval.seconds_statistics = Seconds(start);
@@ -261,6 +283,9 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
     PairScore& score = eval.pairs[k];
     score = ScoreMethods(result, truth_slice, options.btf.statistics);
     score.light = light, score.view = view;
+    score.coverage = btf->LightCovered(light, view)                ? LightCoverage::kInside
+                     : btf->LightGapDeg(light, view) <= kNearHullDeg ? LightCoverage::kNear
+                                                                     : LightCoverage::kFar;
     if (!ReportProgress(progress, ++done, int(held_out.size()), "score held-out pairs")) cancelled = true;
   }, num_threads);
   if (cancelled) return Status::Error("cancelled");

@@ -32,6 +32,8 @@ struct BtfEvaluationOptions {
   StatisticalBtfOptions btf;
   std::vector<Eigen::Vector3d> input_views;    // empty: RigViewDirections()
   std::vector<Eigen::Vector3d> input_lights;   // empty: BonnDirections()
+  // When not empty, the lights of each input view instead (a capture session's sparse lights).
+  std::vector<std::vector<Eigen::Vector3d>> input_lights_by_view;
   std::vector<Eigen::Vector3d> target_views;   // empty: BonnDirections()
   std::vector<Eigen::Vector3d> target_lights;  // empty: BonnDirections()
   // A target view within this angle of an input view is not held out.
@@ -41,8 +43,15 @@ struct BtfEvaluationOptions {
   bool Check() const;
 };
 
+// Where a held-out pair's light lies against the lights the views it borrows from measured:
+// inside their triangulated hull, near it (within kNearHullDeg of a measured light) or far outside.
+enum class LightCoverage { kInside = 0, kNear = 1, kFar = 2 };
+inline constexpr double kNearHullDeg = 15.0;
+std::string LightCoverageToString(LightCoverage coverage);  // "inside", "near", "far"
+
 struct PairScore {
   Eigen::Vector3d light, view;
+  LightCoverage coverage = LightCoverage::kInside;
   // Per method (BtfMethod order), averaged over colour channels.
   std::array<double, kBtfMethods> rmse{}, wasserstein_pixels{}, wasserstein_bands{};
   // Colour (3-channel slices, reconstruct/colour.h): W1 of the chromaticity histograms, and the
@@ -56,8 +65,10 @@ struct BtfEvaluation {
   int input_slices = 0;
   double seconds_inputs = 0, seconds_statistics = 0, seconds_scoring = 0;
   double reconstruct_ms_per_slice = 0;  // thread time per reconstructed slice
-  // Share of pairs where the statistical reconstruction beats both baselines on a score.
-  double FractionBeatingBoth(MethodScores score) const;
+  // Share of pairs where the statistical reconstruction beats both baselines on a score (of the
+  // pairs with that light coverage, when given).
+  double FractionBeatingBoth(MethodScores score, std::optional<LightCoverage> coverage = std::nullopt) const;
+  int CountWith(LightCoverage coverage) const;
   // Median of a score over pairs, per method.
   std::array<double, kBtfMethods> Median(MethodScores score) const;
   // Per method, the median and the largest over pairs of |saturation ratio - 1|.
@@ -72,7 +83,8 @@ struct BtfEvaluation {
 std::vector<Eigen::Vector3d> RigViewDirections();
 
 // Renders the inputs, builds the statistical BTF, scores the held-out pairs. `model`, when
-// given, receives the reconstruction (for pictures).
+// given, receives the reconstruction (for pictures). A view with too few or degenerate lights
+// (input_lights_by_view) fails with a message.
 StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options,
                                                const ProgressFn& progress = nullptr, std::optional<StatisticalBtf>* model = nullptr);
 

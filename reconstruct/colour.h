@@ -35,6 +35,8 @@ class ColourChannels {
   Image Forward(const Image& rgb) const;
   // Back to RGB, as storable radiance (ClampToStorableRadiance).
   Image Inverse(const Image& channels) const;
+  // False for a channel that does not scale with the light's irradiance (a chromaticity).
+  bool ScalesWithRadiance(int channel) const { return space_ != ColourSpace::kChromaticity || channel == 0; }
 
  private:
   ColourSpace space_ = ColourSpace::kRgb;

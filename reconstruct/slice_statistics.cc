@@ -35,23 +35,31 @@ SliceStatistics ComputeSliceStatistics(const Image& slice, const SliceStatistics
 }
 
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights) {
-  MESOCAP_CHECK(!stats.empty() && stats.size() == weights.size(), "one weight per statistics");
+  MESOCAP_CHECK(!stats.empty(), "no statistics to blend");
+  return BlendSliceStatistics(stats, std::vector<std::vector<double>>(stats[0]->channels, {weights.begin(), weights.end()}));
+}
+
+SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats,
+                                     const std::vector<std::vector<double>>& weights_by_channel) {
+  MESOCAP_CHECK(!stats.empty() && int(weights_by_channel.size()) == stats[0]->channels, "one weight list per channel");
   SliceStatistics out;
   out.channels = stats[0]->channels;
   out.band_count = stats[0]->band_count;
+  for (const auto& weights : weights_by_channel) MESOCAP_CHECK(weights.size() == stats.size(), "one weight per statistics");
   std::vector<const InverseCdf*> column(stats.size());
-  auto blend_field = [&](auto member, size_t count, std::vector<InverseCdf>* dst) {
+  // Entry k of `member` belongs to channel k / per_channel.
+  auto blend_field = [&](auto member, size_t count, size_t per_channel, std::vector<InverseCdf>* dst) {
     for (size_t k = 0; k < count; ++k) {
       for (size_t s = 0; s < stats.size(); ++s) {
         MESOCAP_CHECK(stats[s]->channels == out.channels && stats[s]->band_count == out.band_count,
                       "statistics of slices with different sizes or channels");
         column[s] = &(stats[s]->*member)[k];
       }
-      dst->push_back(BlendInverseCdfs(column, weights));
+      dst->push_back(BlendInverseCdfs(column, weights_by_channel[k / per_channel]));
     }
   };
-  blend_field(&SliceStatistics::pixels, stats[0]->pixels.size(), &out.pixels);
-  blend_field(&SliceStatistics::bands, stats[0]->bands.size(), &out.bands);
+  blend_field(&SliceStatistics::pixels, stats[0]->pixels.size(), 1, &out.pixels);
+  blend_field(&SliceStatistics::bands, stats[0]->bands.size(), size_t(std::max(1, out.band_count)), &out.bands);
   return out;
 }
 

@@ -34,6 +34,9 @@ SliceStatistics ComputeSliceStatistics(const Image& slice, const SliceStatistics
 
 // Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
+// The same with weights per channel: `weights_by_channel[c]` blends channel c.
+SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats,
+                                     const std::vector<std::vector<double>>& weights_by_channel);
 
 // The transfer of section 3.2: decompose `base`, match every subband to `target`'s, collapse,
 // then match the pixel histogram. `base` and the slices `target` was measured on must share a

@@ -59,6 +59,8 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
         return Status::Error(where.str() + "statistics of slices with a different size or channel count than the top view's");
     btf.view_lights_.push_back(std::move(*lights));
   }
+  for (size_t v = 1; v < views.size(); ++v)
+    if (views[v].view.z() > views[btf.top_view_].view.z()) btf.top_view_ = int(v);
   btf.views_ = std::move(views);
   btf.top_slices_ = std::move(top_slices);
   btf.top_lights_dirs_ = top_lights;
@@ -85,19 +87,46 @@ Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
 
 SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   std::vector<const SliceStatistics*> stats;
-  std::vector<double> weights;
-  for (const WeightedIndex& v : view_rings_.Weights(view))
-    for (const WeightedIndex& l : view_lights_[v.index].Weights(light)) {
-      stats.push_back(&views_[v.index].statistics[l.index]);
-      weights.push_back(v.weight * l.weight * CosineRatio(light, views_[v.index].lights[l.index]));
-    }
+  std::vector<std::vector<double>> weights(top_slices_.front().channels());
+  for (const WeightedIndex& v : view_rings_.Weights(view)) {
+    AddViewStatistics(v.index, light, light, v.weight, &stats, &weights);
+    if (!options_.top_view_prior || v.index == top_view_ || view_lights_[v.index].Contains(light)) continue;
+    // Outside the view's hull: plus the top view at the light, minus the top view at the hull
+    // edge's light the view's own statistics stand for.
+    Eigen::Vector3d edge = Eigen::Vector3d::Zero();
+    for (const WeightedIndex& l : view_lights_[v.index].Weights(light)) edge += l.weight * views_[v.index].lights[l.index];
+    AddViewStatistics(top_view_, light, light, v.weight, &stats, &weights);
+    AddViewStatistics(top_view_, edge.normalized(), light, -v.weight, &stats, &weights);
+  }
   return BlendSliceStatistics(stats, weights);
+}
+
+void StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light, double weight,
+                                       std::vector<const SliceStatistics*>* stats,
+                                       std::vector<std::vector<double>>* weights) const {
+  for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
+    stats->push_back(&views_[v].statistics[l.index]);
+    const double cosine = CosineRatio(light, views_[v].lights[l.index]);
+    // A chromaticity does not scale with the light's fall-off.
+    for (int c = 0; c < int(weights->size()); ++c)
+      (*weights)[c].push_back(weight * l.weight * (options_.colour.ScalesWithRadiance(c) ? cosine : 1.0));
+  }
 }
 
 bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   for (const WeightedIndex& v : view_rings_.Weights(view))
     if (!view_lights_[v.index].Contains(light)) return false;
   return true;
+}
+
+double StatisticalBtf::LightGapDeg(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
+  double gap = 0;
+  for (const WeightedIndex& v : view_rings_.Weights(view)) {
+    double nearest = 180;
+    for (const Eigen::Vector3d& measured : views_[v.index].lights) nearest = std::min(nearest, AngleBetweenDeg(light, measured));
+    gap = std::max(gap, nearest);
+  }
+  return gap;
 }
 
 Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {

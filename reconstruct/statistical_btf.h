@@ -37,6 +37,11 @@ struct StatisticalBtfOptions {
   // `colour` is derived from it and the top view by WithColourChannels before any statistics.
   ColourSpace colour_space = ColourSpace::kChromaticity;
   ColourChannels colour;
+  // For a light outside the triangulated hull of a view's measured lights, the paper's blend
+  // holds the statistics of the hull's edge (a tilted board never sees the flash from below its
+  // slope). With the prior, the view's edge statistics are moved by how the top view's (measured
+  // nearly everywhere) change from the edge's light to the target light.
+  bool top_view_prior = true;
   int num_threads = -1;
   bool Check() const;
 };
@@ -75,6 +80,9 @@ class StatisticalBtf {
   // True when every view the pair borrows statistics from measured lights around `light` (the
   // light lies inside that view's triangulated light hull): no light extrapolation.
   bool LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
+  // The angle from `light` to the nearest light measured by a view the pair borrows from, the
+  // largest over those views: how far the statistics reach beyond what was measured.
+  double LightGapDeg(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // The reconstructed slice: finite, non-negative radiance. Thread-safe.
   Image Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
 
@@ -85,11 +93,16 @@ class StatisticalBtf {
  private:
   StatisticalBtfOptions options_;
   double CosineRatio(const Eigen::Vector3d& target, const Eigen::Vector3d& measured) const;
+  // Adds view v's statistics at `at` (its light weights), each scaled by `weight` and the cosine
+  // ratio to the target `light`, to the blend's entries.
+  void AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light, double weight,
+                         std::vector<const SliceStatistics*>* stats, std::vector<std::vector<double>>* weights) const;
   std::vector<Image> top_slices_;
   std::vector<Eigen::Vector3d> top_lights_dirs_;
   LightInterpolator top_lights_;
   std::vector<MeasuredView> views_;
   std::vector<LightInterpolator> view_lights_;
+  int top_view_ = 0;  // the most head-on view in views_
   ViewInterpolator view_rings_;
   StatisticalBtf(LightInterpolator top, ViewInterpolator rings) : top_lights_(std::move(top)), view_rings_(std::move(rings)) {}
 };

@@ -142,6 +142,8 @@ const Case kCases[] = {
     {"reconstruct --slices {d}/index/theta.json --pair 45,10.01,60,0 --pair 45,10.04,60,0 --out {d}/btf", 2,
      "both name slices/ti45.0_pi010.0_to60.0_po000.0.exr"},
     {"evaluate --out {d}/full --no-progress", 2, "full"},
+    {"evaluate --out {d}/eval --colour-space hsv --no-progress", 2, "hsv"},
+    {"reconstruct --slices {d}/index/theta.json --colour-space lab --out {d}/btf", 2, "lab"},
     {"lights --images {d}/nope --sphere 10,10,5", 2, "nope"},
     {"lights --images {d}/empty --sphere 10,10,5", 1, "empty"},
     {"synth --input {d}/nope --out {d}/synth --no-progress", 1, "nope: no such file or folder"},
