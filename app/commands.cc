@@ -13,7 +13,7 @@ int Fail(const std::string& verb, const std::string& message, int code) {
 
 std::vector<Command> AllCommands() { return {SimulateCommand(), DemoCommand(),     ImportCommand(),          CaptureCommand(),
           CamerasCommand(),  CalibrateCommand(), CalibrateCameraCommand(), FitPtmCommand(), RelightCommand(),
-          ReconstructCommand(), EvaluateCommand(), LightsCommand(), SynthCommand(), SynthApplyCommand(), PaintCommand(), ProcessCommand(), ExportCommand()}; }
+          ReconstructCommand(), EvaluateCommand(), LightsCommand(), SynthCommand(), SynthApplyCommand(), PaintCommand(), ProcessCommand(), ExportCommand(), CoverageCommand()}; }
 
 void DefineCommandLine(CLI::App& app, GlobalOptions& globals, std::vector<Command>& commands) {
   app.name("mesocap");

@@ -59,5 +59,6 @@ Command SynthApplyCommand();
 Command PaintCommand();
 Command ProcessCommand();
 Command ExportCommand();
+Command CoverageCommand();
 
 }  // namespace mesocap::app

@@ -143,6 +143,8 @@ const Case kCases[] = {
      "both name slices/ti45.0_pi010.0_to60.0_po000.0.exr"},
     {"evaluate --out {d}/full --no-progress", 2, "full"},
     {"evaluate --out {d}/eval --colour-space hsv --no-progress", 2, "hsv"},
+    {"coverage {d}/nope", 1, "nope/calibration/rig.json"},
+    {"coverage {d}/nope --near-deg 0", 2, "--near-deg"},
     {"reconstruct --slices {d}/index/theta.json --colour-space lab --out {d}/btf", 2, "lab"},
     {"lights --images {d}/nope --sphere 10,10,5", 2, "nope"},
     {"lights --images {d}/empty --sphere 10,10,5", 1, "empty"},

@@ -92,6 +92,20 @@ TEST_F(ProcessTest, RunsEveryStageOnceThenOnlyWhatAChangeAffects) {
   for (const char* shown : {"calibration/flash_positions.png", "report_files/light_coverage.png"})
     EXPECT_NE(report->find(shown), std::string::npos) << shown;
 
+  // Capture guidance on the processed session (issue 12).
+  std::string guidance;
+  ASSERT_EQ(testing::RunMesocap("coverage " + s.string(), &guidance), 0) << guidance;
+  EXPECT_NE(guidance.find("next 1: move the flash"), std::string::npos) << guidance;
+  auto coverage = ReadJsonFile(s / "coverage" / "coverage.json");
+  ASSERT_TRUE(coverage.ok()) << coverage.status().message();
+  EXPECT_EQ((*coverage)["lights_from"].get<std::string>(), "slices/index.json");
+  const double score = (*coverage)["score"].get<double>();
+  EXPECT_GT(score, 0.0);
+  EXPECT_LT(score, 1.0);
+  EXPECT_FALSE((*coverage)["next"].empty());
+  for (const Json& next : (*coverage)["next"]) EXPECT_GT(next["targets_gained"].get<int>(), 0);
+  EXPECT_TRUE(fs::exists(s / "coverage" / "coverage.png"));
+
   const Statuses all_skipped = {{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
                                 {"reconstruct", "skipped"}, {"export", "skipped"}};
   EXPECT_EQ(Process(s), all_skipped);

@@ -1,0 +1,114 @@
+#include "reconstruct/light_coverage.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/directions.h"
+#include "core/text_format.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace mesocap {
+namespace {
+
+constexpr double kHorizonZ = 0.02;  // about 1 deg above a board's plane
+
+Eigen::Vector3d InBoardFrame(const BoardLights& board, const Eigen::Vector3d& position_cam) {
+  return (board.R.transpose() * (position_cam - board.t)).normalized();
+}
+
+// Targets (board, target index) a light covers.
+std::vector<std::pair<int, int>> CoveredBy(const std::vector<BoardLights>& boards, const Eigen::Vector3d& position_cam,
+                                           const std::vector<Eigen::Vector3d>& targets, double near_deg) {
+  std::vector<std::pair<int, int>> covered;
+  for (int b = 0; b < int(boards.size()); ++b) {
+    const Eigen::Vector3d light = InBoardFrame(boards[b], position_cam);
+    if (light.z() <= kHorizonZ) continue;
+    for (int k = 0; k < int(targets.size()); ++k)
+      if (AngleBetweenDeg(light, targets[k]) <= near_deg) covered.push_back({b, k});
+  }
+  return covered;
+}
+
+}  // namespace
+
+std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardLights& top) {
+  // Camera frame: x right and y down the picture. Sectors of 45 deg around the target's centre.
+  const Eigen::Vector3d offset = position_cam - top.t;
+  const double angle = RadToDeg(std::atan2(-offset.y(), offset.x()));  // 0 right, 90 top of the picture
+  static const char* kSectors[] = {"to the right of the camera",
+                                   "toward the top right of the picture",
+                                   "toward the top of the picture",
+                                   "toward the top left of the picture",
+                                   "to the left of the camera",
+                                   "toward the bottom left of the picture",
+                                   "toward the bottom of the picture",
+                                   "toward the bottom right of the picture"};
+  const int sector = int(std::lround(std::fmod(angle + 360.0, 360.0) / 45.0)) % 8;
+  const Eigen::Vector3d in_top = top.R.transpose() * offset;
+  const double elevation = RadToDeg(std::asin(std::clamp(in_top.normalized().z(), -1.0, 1.0)));
+  const char* height = elevation < 35 ? "low" : elevation < 60 ? "halfway up" : "high, near the camera";
+  return Format("%s, %s (%.0f deg above the target's plane)", kSectors[sector], height, elevation);
+}
+
+CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options) {
+  CoverageReport report;
+  if (boards.empty() || top < 0 || top >= int(boards.size())) return report;
+  const std::vector<Eigen::Vector3d> targets = BonnDirections();
+  const BoardLights& top_board = boards[top];
+
+  // The positions considered for the next shots, and what each would cover.
+  std::vector<Eigen::Vector3d> candidates;
+  std::vector<std::pair<double, double>> angles;
+  for (double el = options.min_elevation_deg; el <= options.max_elevation_deg + 1e-9; el += options.elevation_step_deg)
+    for (double az = 0; az < 360 - 1e-9; az += options.azimuth_step_deg) {
+      const Eigen::Vector3d in_top = options.flash_distance_m * DirectionFromAnglesDeg(90 - el, az);
+      candidates.push_back(top_board.R * in_top + top_board.t);
+      angles.push_back({el, az});
+    }
+  std::vector<std::vector<std::pair<int, int>>> covers(candidates.size());
+  for (size_t c = 0; c < candidates.size(); ++c) covers[c] = CoveredBy(boards, candidates[c], targets, options.near_deg);
+
+  // What is covered now, and what could be.
+  std::vector<std::vector<char>> covered(boards.size(), std::vector<char>(targets.size(), 0)), reachable = covered;
+  for (int b = 0; b < int(boards.size()); ++b)
+    for (int k = 0; k < int(targets.size()); ++k)
+      for (const Eigen::Vector3d& light : boards[b].lights)
+        if (AngleBetweenDeg(light, targets[k]) <= options.near_deg) covered[b][k] = reachable[b][k] = 1;
+  for (const auto& list : covers)
+    for (const auto& [b, k] : list) reachable[b][k] = 1;
+  for (int b = 0; b < int(boards.size()); ++b) {
+    BoardCoverage bc;
+    bc.board = boards[b].board;
+    bc.lights = int(boards[b].lights.size());
+    bc.targets_visible = int(targets.size());  // every target is above the board's own horizon
+    bc.targets_reachable = int(std::count(reachable[b].begin(), reachable[b].end(), 1));
+    bc.targets_covered = int(std::count(covered[b].begin(), covered[b].end(), 1));
+    for (size_t k = 0; k < targets.size(); ++k)
+      bc.targets.push_back(covered[b][k] ? TargetState::kCovered : reachable[b][k] ? TargetState::kUncovered : TargetState::kUnreachable);
+    report.reachable += bc.targets_reachable;
+    report.covered += bc.targets_covered;
+    report.boards.push_back(bc);
+  }
+
+  // Greedy: the position that covers most of what is still uncovered, then again.
+  for (int n = 0; n < options.suggestions; ++n) {
+    int best = -1, best_gain = 0;
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      int gain = 0;
+      for (const auto& [b, k] : covers[c]) gain += !covered[b][k];
+      if (gain > best_gain) best = int(c), best_gain = gain;
+    }
+    if (best < 0) break;
+    for (const auto& [b, k] : covers[best]) covered[b][k] = 1;
+    FlashSuggestion s;
+    s.position_cam = candidates[best];
+    s.elevation_deg = angles[best].first;
+    s.azimuth_deg = angles[best].second;
+    s.targets_gained = best_gain;
+    s.words = FlashPositionWords(s.position_cam, top_board);
+    report.next.push_back(s);
+  }
+  return report;
+}
+
+}  // namespace mesocap

@@ -1,0 +1,67 @@
+// Capture guidance: how well a session's flash positions cover what the statistical BTF needs,
+// and where the next flash shots would help most. Each board needs lights near every target
+// light direction it can see (the Bonn grid's 81, in its own frame): a target more than
+// `near_deg` from every measured light is extrapolated (reconstruct/statistical_btf.h), and on a
+// virtual session such pairs are won half as often as covered ones (bench/session_coverage_bench).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace mesocap {
+
+struct BoardLights {
+  int board = 0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // X_cam = R X_board + t
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> lights;  // measured, unit, board frame
+};
+
+struct CoverageOptions {
+  double near_deg = 15.0;  // a target within this of a measured light is covered
+  // Flash positions considered for the next shots: elevations (above the top board's plane) and
+  // azimuths on a sphere about the top board's centre, at `flash_distance_m`.
+  double min_elevation_deg = 15, max_elevation_deg = 80, elevation_step_deg = 5, azimuth_step_deg = 10;
+  double flash_distance_m = 1.0;
+  int suggestions = 5;
+};
+
+enum class TargetState : uint8_t { kUnreachable, kUncovered, kCovered };
+
+struct BoardCoverage {
+  int board = 0;
+  int lights = 0;
+  int targets_visible = 0;    // target directions above the board's horizon
+  int targets_reachable = 0;  // ...that some considered flash position would cover
+  int targets_covered = 0;    // ...within near_deg of a measured light
+  std::vector<TargetState> targets;  // per BonnDirections() entry
+  double score() const { return targets_reachable ? double(targets_covered) / targets_reachable : 1.0; }
+};
+
+struct FlashSuggestion {
+  Eigen::Vector3d position_cam = Eigen::Vector3d::Zero();  // camera frame, metres
+  double elevation_deg = 0, azimuth_deg = 0;  // in the top board's frame
+  int targets_gained = 0;                     // uncovered (board, target) pairs it would cover
+  std::string words;                          // "to the left of the camera, low"
+};
+
+struct CoverageReport {
+  std::vector<BoardCoverage> boards;
+  std::vector<FlashSuggestion> next;
+  int covered = 0, reachable = 0;
+  double score() const { return reachable ? double(covered) / reachable : 1.0; }
+};
+
+// Scores the boards' coverage and picks the next flash positions greedily (each the position
+// that covers most still-uncovered targets, counting those it covers as covered for the next).
+// `top` is the board whose frame defines elevation and azimuth (the most head-on one).
+CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options = {});
+
+// Where a flash position lies, in words for the operator holding it: seen from the camera
+// (left/right, toward the top or bottom of the picture) and how high above the target.
+std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardLights& top);
+
+}  // namespace mesocap

@@ -1,0 +1,71 @@
+#include "reconstruct/light_coverage.h"
+
+#include <gtest/gtest.h>
+
+#include "core/directions.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace mesocap {
+namespace {
+
+// A board 1 m below the camera, facing it: board x along the camera's x (right in the picture),
+// board y toward the top of the picture, z toward the camera.
+BoardLights FacingTheCamera() {
+  BoardLights b;
+  b.R = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  b.t = Eigen::Vector3d(0, 0, 1);
+  return b;
+}
+
+TEST(LightCoverage, ASessionLitFromOneSideIsToldToLightTheOtherSide) {
+  BoardLights board = FacingTheCamera();
+  for (double theta : {20.0, 40.0, 60.0})
+    for (double phi : {-60.0, -20.0, 20.0, 60.0}) board.lights.push_back(DirectionFromAnglesDeg(theta, phi));  // x > 0 only
+  const CoverageReport before = AssessCoverage({board}, 0);
+  ASSERT_EQ(before.boards.size(), 1u);
+  EXPECT_GT(before.boards[0].targets_covered, 0);
+  EXPECT_LT(before.score(), 0.6);
+  ASSERT_EQ(before.next.size(), 5u);
+  // The first suggestion lies on the unlit side (board x < 0: left of the camera).
+  const FlashSuggestion& first = before.next.front();
+  EXPECT_GT(first.targets_gained, 0);
+  EXPECT_LT((board.R.transpose() * (first.position_cam - board.t)).x(), 0);
+  EXPECT_NE(first.words.find("left"), std::string::npos) << first.words;
+  for (size_t k = 1; k < before.next.size(); ++k) EXPECT_LE(before.next[k].targets_gained, before.next[k - 1].targets_gained);
+  // Taking the suggested shots covers what they said they would.
+  int gained = 0;
+  for (const FlashSuggestion& s : before.next) {
+    board.lights.push_back((board.R.transpose() * (s.position_cam - board.t)).normalized());
+    gained += s.targets_gained;
+  }
+  const CoverageReport after = AssessCoverage({board}, 0);
+  EXPECT_EQ(after.covered, before.covered + gained);
+  EXPECT_GT(after.score(), before.score() + 0.2);
+}
+
+TEST(LightCoverage, AFullyLitBoardNeedsNothingMore) {
+  BoardLights board = FacingTheCamera();
+  board.lights = BonnDirections();
+  const CoverageReport report = AssessCoverage({board}, 0);
+  EXPECT_DOUBLE_EQ(report.score(), 1.0);
+  EXPECT_TRUE(report.next.empty());
+}
+
+TEST(LightCoverage, WordsSayWhereTheFlashGoesAsSeenFromTheCamera) {
+  const BoardLights top = FacingTheCamera();
+  // Camera frame: x right, y down the picture; the board is at z = 1, its normal toward z = 0.
+  const std::string right_low = FlashPositionWords(Eigen::Vector3d(1.0, 0, 0.8), top);
+  EXPECT_NE(right_low.find("to the right of the camera"), std::string::npos) << right_low;
+  EXPECT_NE(right_low.find("low"), std::string::npos) << right_low;
+  const std::string top_high = FlashPositionWords(Eigen::Vector3d(0, -0.2, 0.1), top);
+  EXPECT_NE(top_high.find("toward the top of the picture"), std::string::npos) << top_high;
+  EXPECT_NE(top_high.find("high"), std::string::npos) << top_high;
+}
+
+TEST(LightCoverage, NoBoardsGiveAnEmptyReport) {
+  EXPECT_TRUE(AssessCoverage({}, 0).boards.empty());
+  EXPECT_TRUE(AssessCoverage({FacingTheCamera()}, 3).boards.empty());
+}
+
+}  // namespace
+}  // namespace mesocap
