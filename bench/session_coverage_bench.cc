@@ -11,7 +11,9 @@
 //
 // Usage: bench_session_coverage [--shots 24,50,100,150] [--materials weave,stones,corduroy]
 //                               [--seeds 11,12] [--size 64] [--pairs 240] [--colour-space NAME]
-//                               [--top-view-prior 0|1] [--list-lights 1]
+//                               [--top-view-prior 0|1] [--list-lights 1] [--guided START]
+// With --guided START, a session of START hand-held shots is continued up to each --shots count
+// by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -23,6 +25,7 @@
 #include "capture/rig_scene.h"
 #include "core/directions.h"
 #include "reconstruct/btf_evaluation.h"
+#include "reconstruct/light_coverage.h"
 
 namespace mesocap {
 namespace {
@@ -34,27 +37,28 @@ std::vector<std::string> Split(const std::string& text) {
   return parts;
 }
 
-struct BoardLights {
+struct BoardInputs {
   Eigen::Vector3d view;
   std::vector<Eigen::Vector3d> lights;
 };
 
-// Each board's view and the flash directions it measured (patch frame, at the patch centre).
-std::vector<BoardLights> MeasuredLights(const RigScene& scene, const Material& material) {
-  const RigRenderer renderer(scene, material);
-  std::vector<BoardLights> boards;
+// Each board's view and the flash directions it measured from `flashes` (camera frame; patch
+// frame directions at the patch centre).
+std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer& renderer,
+                                        const std::vector<Eigen::Vector3d>& flashes) {
+  std::vector<BoardInputs> boards;
   for (int b = 0; b < int(scene.boards.size()); ++b) {
     const RigBoard& board = scene.boards[b];
-    BoardLights measured;
+    BoardInputs measured;
     measured.view = (-board.R.transpose() * board.t).normalized();
-    for (const RigShot& shot : scene.shots) {
-      const Eigen::Vector3d light = (board.R.transpose() * (shot.light_m - board.t)).normalized();
+    for (const Eigen::Vector3d& flash : flashes) {
+      const Eigen::Vector3d light = (board.R.transpose() * (flash - board.t)).normalized();
       if (light.z() <= 0.02) continue;  // below the horizon (theta_i > 88.9 deg)
       bool shadowed = false;
       for (const double u : {-0.5, 0.0, 0.5})
         for (const double v : {-0.5, 0.0, 0.5}) {
           const Eigen::Vector3d p = board.R * Eigen::Vector3d(u * board.patch_m, v * board.patch_m, 0) + board.t;
-          shadowed |= renderer.Occluded(p, shot.light_m, RigRenderer::kBoard, b);
+          shadowed |= renderer.Occluded(p, flash, RigRenderer::kBoard, b);
         }
       bool duplicate = false;
       for (const auto& l : measured.lights) duplicate |= AngleBetweenDeg(l, light) < 0.5;
@@ -65,12 +69,36 @@ std::vector<BoardLights> MeasuredLights(const RigScene& scene, const Material& m
   return boards;
 }
 
+// The session's own flashes, then (guided) one `mesocap coverage` suggestion after another up to
+// `total` shots, each recomputed from what the boards measured so far.
+std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total) {
+  std::vector<Eigen::Vector3d> flashes;
+  for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
+  const Eigen::Vector3d top_centre = scene.boards.front().t;
+  while (int(flashes.size()) < total) {
+    std::vector<BoardLights> boards;
+    const std::vector<BoardInputs> inputs = MeasuredLights(scene, renderer, flashes);
+    for (int b = 0; b < int(inputs.size()); ++b) boards.push_back({b, scene.boards[b].R, scene.boards[b].t, inputs[b].lights});
+    CoverageOptions options;
+    options.suggestions = 1;
+    std::vector<double> distances;
+    for (const auto& f : flashes) distances.push_back((f - top_centre).norm());
+    std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+    options.flash_distance_m = distances[distances.size() / 2];
+    const CoverageReport report = AssessCoverage(boards, 0, options);  // board 0 is the top
+    if (report.next.empty()) break;
+    flashes.push_back(report.next.front().position_cam);
+  }
+  return flashes;
+}
+
 int Run(int argc, char** argv) {
   std::vector<std::string> shots = {"24", "50", "100", "150"}, materials = {"weave", "stones", "corduroy"},
                            seeds = {"11", "12"};
   int size = 64, pairs = 240;
   std::string colour_space = "chromaticity";
   bool list_lights = false, top_view_prior = true;
+  int guided_start = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "--shots") shots = Split(value);
@@ -81,6 +109,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--colour-space") colour_space = value;
     else if (flag == "--list-lights") list_lights = value == "1";
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
+    else if (flag == "--guided") guided_start = std::stoi(value);
     else {
       std::fprintf(stderr, "unknown option %s\n", flag.c_str());
       return 2;
@@ -93,7 +122,7 @@ int Run(int argc, char** argv) {
       for (const std::string& seed : seeds) {
         RigOptions rig;
         rig.material = material_name;
-        rig.shots = std::stoi(shot_count);
+        rig.shots = guided_start > 0 ? guided_start : std::stoi(shot_count);
         rig.seed = std::stoull(seed);
         rig.width = 640, rig.height = 400;  // poses and flashes do not depend on the resolution
         auto scene = MakeRigScene(rig);
@@ -107,7 +136,8 @@ int Run(int argc, char** argv) {
         options.btf.colour_space = ParseColourSpace(colour_space).value_or(ColourSpace::kChromaticity);
         options.btf.top_view_prior = top_view_prior;
         int dropped = 0;
-        for (const BoardLights& board : MeasuredLights(*scene, *material)) {
+        const RigRenderer renderer(*scene, *material);
+        for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count)))) {
           if (list_lights) {
             const Eigen::Vector2d v = AnglesDegFromDirection(board.view);
             std::printf("view (%.0f, %.0f), %zu lights:", v.x(), v.y(), board.lights.size());
