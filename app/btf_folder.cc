@@ -32,11 +32,13 @@ std::vector<Eigen::Vector3d> GridDirections(const std::string& grid) {
 }
 
 void AddColourSpaceOption(CLI::App* command, std::string* text, const std::string& name) {
+  std::vector<std::string> names;
+  for (ColourSpace space : kColourSpaces) names.push_back(ColourSpaceName(space));
   command
       ->add_option(name, *text,
                    "Colour channels histograms are matched in: chromaticity (brightness and r, g chromaticities: "
                    "keeps colours true), pca (the top view's principal colour axes) or rgb (each on its own, as the paper)")
-      ->check(CLI::IsMember({"chromaticity", "pca", "rgb"}))
+      ->check(CLI::IsMember(names))
       ->capture_default_str();
 }
 

@@ -51,7 +51,7 @@ std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibratio
   for (BoardLights& b : boards)
     for (const ShotCalibration& shot : calibration.shots)
       if (shot.light.ok) {
-        const Eigen::Vector3d light = (b.R.transpose() * (shot.light.light_m - b.t)).normalized();
+        const Eigen::Vector3d light = b.LightFrom(shot.light.light_m);
         if (light.z() > 0) b.lights.push_back(light);
       }
   return boards;
@@ -84,7 +84,7 @@ Image CoveragePlot(const std::vector<BoardLights>& boards, const CoverageReport&
     }
     for (const Eigen::Vector3d& l : boards[b].lights) cv::circle(canvas, at(l), 2, cv::Scalar(1, 1, 1), cv::FILLED, cv::LINE_AA);
     for (const FlashSuggestion& s : report.next) {
-      const Eigen::Vector3d l = (boards[b].R.transpose() * (s.position_cam - boards[b].t)).normalized();
+      const Eigen::Vector3d l = boards[b].LightFrom(s.position_cam);
       if (l.z() > 0) cv::circle(canvas, at(l), 6, cv::Scalar(1.0, 0.55, 0.0), 2, cv::LINE_AA);
     }
   }
@@ -126,13 +126,10 @@ int Run(const CoverageArgs& a) {
                             boards.begin());
   // Suggestions at the distance the flash has been held at so far.
   CoverageOptions options = a.options;
-  std::vector<double> distances;
+  std::vector<Eigen::Vector3d> flashes;
   for (const ShotCalibration& shot : calibration.shots)
-    if (shot.light.ok) distances.push_back((shot.light.light_m - top->t).norm());
-  if (!distances.empty()) {
-    std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-    options.flash_distance_m = distances[distances.size() / 2];
-  }
+    if (shot.light.ok) flashes.push_back(shot.light.light_m);
+  options.flash_distance_m = MedianFlashDistance(flashes, top->t, options.flash_distance_m);
   const CoverageReport report = AssessCoverage(boards, top_index, options);
 
   const fs::path out = a.out.empty() ? a.session / "coverage" : a.out;

@@ -81,10 +81,7 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     for (int b = 0; b < int(inputs.size()); ++b) boards.push_back({b, scene.boards[b].R, scene.boards[b].t, inputs[b].lights});
     CoverageOptions options;
     options.suggestions = 1;
-    std::vector<double> distances;
-    for (const auto& f : flashes) distances.push_back((f - top_centre).norm());
-    std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-    options.flash_distance_m = distances[distances.size() / 2];
+    options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
     const CoverageReport report = AssessCoverage(boards, 0, options);  // board 0 is the top
     if (report.next.empty()) break;
     flashes.push_back(report.next.front().position_cam);

@@ -70,7 +70,7 @@ std::string ColourSpaceName(ColourSpace space) {
 }
 
 std::optional<ColourSpace> ParseColourSpace(const std::string& name) {
-  for (ColourSpace s : {ColourSpace::kRgb, ColourSpace::kPrincipalAxes, ColourSpace::kChromaticity})
+  for (ColourSpace s : kColourSpaces)
     if (ColourSpaceName(s) == name) return s;
   return std::nullopt;
 }
@@ -90,9 +90,7 @@ Image ColourChannels::Forward(const Image& rgb) const {
     const float* c = rgb.data() + 3 * i;
     float* d = out.data() + 3 * i;
     d[0] = c[0] + c[1] + c[2];
-    const bool lit = d[0] > 0 && std::isfinite(d[0]);  // black has no colour: call it grey
-    d[1] = lit ? c[0] / d[0] : 1.0f / 3;
-    d[2] = lit ? c[1] / d[0] : 1.0f / 3;
+    if (!Chromaticity(c, &d[1], &d[2])) d[1] = d[2] = 1.0f / 3;  // black has no colour: call it grey
   }
   return out;
 }
@@ -117,6 +115,14 @@ Image ColourChannels::Inverse(const Image& channels) const {
   return out;
 }
 
+bool Chromaticity(const float* rgb, float* r, float* g) {
+  const float total = rgb[0] + rgb[1] + rgb[2];
+  if (!(total > 0 && std::isfinite(total))) return false;
+  *r = rgb[0] / total;
+  *g = rgb[1] / total;
+  return true;
+}
+
 void ClampToStorableRadiance(Image* image) {
   for (float& v : std::span(image->data(), image->size())) v = std::isfinite(v) ? std::clamp(v, 0.0f, kLargestHalf) : 0.0f;
 }
@@ -126,11 +132,9 @@ double ChromaticityDistance(const Image& a, const Image& b) {
   auto chromaticities = [](const Image& image, int channel) {
     std::vector<float> values;
     values.reserve(image.pixel_count());
-    for (size_t i = 0; i < image.pixel_count(); ++i) {
-      const float* c = image.data() + 3 * i;
-      const float total = c[0] + c[1] + c[2];
-      if (total > 0 && std::isfinite(total)) values.push_back(c[channel] / total);
-    }
+    float rg[2];
+    for (size_t i = 0; i < image.pixel_count(); ++i)
+      if (Chromaticity(image.data() + 3 * i, &rg[0], &rg[1])) values.push_back(rg[channel]);
     return values;
   };
   double distance = 0;

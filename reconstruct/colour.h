@@ -22,6 +22,7 @@ namespace mesocap {
 //   a highlight's white then lies inside the colour histograms instead of in a tail that matching
 //   hands to dark texels as vivid colour.
 enum class ColourSpace { kRgb, kPrincipalAxes, kChromaticity };
+inline constexpr ColourSpace kColourSpaces[] = {ColourSpace::kRgb, ColourSpace::kPrincipalAxes, ColourSpace::kChromaticity};
 std::string ColourSpaceName(ColourSpace space);  // "rgb", "pca", "chromaticity"
 std::optional<ColourSpace> ParseColourSpace(const std::string& name);
 
@@ -50,6 +51,10 @@ Eigen::Matrix3f DecorrelatingColourBasis(std::span<const Image> images);
 
 // Radiance as it may be stored: non-finite values to 0, then clamped to [0, largest half float].
 void ClampToStorableRadiance(Image* image);
+
+// A colour's chromaticities r = R / (R + G + B), g = G / (R + G + B); false (and nothing set)
+// for black or a non-finite colour, which has none.
+bool Chromaticity(const float* rgb, float* r, float* g);
 
 // W1 between the two images' chromaticity histograms: r = R / (R + G + B) and g = G / (R + G + B)
 // over texels with R + G + B > 0, the mean of the two marginals' distances. 0 without 3 channels.

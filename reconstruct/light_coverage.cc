@@ -12,16 +12,12 @@ namespace {
 
 constexpr double kHorizonZ = 0.02;  // about 1 deg above a board's plane
 
-Eigen::Vector3d InBoardFrame(const BoardLights& board, const Eigen::Vector3d& position_cam) {
-  return (board.R.transpose() * (position_cam - board.t)).normalized();
-}
-
 // Targets (board, target index) a light covers.
 std::vector<std::pair<int, int>> CoveredBy(const std::vector<BoardLights>& boards, const Eigen::Vector3d& position_cam,
                                            const std::vector<Eigen::Vector3d>& targets, double near_deg) {
   std::vector<std::pair<int, int>> covered;
   for (int b = 0; b < int(boards.size()); ++b) {
-    const Eigen::Vector3d light = InBoardFrame(boards[b], position_cam);
+    const Eigen::Vector3d light = boards[b].LightFrom(position_cam);
     if (light.z() <= kHorizonZ) continue;
     for (int k = 0; k < int(targets.size()); ++k)
       if (AngleBetweenDeg(light, targets[k]) <= near_deg) covered.push_back({b, k});
@@ -30,6 +26,14 @@ std::vector<std::pair<int, int>> CoveredBy(const std::vector<BoardLights>& board
 }
 
 }  // namespace
+
+double MedianFlashDistance(const std::vector<Eigen::Vector3d>& flashes, const Eigen::Vector3d& centre, double fallback) {
+  if (flashes.empty()) return fallback;
+  std::vector<double> distances;
+  for (const Eigen::Vector3d& f : flashes) distances.push_back((f - centre).norm());
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  return distances[distances.size() / 2];
+}
 
 std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardLights& top) {
   // Camera frame: x right and y down the picture. Sectors of 45 deg around the target's centre.
@@ -80,7 +84,6 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
     BoardCoverage bc;
     bc.board = boards[b].board;
     bc.lights = int(boards[b].lights.size());
-    bc.targets_visible = int(targets.size());  // every target is above the board's own horizon
     bc.targets_reachable = int(std::count(reachable[b].begin(), reachable[b].end(), 1));
     bc.targets_covered = int(std::count(covered[b].begin(), covered[b].end(), 1));
     for (size_t k = 0; k < targets.size(); ++k)

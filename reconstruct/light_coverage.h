@@ -18,7 +18,13 @@ struct BoardLights {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // X_cam = R X_board + t
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> lights;  // measured, unit, board frame
+  // The unit direction to a light at `position_cam` (camera frame), in this board's frame.
+  Eigen::Vector3d LightFrom(const Eigen::Vector3d& position_cam) const { return (R.transpose() * (position_cam - t)).normalized(); }
 };
+
+// The median distance of the flash positions (camera frame) from `centre`; `fallback` for none:
+// where the next shots are suggested.
+double MedianFlashDistance(const std::vector<Eigen::Vector3d>& flashes, const Eigen::Vector3d& centre, double fallback = 1.0);
 
 struct CoverageOptions {
   double near_deg = 15.0;  // a target within this of a measured light is covered
@@ -34,8 +40,7 @@ enum class TargetState : uint8_t { kUnreachable, kUncovered, kCovered };
 struct BoardCoverage {
   int board = 0;
   int lights = 0;
-  int targets_visible = 0;    // target directions above the board's horizon
-  int targets_reachable = 0;  // ...that some considered flash position would cover
+  int targets_reachable = 0;  // target directions that some considered flash position would cover
   int targets_covered = 0;    // ...within near_deg of a measured light
   std::vector<TargetState> targets;  // per BonnDirections() entry
   double score() const { return targets_reachable ? double(targets_covered) / targets_reachable : 1.0; }

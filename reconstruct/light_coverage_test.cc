@@ -29,13 +29,13 @@ TEST(LightCoverage, ASessionLitFromOneSideIsToldToLightTheOtherSide) {
   // The first suggestion lies on the unlit side (board x < 0: left of the camera).
   const FlashSuggestion& first = before.next.front();
   EXPECT_GT(first.targets_gained, 0);
-  EXPECT_LT((board.R.transpose() * (first.position_cam - board.t)).x(), 0);
+  EXPECT_LT(board.LightFrom(first.position_cam).x(), 0);
   EXPECT_NE(first.words.find("left"), std::string::npos) << first.words;
   for (size_t k = 1; k < before.next.size(); ++k) EXPECT_LE(before.next[k].targets_gained, before.next[k - 1].targets_gained);
   // Taking the suggested shots covers what they said they would.
   int gained = 0;
   for (const FlashSuggestion& s : before.next) {
-    board.lights.push_back((board.R.transpose() * (s.position_cam - board.t)).normalized());
+    board.lights.push_back(board.LightFrom(s.position_cam));
     gained += s.targets_gained;
   }
   const CoverageReport after = AssessCoverage({board}, 0);

@@ -89,28 +89,29 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
   std::vector<const SliceStatistics*> stats;
   std::vector<std::vector<double>> weights(top_slices_.front().channels());
   for (const WeightedIndex& v : view_rings_.Weights(view)) {
-    AddViewStatistics(v.index, light, light, v.weight, &stats, &weights);
+    const Eigen::Vector3d edge = AddViewStatistics(v.index, light, light, v.weight, &stats, &weights);
     if (!options_.top_view_prior || v.index == top_view_ || view_lights_[v.index].Contains(light)) continue;
     // Outside the view's hull: plus the top view at the light, minus the top view at the hull
     // edge's light the view's own statistics stand for.
-    Eigen::Vector3d edge = Eigen::Vector3d::Zero();
-    for (const WeightedIndex& l : view_lights_[v.index].Weights(light)) edge += l.weight * views_[v.index].lights[l.index];
     AddViewStatistics(top_view_, light, light, v.weight, &stats, &weights);
     AddViewStatistics(top_view_, edge.normalized(), light, -v.weight, &stats, &weights);
   }
   return BlendSliceStatistics(stats, weights);
 }
 
-void StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light, double weight,
-                                       std::vector<const SliceStatistics*>* stats,
-                                       std::vector<std::vector<double>>* weights) const {
+Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
+                                                  double weight, std::vector<const SliceStatistics*>* stats,
+                                                  std::vector<std::vector<double>>* weights) const {
+  Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
+    stands_for += l.weight * views_[v].lights[l.index];
     stats->push_back(&views_[v].statistics[l.index]);
     const double cosine = CosineRatio(light, views_[v].lights[l.index]);
     // A chromaticity does not scale with the light's fall-off.
     for (int c = 0; c < int(weights->size()); ++c)
       (*weights)[c].push_back(weight * l.weight * (options_.colour.ScalesWithRadiance(c) ? cosine : 1.0));
   }
+  return stands_for;
 }
 
 bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {

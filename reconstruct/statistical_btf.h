@@ -94,9 +94,11 @@ class StatisticalBtf {
   StatisticalBtfOptions options_;
   double CosineRatio(const Eigen::Vector3d& target, const Eigen::Vector3d& measured) const;
   // Adds view v's statistics at `at` (its light weights), each scaled by `weight` and the cosine
-  // ratio to the target `light`, to the blend's entries.
-  void AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light, double weight,
-                         std::vector<const SliceStatistics*>* stats, std::vector<std::vector<double>>* weights) const;
+  // ratio to the target `light`, to the blend's entries. Returns the direction they stand for (the
+  // weighted mean of the lights used: on the hull's edge when `at` lies outside it).
+  Eigen::Vector3d AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light, double weight,
+                                    std::vector<const SliceStatistics*>* stats,
+                                    std::vector<std::vector<double>>* weights) const;
   std::vector<Image> top_slices_;
   std::vector<Eigen::Vector3d> top_lights_dirs_;
   LightInterpolator top_lights_;
