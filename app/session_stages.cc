@@ -39,8 +39,6 @@ StatusOr<RigLayout> LoadSessionLayout(const fs::path& session, const fs::path& l
   return layout;
 }
 
-namespace {
-
 StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout& layout, Json* intrinsics_report,
                                 Image* residual_plot) {
   if (!o.camera_file.empty()) {
@@ -70,6 +68,8 @@ StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout&
   std::fprintf(stderr, "intrinsics: %s\n", result->Brief().c_str());
   return result->camera;
 }
+
+namespace {
 
 // Flash directions seen from the most head-on board (the top of the pyramid).
 Image LightsPlot(const CalibrationResult& result) {

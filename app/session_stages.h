@@ -34,6 +34,10 @@ struct CalibrateStageOptions {
   std::filesystem::path layout_file;   // empty: SESSION/rig_layout.json
   bool progress = true;
 };
+// The intrinsics: `camera_file`, else calibrated from the session's checkerboard shots (then
+// `intrinsics_report` and `residual_plot` are filled in).
+StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& options, const RigLayout& layout, Json* intrinsics_report,
+                                Image* residual_plot);
 // Intrinsics, board poses, balls, flash position and power per shot -> SESSION/calibration/
 // (rig.json, report.json, intrinsics_residuals.png, lights.png, flash_positions.png).
 StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& options);

@@ -12,6 +12,7 @@
 // Usage: bench_session_coverage [--shots 24,50,100,150] [--materials weave,stones,corduroy]
 //                               [--seeds 11,12] [--size 64] [--pairs 240] [--colour-space NAME]
 //                               [--top-view-prior 0|1] [--list-lights 1] [--guided START]
+//                               [--predict-shadows 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 #include <cstdio>
@@ -44,6 +45,17 @@ struct BoardInputs {
 
 // Each board's view and the flash directions it measured from `flashes` (camera frame; patch
 // frame directions at the patch centre).
+// Whether the flash at `flash` lights board b's patch: none of 3x3 points on it in shadow.
+bool Lit(const RigScene& scene, const RigRenderer& renderer, int b, const Eigen::Vector3d& flash) {
+  const RigBoard& board = scene.boards[b];
+  for (const double u : {-0.5, 0.0, 0.5})
+    for (const double v : {-0.5, 0.0, 0.5}) {
+      const Eigen::Vector3d p = board.R * Eigen::Vector3d(u * board.patch_m, v * board.patch_m, 0) + board.t;
+      if (renderer.Occluded(p, flash, RigRenderer::kBoard, b)) return false;
+    }
+  return true;
+}
+
 std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer& renderer,
                                         const std::vector<Eigen::Vector3d>& flashes) {
   std::vector<BoardInputs> boards;
@@ -54,12 +66,7 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
     for (const Eigen::Vector3d& flash : flashes) {
       const Eigen::Vector3d light = (board.R.transpose() * (flash - board.t)).normalized();
       if (light.z() <= 0.02) continue;  // below the horizon (theta_i > 88.9 deg)
-      bool shadowed = false;
-      for (const double u : {-0.5, 0.0, 0.5})
-        for (const double v : {-0.5, 0.0, 0.5}) {
-          const Eigen::Vector3d p = board.R * Eigen::Vector3d(u * board.patch_m, v * board.patch_m, 0) + board.t;
-          shadowed |= renderer.Occluded(p, flash, RigRenderer::kBoard, b);
-        }
+      const bool shadowed = !Lit(scene, renderer, b, flash);
       bool duplicate = false;
       for (const auto& l : measured.lights) duplicate |= AngleBetweenDeg(l, light) < 0.5;
       if (!shadowed && !duplicate) measured.lights.push_back(light);
@@ -71,7 +78,9 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
 
 // The session's own flashes, then (guided) one `mesocap coverage` suggestion after another up to
 // `total` shots, each recomputed from what the boards measured so far.
-std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total) {
+// With `predict_shadows`, the guidance knows which positions shadow which board (as `mesocap
+// capture --guide` predicts them from the calibrated rig).
+std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total, bool predict_shadows) {
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
@@ -82,7 +91,10 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     CoverageOptions options;
     options.suggestions = 1;
     options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
-    const CoverageReport report = AssessCoverage(boards, 0, options);  // board 0 is the top
+    LitFn lit;
+    if (predict_shadows)
+      lit = [&](int board, const Eigen::Vector3d& flash) { return Lit(scene, renderer, board, flash); };
+    const CoverageReport report = AssessCoverage(boards, 0, options, lit);  // board 0 is the top
     if (report.next.empty()) break;
     flashes.push_back(report.next.front().position_cam);
   }
@@ -96,6 +108,7 @@ int Run(int argc, char** argv) {
   std::string colour_space = "chromaticity";
   bool list_lights = false, top_view_prior = true;
   int guided_start = 0;
+  bool predict_shadows = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "--shots") shots = Split(value);
@@ -107,6 +120,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--list-lights") list_lights = value == "1";
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
+    else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else {
       std::fprintf(stderr, "unknown option %s\n", flag.c_str());
       return 2;
@@ -134,7 +148,7 @@ int Run(int argc, char** argv) {
         options.btf.top_view_prior = top_view_prior;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
-        for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count)))) {
+        for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows))) {
           if (list_lights) {
             const Eigen::Vector2d v = AnglesDegFromDirection(board.view);
             std::printf("view (%.0f, %.0f), %zu lights:", v.x(), v.y(), board.lights.size());

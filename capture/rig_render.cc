@@ -350,9 +350,10 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
   }
 }
 
-Image RigRenderer::RenderShotLinear(int shot_index) const {
+Image RigRenderer::RenderShotLinear(int shot_index) const { return RenderFlashLinear(scene_.shots.at(shot_index)); }
+
+Image RigRenderer::RenderFlashLinear(const RigShot& shot) const {
   MESOCAP_CHECK(!gbuffer_.empty(), "Prepare() first");
-  const RigShot& shot = scene_.shots.at(shot_index);
   std::vector<Image> patches(scene_.boards.size());
   ParallelFor(0, int(patches.size()), [&](int b) { patches[b] = RenderPatchRadiance(b, shot); }, options_.num_threads);
   const int W = scene_.camera.width, H = scene_.camera.height;

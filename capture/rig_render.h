@@ -32,6 +32,8 @@ class RigRenderer {
 
   // Linear pixel values (radiance x exposure), no noise, no clipping.
   Image RenderShotLinear(int shot_index) const;
+  // A flash shot with the flash anywhere (the virtual camera's requested positions).
+  Image RenderFlashLinear(const RigShot& shot) const;
   Image RenderCalibLinear(int calib_index) const;
   // Adds shot and read noise and clips to [0, 1]; deterministic in (seed, stream).
   void ApplySensor(Image* image, uint64_t stream) const;

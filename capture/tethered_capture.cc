@@ -353,7 +353,7 @@ CameraStatus ValidateSettings(Camera& camera, const std::vector<std::string>& se
 }
 
 StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options, const ProgressFn& progress,
-                                   const ReadyFn& ready) {
+                                   const ReadyFn& ready, const AfterShotFn& after_shot) {
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
   if (options.mode == CaptureMode::kEnter && !ready)
     return Status::Error("enter mode needs a way to wait for the photographer (no ReadyFn given)");
@@ -521,6 +521,7 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
     shot.retries = retries;
     shot.flags = record.flags;
     report.shots.push_back(shot);
+    if (after_shot) after_shot(shot);
     return true;
   };
 

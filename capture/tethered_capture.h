@@ -91,6 +91,10 @@ struct CaptureReport {
 // is ready and returns false to stop.
 using ReadyFn = std::function<bool(int number, int total)>;
 
+// Called after each shot is safely in the session and journaled (capture guidance looks at it);
+// the next shot is taken when it returns.
+using AfterShotFn = std::function<void(const CapturedShot& shot)>;
+
 // Checks every "key=value" of `settings` against the camera without changing anything; a wrong
 // key or value is kBadSetting and the message lists the valid keys or values.
 CameraStatus ValidateSettings(Camera& camera, const std::vector<std::string>& settings);
@@ -102,6 +106,6 @@ CameraStatus ValidateSettings(Camera& camera, const std::vector<std::string>& se
 // are intact and journaled. Progress: "[i/N] shots/shot_0007.jpg f/8 1/125 ISO 200"; returning
 // false cancels after the current shot. The report is also written to SESSION/capture_report.json.
 StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options, const ProgressFn& progress = nullptr,
-                                   const ReadyFn& ready = nullptr);
+                                   const ReadyFn& ready = nullptr, const AfterShotFn& after_shot = nullptr);
 
 }  // namespace mesocap

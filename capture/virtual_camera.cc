@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <cmath>
+#include <random>
 #include <sstream>
 
 #include "capture/simulate.h"
@@ -15,6 +17,23 @@ namespace {
 ConfigEntry Radio(const std::string& name, const std::string& label, const std::string& value,
                   std::vector<std::string> choices, bool read_only = false) {
   return {name, label, "radio", value, std::move(choices), read_only};
+}
+
+constexpr const char* kHandHeld = "hand-held";
+
+// "x,y,z" in metres -> a position; false when it is not three finite numbers.
+bool ParsePosition(const std::string& text, Eigen::Vector3d* position) {
+  std::stringstream ss(text);
+  std::string item;
+  int n = 0;
+  while (std::getline(ss, item, ',')) {
+    if (n == 3) return false;
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(v)) return false;
+    (*position)[n++] = v;
+  }
+  return n == 3;
 }
 
 }  // namespace
@@ -50,6 +69,7 @@ StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& 
     return Status::Error("virtual camera port must be 'virtual' or 'virtual:key=value,...', not '" + port + "'");
   }
   if (ExtensionForFormat(cam->format_).empty()) return Status::Error("virtual camera: format must be jpg, png or exr");
+  cam->seed_ = o.seed;
   auto scene = MakeRigScene(o);
   if (!scene.ok()) return scene.status();
   auto material = Material::Create(o.material);
@@ -61,7 +81,9 @@ StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& 
                   Radio("shutterspeed", "Shutter Speed", "1/125", {"1/125"}, true),
                   Radio("f-number", "F-Number", "f/8", {"f/8"}, true),
                   Radio("flashmode", "Flash Mode", "on", {"on"}, true),
-                  Radio("imageformat", "Image Format", cam->format_, {cam->format_}, true)};
+                  Radio("imageformat", "Image Format", cam->format_, {cam->format_}, true),
+                  {"flashposition", "Where the photographer holds the flash: hand-held, or x,y,z (m, camera frame)",
+                   "text", kHandHeld, {}, false}};
   cam->card_ = fs::temp_directory_path() / ("mesocap-virtual-card-" + std::to_string(::getpid()) + "-" +
                                             std::to_string(reinterpret_cast<uintptr_t>(cam.get())));
   std::error_code ec;
@@ -100,7 +122,11 @@ CameraStatus VirtualCamera::GetConfig(const std::string& name, ConfigEntry* entr
 CameraStatus VirtualCamera::SetConfig(const std::string& name, const std::string& value) {
   ConfigEntry entry;
   if (CameraStatus st = GetConfig(name, &entry); !st.ok()) return st;
-  if (std::find(entry.choices.begin(), entry.choices.end(), value) == entry.choices.end()) {
+  Eigen::Vector3d position;
+  if (entry.type == "text" && value != kHandHeld && !ParsePosition(value, &position))
+    return CameraStatus::Error(CameraError::kBadSetting, "virtual camera: " + name + " must be '" + kHandHeld +
+                                                             "' or x,y,z in metres (camera frame), not '" + value + "'");
+  if (entry.type != "text" && std::find(entry.choices.begin(), entry.choices.end(), value) == entry.choices.end()) {
     std::string choices;
     for (const auto& c : entry.choices) choices += (choices.empty() ? "" : ", ") + c;
     return CameraStatus::Error(CameraError::kBadSetting,
@@ -111,23 +137,51 @@ CameraStatus VirtualCamera::SetConfig(const std::string& name, const std::string
   return CameraStatus::Ok();
 }
 
+// The flash where the photographer holds it: the rig's next hand-held position, or the one asked
+// for (its power varies from shot to shot as a real flash's does).
+RigShot VirtualCamera::NextFlash(CameraStatus* status) {
+  ConfigEntry held;
+  GetConfig("flashposition", &held);
+  RigShot shot;
+  if (held.value == kHandHeld) {
+    const int available = int(scene_->shots.size());
+    if (next_flash_ >= available)
+      *status = CameraStatus::Error(CameraError::kCardFull, "virtual camera: the rig has only " + std::to_string(available) +
+                                                                " hand-held flash positions (raise shots= in the port, "
+                                                                "or set flashposition=x,y,z)");
+    else
+      shot = scene_->shots[next_flash_];
+    return shot;
+  }
+  ParsePosition(held.value, &shot.light_m);
+  std::mt19937_64 rng(seed_ * 1'000'003 + taken_.size());
+  shot.power = 1.0 + 0.15 * std::uniform_real_distribution<double>(-1, 1)(rng);
+  return shot;
+}
+
 CameraStatus VirtualCamera::Render(CameraFilePath* on_card) {
   if (closed_) return CameraStatus::Error(CameraError::kGone, "virtual camera: closed");
   ConfigEntry subject;
   GetConfig("subject", &subject);
   const bool flash = subject.value == "flash";
-  const int index = flash ? next_flash_ : next_calib_;
-  const int available = int(flash ? scene_->shots.size() : scene_->calib_shots.size());
-  if (index >= available)
-    return CameraStatus::Error(CameraError::kCardFull, "virtual camera: the rig has only " + std::to_string(available) +
-                                                           (flash ? " flash" : " checkerboard") +
-                                                           " shots (raise shots= or calib-shots= in the port)");
+  const int index = flash ? int(taken_.size()) : next_calib_;
+  CameraStatus status;
+  RigShot shot;
+  if (flash) {
+    shot = NextFlash(&status);
+  } else if (next_calib_ >= int(scene_->calib_shots.size())) {
+    status = CameraStatus::Error(CameraError::kCardFull, "virtual camera: the rig has only " +
+                                                             std::to_string(scene_->calib_shots.size()) +
+                                                             " checkerboard shots (raise calib-shots= in the port)");
+  }
+  if (!status.ok()) return status;
   if (!renderer_) {
     renderer_ = std::make_unique<RigRenderer>(*scene_, *material_);
     renderer_->Prepare();
   }
-  // The same streams and clock as `mesocap simulate`: checkerboard shots first on its clock.
-  Image image = flash ? renderer_->RenderShotLinear(index) : renderer_->RenderCalibLinear(index);
+  // The same streams and clock as `mesocap simulate` (checkerboard shots first on its clock);
+  // flash shots are numbered in the order taken, hand-held or not.
+  Image image = flash ? renderer_->RenderFlashLinear(shot) : renderer_->RenderCalibLinear(index);
   renderer_->ApplySensor(&image, flash ? uint64_t(index) : 1'000'000 + uint64_t(index));
   const int clock = flash ? int(scene_->calib_shots.size()) + index : index;
   char name[64];
@@ -135,7 +189,15 @@ CameraStatus VirtualCamera::Render(CameraFilePath* on_card) {
   const fs::path file = card_ / "DCIM" / "100VIRT" / name;
   if (Status st = WriteImage(file, image, VirtualShotWriteOptions(format_, flash, clock)); !st.ok())
     return CameraStatus::Error(CameraError::kIo, "virtual camera: " + st.message());
-  (flash ? next_flash_ : next_calib_)++;
+  if (flash) {
+    ConfigEntry held;
+    GetConfig("flashposition", &held);
+    if (held.value == kHandHeld) ++next_flash_;
+    shot.file = name;  // as on the card
+    taken_.push_back(shot);
+  } else {
+    ++next_calib_;
+  }
   *on_card = {"/DCIM/100VIRT", name};
   return CameraStatus::Ok();
 }

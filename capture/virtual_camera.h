@@ -2,6 +2,9 @@
 // renders each picture the moment the shutter fires, so a capture run through it yields the
 // same session (bytes included) as `mesocap simulate` with the same options.
 // Port: "virtual" or "virtual:seed=S,material=M,width=W,height=H,shots=N,calib-shots=C,format=F".
+// The setting "flashposition" stands for the photographer holding the flash: "hand-held" (the
+// rig's next position, as `simulate` renders them) or "x,y,z", metres in the camera frame, where
+// the next flash shots are taken (guided capture, `mesocap capture --follow-guide`).
 #pragma once
 
 #include <deque>
@@ -34,6 +37,8 @@ class VirtualCamera : public Camera {
   void Close() override;
 
   const RigScene& scene() const { return *scene_; }
+  // Every flash shot taken so far, in order, with the flash where it really was (the truth).
+  const std::vector<RigShot>& flash_shots_taken() const { return taken_; }
 
  private:
   VirtualCamera() = default;
@@ -45,7 +50,11 @@ class VirtualCamera : public Camera {
   std::unique_ptr<RigRenderer> renderer_;  // prepared at the first capture
   std::vector<ConfigEntry> config_;
   std::filesystem::path card_;  // a temp folder standing in for the memory card
-  int next_flash_ = 0, next_calib_ = 0;
+  RigShot NextFlash(CameraStatus* status);
+
+  uint64_t seed_ = 1;
+  int next_flash_ = 0, next_calib_ = 0;  // the rig's hand-held flash positions, checkerboard poses
+  std::vector<RigShot> taken_;
   std::deque<CameraFilePath> events_;
   bool closed_ = false;
 };

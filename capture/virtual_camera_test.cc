@@ -69,5 +69,31 @@ TEST(VirtualCamera, BadPortAndSettingsAreExplained) {
   EXPECT_NE(st.message.find("checkerboard"), std::string::npos);
 }
 
+// The photographer can be told where to hold the flash; hand-held shots carry on where they
+// left off.
+TEST(VirtualCamera, TakesFlashShotsWhereAsked) {
+  auto opened = VirtualCamera::Open("virtual:seed=6,width=640,height=400,shots=3,calib-shots=0");
+  ASSERT_TRUE(opened.ok()) << opened.status().message();
+  VirtualCamera& camera = **opened;
+  CameraFilePath on_card;
+  ASSERT_TRUE(camera.Capture(&on_card).ok());
+  ASSERT_TRUE(camera.SetConfig("flashposition", "0.4,-0.2,0.3").ok());
+  ASSERT_TRUE(camera.Capture(&on_card).ok());
+  EXPECT_EQ(on_card.name, "shot_0002.jpg");
+  ASSERT_TRUE(camera.SetConfig("flashposition", "hand-held").ok());
+  ASSERT_TRUE(camera.Capture(&on_card).ok());
+  const std::vector<RigShot>& taken = camera.flash_shots_taken();
+  ASSERT_EQ(taken.size(), 3u);
+  EXPECT_EQ(taken[0].light_m, camera.scene().shots[0].light_m);
+  EXPECT_EQ(taken[1].light_m, Eigen::Vector3d(0.4, -0.2, 0.3));
+  EXPECT_NEAR(taken[1].power, 1.0, 0.15);
+  EXPECT_EQ(taken[2].light_m, camera.scene().shots[1].light_m);
+  for (const char* bad : {"0.4,-0.2", "0.4,-0.2,0.3,1", "a,b,c", "0.4,nan,0.3", "near"}) {
+    const CameraStatus st = camera.SetConfig("flashposition", bad);
+    EXPECT_EQ(st.error, CameraError::kBadSetting) << bad;
+    EXPECT_NE(st.message.find("hand-held"), std::string::npos) << st.message;
+  }
+}
+
 }  // namespace
 }  // namespace mesocap

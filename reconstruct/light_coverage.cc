@@ -14,11 +14,11 @@ constexpr double kHorizonZ = 0.02;  // about 1 deg above a board's plane
 
 // Targets (board, target index) a light covers.
 std::vector<std::pair<int, int>> CoveredBy(const std::vector<BoardLights>& boards, const Eigen::Vector3d& position_cam,
-                                           const std::vector<Eigen::Vector3d>& targets, double near_deg) {
+                                           const std::vector<Eigen::Vector3d>& targets, double near_deg, const LitFn& lit) {
   std::vector<std::pair<int, int>> covered;
   for (int b = 0; b < int(boards.size()); ++b) {
     const Eigen::Vector3d light = boards[b].LightFrom(position_cam);
-    if (light.z() <= kHorizonZ) continue;
+    if (light.z() <= kHorizonZ || (lit && !lit(boards[b].board, position_cam))) continue;
     for (int k = 0; k < int(targets.size()); ++k)
       if (AngleBetweenDeg(light, targets[k]) <= near_deg) covered.push_back({b, k});
   }
@@ -54,7 +54,8 @@ std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardL
   return Format("%s, %s (%.0f deg above the target's plane)", kSectors[sector], height, elevation);
 }
 
-CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options) {
+CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options,
+                              const LitFn& lit) {
   CoverageReport report;
   if (boards.empty() || top < 0 || top >= int(boards.size())) return report;
   const std::vector<Eigen::Vector3d> targets = BonnDirections();
@@ -70,7 +71,7 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
       angles.push_back({el, az});
     }
   std::vector<std::vector<std::pair<int, int>>> covers(candidates.size());
-  for (size_t c = 0; c < candidates.size(); ++c) covers[c] = CoveredBy(boards, candidates[c], targets, options.near_deg);
+  for (size_t c = 0; c < candidates.size(); ++c) covers[c] = CoveredBy(boards, candidates[c], targets, options.near_deg, lit);
 
   // What is covered now, and what could be.
   std::vector<std::vector<char>> covered(boards.size(), std::vector<char>(targets.size(), 0)), reachable = covered;

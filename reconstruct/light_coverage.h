@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ struct BoardLights {
 // The median distance of the flash positions (camera frame) from `centre`; `fallback` for none:
 // where the next shots are suggested.
 double MedianFlashDistance(const std::vector<Eigen::Vector3d>& flashes, const Eigen::Vector3d& centre, double fallback = 1.0);
+
+// Whether a flash at `position_cam` (camera frame) lights board `board`'s patch with no shadow on
+// it. Without one, every position above a board's horizon does.
+using LitFn = std::function<bool(int board, const Eigen::Vector3d& position_cam)>;
 
 struct CoverageOptions {
   double near_deg = 15.0;  // a target within this of a measured light is covered
@@ -63,7 +68,9 @@ struct CoverageReport {
 // Scores the boards' coverage and picks the next flash positions greedily (each the position
 // that covers most still-uncovered targets, counting those it covers as covered for the next).
 // `top` is the board whose frame defines elevation and azimuth (the most head-on one).
-CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options = {});
+// Positions that would leave a board in shadow (`lit`) cover none of its targets.
+CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options = {},
+                              const LitFn& lit = nullptr);
 
 // Where a flash position lies, in words for the operator holding it: seen from the camera
 // (left/right, toward the top or bottom of the picture) and how high above the target.

@@ -163,5 +163,27 @@ TEST(Cli, ImportSkipsBadFilesListsThemAndExitsZero) {
   EXPECT_EQ(testing::RunMesocap("import " + photos.string() + " --out " + (dir / "s").string() + " --no-progress", &out), 2);
 }
 
+// A lab's tethered session with guidance: checkerboard shots first, then flash shots, each
+// followed by where the flash was and where it is needed next; the virtual photographer follows.
+TEST(Cli, CaptureGuidesTheFlashAfterEachShot) {
+  const auto dir = testing::MakeTempDir();
+  const std::string session = (dir / "s").string();
+  const std::string camera = " --camera virtual --port virtual:seed=41,width=1200,height=800,shots=20,calib-shots=10";
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("capture --out " + session + camera + " --calibration --set subject=checkerboard --shots 10 "
+                                "--no-progress", &out), 0) << out;
+  ASSERT_EQ(testing::RunMesocap("capture --out " + session + camera + " --resume --shots 8 --guide-after 5 --follow-guide",
+                                &out), 0) << out;
+  EXPECT_NE(out.find("shots/shot_0001.jpg: flash position unknown"), std::string::npos) << out;
+  EXPECT_NE(out.find("located after 5 flash shots (1 so far)"), std::string::npos) << out;
+  for (const char* shot : {"shot_0005.jpg: flash ", "shot_0008.jpg: flash "}) EXPECT_NE(out.find(shot), std::string::npos) << out;
+  EXPECT_NE(out.find("next 1: move the flash"), std::string::npos) << out;
+  auto coverage = ReadJsonFile(dir / "s" / "coverage" / "coverage.json");
+  ASSERT_TRUE(coverage.ok()) << out;
+  EXPECT_EQ(coverage->at("lights_from").get<std::string>(), "capture guidance");
+  EXPECT_GT(coverage->at("covered").get<int>(), 0);
+  EXPECT_TRUE(fs::exists(dir / "s" / "rig_layout.json"));
+}
+
 }  // namespace
 }  // namespace mesocap

@@ -1,0 +1,151 @@
+#include "app/capture_guide.h"
+
+#include <chrono>
+
+#include "app/rig_plot.h"
+#include "app/session_stages.h"
+#include "core/image_io.h"
+#include "core/session.h"
+#include "core/text_format.h"
+
+namespace mesocap::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMinLightsPerBoard = 3;  // fewer and a board's view has no statistics to blend
+
+std::vector<Eigen::Vector3d> Positions(const std::map<std::string, Eigen::Vector3d>& flashes) {
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& [file, position] : flashes) positions.push_back(position);
+  return positions;
+}
+
+// Every line of `lines` indented by two spaces.
+std::string Indented(const std::string& lines) {
+  std::string text = "  ";
+  for (char c : lines) text += c == '\n' ? std::string("\n  ") : std::string(1, c);
+  return text;
+}
+
+}  // namespace
+
+std::string CaptureGuideOptions::Check() const {
+  if (locate_after_shots < 1 || locate_after_shots > 1000) return "--guide-after must be between 1 and 1000 shots";
+  if (!(coverage.near_deg > 0 && coverage.near_deg <= 90)) return "--near-deg must be in (0, 90]";
+  if (coverage.suggestions < 1 || coverage.suggestions > 100) return "--suggest must be between 1 and 100";
+  return "";
+}
+
+StatusOr<std::unique_ptr<CaptureGuide>> CaptureGuide::Start(const CaptureGuideOptions& options) {
+  if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
+  std::unique_ptr<CaptureGuide> guide(new CaptureGuide());
+  guide->options_ = options;
+  auto layout = LoadSessionLayout(options.session, options.layout_file);
+  if (!layout.ok()) return Status::Error("guidance: " + layout.status().message());
+  guide->layout_ = std::move(*layout);
+  CalibrateStageOptions stage;
+  stage.calibrate.session = options.session;
+  stage.camera_file = options.camera_file;
+  stage.progress = false;
+  Json report;
+  Image plot;
+  auto camera = CameraFor(stage, guide->layout_, &report, &plot);
+  if (!camera.ok())
+    return Status::Error("guidance: " + camera.status().message() +
+                         " (take the checkerboard shots first with --calibration, or give --camera-file)");
+  guide->camera_ = *camera;
+  return guide;
+}
+
+void CaptureGuide::LocateRig(std::vector<std::string>* missing) {
+  CalibrateOptions calibrate;
+  calibrate.session = options_.session;
+  auto result = CalibrateSession(calibrate, layout_, camera_);
+  if (!result.ok()) {
+    missing->push_back("the rig is not located yet: " + result.status().message());
+    return;
+  }
+  if (!TopBoardPose(*result)) {
+    missing->push_back("no board is located yet: are the boards' AprilTags in view and lit?");
+    return;
+  }
+  if (int(result->spheres.spheres.size()) < layout_.sphere_count)
+    missing->push_back(Format("found %zu of %d balls: the flash positions rest on those", result->spheres.spheres.size(),
+                              layout_.sphere_count));
+  rig_ = std::move(*result);
+  located_ = true;
+  lit_ = ShadowFreeTest(rig_, layout_);
+  for (const ShotCalibration& shot : rig_.shots)
+    if (shot.light.ok) flashes_[shot.file] = shot.light.light_m;
+}
+
+std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const std::string& shot, std::string* why_not) const {
+  auto image = ReadImage(options_.session / shot);
+  if (!image.ok()) {
+    *why_not = image.status().message();
+    return std::nullopt;
+  }
+  const LightEstimate light = EstimateFlash(camera_, rig_.spheres.spheres, *image);
+  if (!light.ok) {
+    *why_not = "no flash position: " + light.flag + " on the balls (did the flash fire? are the balls in view?)";
+    return std::nullopt;
+  }
+  return light.light_m;
+}
+
+CoverageAssessment CaptureGuide::Assess() const {
+  const std::vector<Eigen::Vector3d> positions = Positions(flashes_);
+  return AssessBoards(BoardLightsFromFlashes(rig_.boards, positions, lit_), TopBoardPose(rig_)->id, positions,
+                      options_.coverage, lit_);
+}
+
+ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ShotGuidance g;
+  g.shot = shot;
+  if (!located_) {
+    auto session = Session::Open(options_.session);
+    const int shots = session.ok() ? int(session->ShotsOfKind("shot").size()) : 0;
+    if (shots < options_.locate_after_shots)
+      g.missing.push_back(Format("the boards and balls are located after %d flash shots (%d so far): move the flash "
+                                 "all around the target",
+                                 options_.locate_after_shots, shots));
+    else
+      LocateRig(&g.missing);
+  } else {
+    std::string why_not;
+    if (auto flash = QuickFlash(shot, &why_not)) flashes_[shot] = *flash;
+    else g.missing.push_back(shot + ": " + why_not);
+  }
+  if (located_) {
+    if (auto it = flashes_.find(shot); it != flashes_.end()) {
+      g.flash_cam = it->second;
+      const BoardPose* top = TopBoardPose(rig_);
+      g.flash_words = FlashPositionWords(it->second, {top->id, top->R, top->t, {}});
+    }
+    g.coverage = Assess();
+    for (const BoardCoverage& b : g.coverage->report.boards)
+      if (b.lights < kMinLightsPerBoard)
+        g.missing.push_back(Format("board %d has %d usable light(s) of the %d its reconstruction needs", b.board, b.lights,
+                                   kMinLightsPerBoard));
+    if (Status st = WriteCoverageFolder(options_.session / "coverage", *g.coverage, "capture guidance",
+                                        {{"session", options_.session.string()}, {"after_shot", shot}});
+        !st.ok())
+      g.missing.push_back(st.message());
+  }
+  g.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return g;
+}
+
+std::string ShotGuidance::Text() const {
+  std::string text = shot + ": ";
+  text += flash_cam ? Format("flash %s", flash_words.c_str()) : "flash position unknown";
+  text += Format(" (guidance in %.2f s)", seconds);
+  if (coverage) text += "\n" + Indented(CoverageSummary(*coverage) + "\n" + NextShotLines(*coverage));
+  for (const std::string& m : missing) text += "\n  missing: " + m;
+  return text;
+}
+
+}  // namespace mesocap::app

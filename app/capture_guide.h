@@ -1,0 +1,69 @@
+// Guidance during tethered capture (`mesocap capture --guide`): after each flash shot, where the
+// flash was and what the session still needs. The boards and balls are located once, by a full
+// calibration of the first flash shots (they never move); each later shot only reads its
+// highlights on the balls (calib/flash_lights.h), so guidance takes seconds, not a calibration.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/coverage_output.h"
+#include "calib/calibrate.h"
+#include "core/rig_layout.h"
+
+namespace mesocap::app {
+
+struct CaptureGuideOptions {
+  std::filesystem::path session;
+  std::filesystem::path layout_file;  // empty: SESSION/rig_layout.json
+  std::filesystem::path camera_file;  // intrinsics; empty: from the session's checkerboard shots
+  int locate_after_shots = 6;         // flash shots before the boards and balls are located
+  CoverageOptions coverage;
+  std::string Check() const;  // empty when valid
+};
+
+struct ShotGuidance {
+  std::string shot;  // relative to the session
+  std::optional<Eigen::Vector3d> flash_cam;  // where the flash was, when the balls showed it
+  std::string flash_words;                   // ... in the operator's words
+  std::vector<std::string> missing;          // what keeps the guidance from being complete
+  std::optional<CoverageAssessment> coverage;
+  double seconds = 0;                        // this shot's guidance, reading the photo included
+  std::string Text() const;                  // the lines printed after the shot
+};
+
+class CaptureGuide {
+ public:
+  // Reads the layout and the intrinsics (calibrating them from the session's checkerboard shots
+  // when no camera file is given).
+  static StatusOr<std::unique_ptr<CaptureGuide>> Start(const CaptureGuideOptions& options);
+
+  // Guidance after `shot` (relative to the session) was added. Also writes SESSION/coverage/.
+  ShotGuidance AfterShot(const std::string& shot);
+
+  bool rig_located() const { return located_; }
+  const CalibrationResult& rig() const { return rig_; }
+  // Flash positions so far (camera frame) by shot file: from the locating calibration, then quick.
+  const std::map<std::string, Eigen::Vector3d>& flashes() const { return flashes_; }
+
+ private:
+  CaptureGuide() = default;
+  // A full calibration of the shots so far: board poses, balls and their flashes.
+  void LocateRig(std::vector<std::string>* missing);
+  std::optional<Eigen::Vector3d> QuickFlash(const std::string& shot, std::string* why_not) const;
+  CoverageAssessment Assess() const;
+
+  CaptureGuideOptions options_;
+  RigLayout layout_;
+  CameraModel camera_;
+  CalibrationResult rig_;
+  bool located_ = false;
+  std::map<std::string, Eigen::Vector3d> flashes_;
+  LitFn lit_;  // shadows cast by the rig, as located
+};
+
+}  // namespace mesocap::app

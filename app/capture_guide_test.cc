@@ -1,0 +1,191 @@
+// Capture guidance against the virtual rig: the quick per-shot flash (the balls located once,
+// then each shot's highlights) agrees with the full calibration, following the guidance covers
+// more of what the reconstruction needs than holding the flash at random, and shots the guide
+// cannot use are explained.
+#include "app/capture_guide.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "capture/tethered_capture.h"
+#include "capture/virtual_camera.h"
+#include "core/atomic_file.h"
+#include "core/image_io.h"
+#include "tests/testing.h"
+
+namespace mesocap::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kLocateAfter = 6;
+
+// A new session with the virtual rig's layout and intrinsics on file, as a lab has its own.
+struct GuidedRun {
+  std::unique_ptr<VirtualCamera> camera;
+  std::unique_ptr<CaptureGuide> guide;
+  std::vector<ShotGuidance> guidance;
+  fs::path session;
+};
+
+GuidedRun Capture(const fs::path& dir, const std::string& port, int shots, bool follow, int locate_after = kLocateAfter) {
+  GuidedRun run;
+  auto camera = VirtualCamera::Open(port);
+  EXPECT_TRUE(camera.ok()) << camera.status().message();
+  run.camera = std::move(*camera);
+  run.session = dir / "session";
+  fs::create_directories(dir);
+  EXPECT_TRUE(WriteJsonFile(dir / "rig_layout.json", LayoutOf(run.camera->scene()).ToJson()).ok());
+  EXPECT_TRUE(WriteJsonFile(dir / "camera.json", run.camera->scene().camera.ToJson()).ok());
+  CaptureOptions capture;
+  capture.out = run.session;
+  capture.shots = shots;
+  auto after_shot = [&](const CapturedShot& shot) {
+    if (!run.guide) {
+      CaptureGuideOptions options;
+      options.session = run.session;
+      options.layout_file = dir / "rig_layout.json";
+      options.camera_file = dir / "camera.json";
+      options.locate_after_shots = locate_after;
+      auto guide = CaptureGuide::Start(options);
+      ASSERT_TRUE(guide.ok()) << guide.status().message();
+      run.guide = std::move(*guide);
+    }
+    run.guidance.push_back(run.guide->AfterShot(shot.file));
+    const ShotGuidance& g = run.guidance.back();
+    if (follow && g.coverage && !g.coverage->report.next.empty()) {
+      const Eigen::Vector3d p = g.coverage->report.next.front().position_cam;
+      ASSERT_TRUE(run.camera->SetConfig("flashposition", std::to_string(p.x()) + "," + std::to_string(p.y()) + "," +
+                                                             std::to_string(p.z()))
+                      .ok());
+    }
+  };
+  auto report = RunCapture(*run.camera, capture, nullptr, nullptr, after_shot);
+  EXPECT_TRUE(report.ok() && report->ok());
+  return run;
+}
+
+double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / M_PI;
+}
+
+TEST(CaptureGuide, QuickFlashAgreesWithTheFullCalibrationWithinTwoDegrees) {
+  const fs::path dir = testing::MakeTempDir();
+  const int shots = 16;
+  GuidedRun run = Capture(dir, "virtual:seed=31,width=1500,height=1000,shots=16,calib-shots=0", shots, false);
+  ASSERT_EQ(int(run.guidance.size()), shots);
+  ASSERT_TRUE(run.guide->rig_located());
+  for (int s = 0; s < kLocateAfter - 1; ++s) {
+    EXPECT_FALSE(run.guidance[s].coverage) << s;
+    ASSERT_FALSE(run.guidance[s].missing.empty());
+    EXPECT_NE(run.guidance[s].missing[0].find("located after"), std::string::npos) << run.guidance[s].missing[0];
+  }
+  // The full calibration of every shot, as `mesocap calibrate` runs it.
+  CalibrateOptions full;
+  full.session = run.session;
+  auto layout = RigLayout::FromJson(*ReadJsonFile(dir / "rig_layout.json"));
+  auto calibration = CalibrateSession(full, *layout, run.camera->scene().camera);
+  ASSERT_TRUE(calibration.ok()) << calibration.status().message();
+  const std::vector<RigShot>& truth = run.camera->flash_shots_taken();
+  int compared = 0;
+  double worst = 0, worst_truth = 0;
+  for (int s = kLocateAfter; s < shots; ++s) {
+    const ShotGuidance& g = run.guidance[s];
+    ASSERT_TRUE(g.flash_cam) << g.Text();
+    ASSERT_TRUE(g.coverage);
+    const ShotCalibration& reference = calibration->shots[s];
+    ASSERT_EQ(reference.file, g.shot);
+    ASSERT_TRUE(reference.light.ok) << reference.flag;
+    // The direction to the flash from every board, as the reconstruction uses it.
+    for (const RigBoard& board : run.camera->scene().boards) {
+      worst = std::max(worst, AngleDeg(*g.flash_cam - board.t, reference.light.light_m - board.t));
+      worst_truth = std::max(worst_truth, AngleDeg(*g.flash_cam - board.t, truth[s].light_m - board.t));
+    }
+    ++compared;
+  }
+  std::printf("quick vs full calibration: worst %.3f deg over %d shots x 13 boards (vs truth: %.3f deg)\n", worst, compared,
+              worst_truth);
+  EXPECT_EQ(compared, shots - kLocateAfter);
+  EXPECT_LE(worst, 2.0);
+  EXPECT_LE(worst_truth, 5.0);
+  // The guidance went to SESSION/coverage/ as `mesocap coverage` writes it.
+  auto coverage = ReadJsonFile(run.session / "coverage" / "coverage.json");
+  ASSERT_TRUE(coverage.ok());
+  EXPECT_EQ((*coverage)["lights_from"].get<std::string>(), "capture guidance");
+  EXPECT_TRUE(fs::exists(run.session / "coverage" / "coverage.png"));
+}
+
+// The true coverage of a session's flashes: true board poses, the guide's scoring.
+double TrueCoverage(const VirtualCamera& camera) {
+  std::vector<BoardPose> poses;
+  for (const RigBoard& b : camera.scene().boards) poses.push_back({b.id, true, "", b.R, b.t});
+  std::vector<Eigen::Vector3d> flashes;
+  for (const RigShot& shot : camera.flash_shots_taken()) flashes.push_back(shot.light_m);
+  const int top = int(std::min_element(camera.scene().boards.begin(), camera.scene().boards.end(),
+                                       [](const RigBoard& a, const RigBoard& b) { return a.view_incidence_deg < b.view_incidence_deg; }) -
+                      camera.scene().boards.begin());
+  return AssessBoards(BoardLightsFromFlashes(poses, flashes), camera.scene().boards[top].id, flashes, {}).report.score();
+}
+
+TEST(CaptureGuide, FollowingTheGuidanceCoversMoreThanHoldingTheFlashAtRandom) {
+  const fs::path dir = testing::MakeTempDir();
+  const std::string port = "virtual:seed=32,width=900,height=600,shots=40,calib-shots=0";
+  const int shots = 18;
+  GuidedRun random = Capture(dir / "random", port, shots, false);
+  GuidedRun guided = Capture(dir / "guided", port, shots, true);
+  ASSERT_TRUE(guided.guide->rig_located());
+  // The first shots are the same hand-held ones; after locating, the guided flash goes where asked.
+  EXPECT_EQ(random.camera->flash_shots_taken()[0].light_m, guided.camera->flash_shots_taken()[0].light_m);
+  const Eigen::Vector3d asked = guided.guidance[kLocateAfter].coverage->report.next.front().position_cam;
+  EXPECT_LT((guided.camera->flash_shots_taken()[kLocateAfter + 1].light_m - asked).norm(), 1e-5);
+  // ...and the shot is lit from there: the balls show it.
+  ASSERT_TRUE(guided.guidance[kLocateAfter + 1].flash_cam);
+  for (const RigBoard& board : guided.camera->scene().boards)
+    EXPECT_LT(AngleDeg(*guided.guidance[kLocateAfter + 1].flash_cam - board.t, asked - board.t), 2.0) << board.id;
+  const double random_score = TrueCoverage(*random.camera), guided_score = TrueCoverage(*guided.camera);
+  std::printf("true coverage after %d shots: random %.3f, guided %.3f\n", shots, random_score, guided_score);
+  EXPECT_GT(guided_score, random_score + 0.05);
+}
+
+TEST(CaptureGuide, ShotsItCannotUseAreExplained) {
+  const fs::path dir = testing::MakeTempDir();
+  // Located after three shots: some boards have seen fewer than three lights.
+  GuidedRun run = Capture(dir, "virtual:seed=33,width=900,height=600,shots=3,calib-shots=0", 3, false, 3);
+  ASSERT_TRUE(run.guide->rig_located());
+  // A dark frame (the flash did not fire): no highlight on any ball.
+  ASSERT_TRUE(WriteImage(run.session / "shots" / "dark.png", Image(900, 600, 3, 0.01f)).ok());
+  const ShotGuidance dark = run.guide->AfterShot("shots/dark.png");
+  EXPECT_FALSE(dark.flash_cam);
+  ASSERT_TRUE(dark.coverage);  // the guidance so far still stands
+  const std::string text = dark.Text();
+  EXPECT_NE(text.find("shots/dark.png: no flash position"), std::string::npos) << text;
+  EXPECT_NE(text.find("next 1: move the flash"), std::string::npos) << text;
+  // A file that is not an image.
+  ASSERT_TRUE(WriteTextAtomically(run.session / "shots" / "torn.jpg", "not a jpeg").ok());
+  const ShotGuidance torn = run.guide->AfterShot("shots/torn.jpg");
+  EXPECT_FALSE(torn.flash_cam);
+  EXPECT_NE(torn.Text().find("torn.jpg"), std::string::npos) << torn.Text();
+  // Few shots: boards seeing fewer than three lights are named.
+  bool named = false;
+  for (const std::string& m : dark.missing) named |= m.find("usable light(s) of the 3") != std::string::npos;
+  EXPECT_TRUE(named) << text;
+}
+
+TEST(CaptureGuide, WithoutIntrinsicsOrLayoutItSaysWhatIsMissing) {
+  const fs::path dir = testing::MakeTempDir();
+  CaptureGuideOptions options;
+  options.session = dir;
+  auto no_layout = CaptureGuide::Start(options);
+  ASSERT_FALSE(no_layout.ok());
+  EXPECT_NE(no_layout.status().message().find("rig_layout.json"), std::string::npos) << no_layout.status().message();
+  auto camera = VirtualCamera::Open("virtual:shots=1,calib-shots=0");
+  ASSERT_TRUE(WriteJsonFile(dir / "rig_layout.json", LayoutOf((*camera)->scene()).ToJson()).ok());
+  auto no_camera = CaptureGuide::Start(options);
+  ASSERT_FALSE(no_camera.ok());
+  EXPECT_NE(no_camera.status().message().find("--calibration"), std::string::npos) << no_camera.status().message();
+}
+
+}  // namespace
+}  // namespace mesocap::app
