@@ -1,5 +1,6 @@
 #include "app/capture_guide.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "app/rig_plot.h"
@@ -42,6 +43,7 @@ StatusOr<std::unique_ptr<CaptureGuide>> CaptureGuide::Start(const CaptureGuideOp
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
   std::unique_ptr<CaptureGuide> guide(new CaptureGuide());
   guide->options_ = options;
+  guide->next_locate_at_ = options.locate_after_shots;
   auto layout = LoadSessionLayout(options.session, options.layout_file);
   if (!layout.ok()) return Status::Error("guidance: " + layout.status().message());
   guide->layout_ = std::move(*layout);
@@ -108,12 +110,15 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
   if (!located_) {
     auto session = Session::Open(options_.session);
     const int shots = session.ok() ? int(session->ShotsOfKind("shot").size()) : 0;
-    if (shots < options_.locate_after_shots)
+    if (shots < next_locate_at_) {
       g.missing.push_back(Format("the boards and balls are located after %d flash shots (%d so far): move the flash "
                                  "all around the target",
-                                 options_.locate_after_shots, shots));
-    else
+                                 next_locate_at_, shots));
+    } else {
       LocateRig(&g.missing);
+      // A failed attempt is a full calibration: the next waits for a few more shots.
+      if (!located_) next_locate_at_ = shots + std::max(1, options_.locate_after_shots / 2);
+    }
   } else {
     std::string why_not;
     if (auto flash = QuickFlash(shot, &why_not)) flashes_[shot] = *flash;

@@ -62,6 +62,7 @@ class CaptureGuide {
   CameraModel camera_;
   CalibrationResult rig_;
   bool located_ = false;
+  int next_locate_at_ = 0;  // flash shots in the session when locating is (re)tried
   std::map<std::string, Eigen::Vector3d> flashes_;
   LitFn lit_;  // shadows cast by the rig, as located
 };

@@ -269,9 +269,12 @@ int Run(const FitPtmArgs& args) {
   if (Status s = outputs.Stage(out, [&](const fs::path& temp) { return WritePtmFile(temp, *ptm, {}, &quantization); });
       !s.ok())
     return Fail(verb, s.message());
-  for (const auto& [path, map] : {std::pair{args.normals, &maps.normals}, std::pair{args.albedo, &maps.albedo}}) {
+  for (const auto& named_map : {std::pair{args.normals, &maps.normals}, std::pair{args.albedo, &maps.albedo}}) {
+    const auto& [path, map] = named_map;  // (clang 14 cannot capture a structured binding)
     if (path.empty()) continue;
-    const auto write_map = [&](const fs::path& temp) { return WriteImage(temp, *map, StoredValueOptions(path)); };
+    const auto write_map = [&named_map](const fs::path& temp) {
+      return WriteImage(temp, *named_map.second, StoredValueOptions(named_map.first));
+    };
     if (Status s = outputs.Stage(path, write_map); !s.ok()) return Fail(verb, s.message());
   }
   const double write_seconds = SecondsSince(write_start);

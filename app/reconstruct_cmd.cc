@@ -90,6 +90,7 @@ int Run(ReconstructArgs& a) {
   ProgressBar load_bar("statistics", !a.no_progress);
   auto btf = LoadStatisticalBtf(index, a.options, &loaded, load_bar.AsCallback());
   for (const std::string& s : loaded.skipped) std::fprintf(stderr, "mesocap reconstruct: skipped %s\n", s.c_str());
+  for (const std::string& w : loaded.warnings) std::fprintf(stderr, "mesocap reconstruct: warning: %s\n", w.c_str());
   if (!btf.ok()) return Fail("reconstruct", btf.status().message());
 
   // Everything goes to a staging folder published at the end: an interrupted or failed run

@@ -287,6 +287,7 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
                          written->slices, btf->width(), btf->height(), options.grid.c_str(), loaded.slices_used,
                          loaded.views, written->ms_per_slice);
   for (const std::string& s : loaded.skipped) summary.warnings.push_back("skipped " + s);
+  summary.warnings.insert(summary.warnings.end(), loaded.warnings.begin(), loaded.warnings.end());
   summary.report = {{"slices", written->slices}, {"size", btf->width()}, {"views", loaded.views},
                     {"ms_per_slice", written->ms_per_slice}};
   return summary;

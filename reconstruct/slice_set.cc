@@ -1,7 +1,9 @@
 #include "reconstruct/slice_set.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <mutex>
 
@@ -12,6 +14,7 @@
 #include "core/json.h"
 #include "core/parallel.h"
 #include "core/slice_index.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace {
@@ -69,10 +72,17 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     board_ids.push_back(id);
     views.push_back(v.normalized());
   }
-  int top = 0;
-  for (size_t b = 1; b < views.size(); ++b)
-    if (views[b].z() > views[top].z()) top = int(b);
+  // The top view: the most head-on board with slices enough to interpolate its lights.
+  int top = -1;
+  for (size_t b = 0; b < views.size(); ++b)
+    if (boards[board_ids[b]].size() >= 3 && (top < 0 || views[b].z() > views[top].z())) top = int(b);
+  if (top < 0) return Status::Error(index_json.string() + ": no board has 3 or more slices (distinct lights)");
   rep.top_board = board_ids[top];
+  if (const double tilt = RadToDeg(std::acos(std::clamp(views[top].z(), -1.0, 1.0))); tilt > options.max_top_view_deg)
+    rep.warnings.push_back(Format("no top view: the most head-on board with 3 or more slices, board %d, is seen %.0f deg "
+                                  "from its normal (more than %.0f); the reconstruction's base textures come from that "
+                                  "tilted view",
+                                  board_ids[top], tilt, options.max_top_view_deg));
 
   // The top board's slices first: they are kept as base textures and give the colour basis the
   // statistics are taken in. Then every other slice's statistics, streamed.

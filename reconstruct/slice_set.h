@@ -23,13 +23,17 @@ struct SliceSetOptions {
   // A light within this angle of one already kept for the same view is a near-duplicate and
   // skipped (Delaunay needs distinct points).
   double duplicate_light_deg = 0.5;
+  // The top view (the base textures) is the most head-on board with at least 3 slices; further
+  // from head-on than this and the report warns that the session has no top view.
+  double max_top_view_deg = 20;
   bool Check() const;
 };
 
 struct SliceSetReport {
   int slices_used = 0, views = 0, top_lights = 0;
   int top_board = -1;
-  std::vector<std::string> skipped;  // "file: reason"
+  std::vector<std::string> skipped;   // "file: reason"
+  std::vector<std::string> warnings;  // e.g. no head-on view among the boards
   double seconds = 0;
 };
 
