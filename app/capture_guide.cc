@@ -135,8 +135,12 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
       if (b.lights < kMinLightsPerBoard)
         g.missing.push_back(Format("board %d has %d usable light(s) of the %d its reconstruction needs", b.board, b.lights,
                                    kMinLightsPerBoard));
+    // Where each shot's flash was found, for the operator's log (and to check against calibrate).
+    Json flashes = Json::array();
+    for (const auto& [file, p] : flashes_) flashes.push_back({{"shot", file}, {"position_cam_m", {p.x(), p.y(), p.z()}}});
     if (Status st = WriteCoverageFolder(options_.session / "coverage", *g.coverage, "capture guidance",
-                                        {{"session", options_.session.string()}, {"after_shot", shot}});
+                                        {{"session", options_.session.string()}, {"after_shot", shot}},
+                                        {{"flashes", flashes}});
         !st.ok())
       g.missing.push_back(st.message());
   }

@@ -114,6 +114,8 @@ TEST(CaptureGuide, QuickFlashAgreesWithTheFullCalibrationWithinTwoDegrees) {
   auto coverage = ReadJsonFile(run.session / "coverage" / "coverage.json");
   ASSERT_TRUE(coverage.ok());
   EXPECT_EQ((*coverage)["lights_from"].get<std::string>(), "capture guidance");
+  ASSERT_EQ((*coverage)["flashes"].size(), size_t(shots));  // every shot's flash, for the operator's log
+  EXPECT_EQ((*coverage)["flashes"][shots - 1]["shot"].get<std::string>(), run.guidance.back().shot);
   EXPECT_TRUE(fs::exists(run.session / "coverage" / "coverage.png"));
 }
 

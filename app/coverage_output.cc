@@ -108,10 +108,11 @@ Json CoverageJson(const CoverageAssessment& assessment, const std::string& sourc
 }
 
 Status WriteCoverageFolder(const fs::path& out, const CoverageAssessment& assessment, const std::string& source,
-                           const Json& provenance_options) {
+                           const Json& provenance_options, const Json& extra_fields) {
   auto staging = StagingFolder::Begin(out);
   if (!staging.ok()) return staging.status();
   Json json = CoverageJson(assessment, source);
+  json.update(extra_fields);
   json["provenance"] = MakeProvenance(provenance_options);
   MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "coverage.json", json));
   MESOCAP_RETURN_IF_ERROR(

@@ -44,9 +44,10 @@ Image CoveragePlot(const CoverageAssessment& assessment);
 // coverage.json (docs/formats.md); `source`: where the lights came from.
 Json CoverageJson(const CoverageAssessment& assessment, const std::string& source);
 
-// coverage.json and coverage.png into `out`, which appears whole (replacing an earlier one).
+// coverage.json (with `extra_fields` added) and coverage.png into `out`, which appears whole
+// (replacing an earlier one).
 Status WriteCoverageFolder(const std::filesystem::path& out, const CoverageAssessment& assessment, const std::string& source,
-                           const Json& provenance_options);
+                           const Json& provenance_options, const Json& extra_fields = Json::object());
 
 // "coverage: 380 of 843 ... (45%)".
 std::string CoverageSummary(const CoverageAssessment& assessment);
