@@ -35,8 +35,6 @@ struct CaptureArgs {
   }();
 };
 
-constexpr const char* kFlashPositionSetting = "flashposition";  // the virtual rig's photographer
-
 volatile std::sig_atomic_t g_interrupted = 0;
 void OnInterrupt(int) { g_interrupted = 1; }
 
@@ -79,11 +77,8 @@ AfterShotFn GuidanceAfterEachShot(CaptureArgs& args, Camera& camera) {
     if (!args.follow_guide) return;
     // The virtual photographer moves the flash where the guidance says, or holds it by hand.
     const bool suggested = guidance.coverage && !guidance.coverage->report.next.empty();
-    std::string where = "hand-held";
-    if (suggested) {
-      const Eigen::Vector3d& p = guidance.coverage->report.next.front().position_cam;
-      where = std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
-    }
+    const std::string where =
+        suggested ? FlashPositionValue(guidance.coverage->report.next.front().position_cam) : kFlashHandHeld;
     if (CameraStatus st = camera.SetConfig(kFlashPositionSetting, where); !st.ok())
       std::fprintf(stderr, "capture: %s\n", st.message.c_str());
   };

@@ -8,14 +8,13 @@
 #include "core/image_io.h"
 #include "core/session.h"
 #include "core/text_format.h"
+#include "reconstruct/slice_set.h"
 
 namespace mesocap::app {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr int kMinLightsPerBoard = 3;  // fewer and a board's view has no statistics to blend
 
 std::vector<Eigen::Vector3d> Positions(const std::map<std::string, Eigen::Vector3d>& flashes) {
   std::vector<Eigen::Vector3d> positions;
@@ -132,12 +131,12 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     }
     g.coverage = Assess();
     for (const BoardCoverage& b : g.coverage->report.boards)
-      if (b.lights < kMinLightsPerBoard)
+      if (b.lights < kMinSlicesPerView)
         g.missing.push_back(Format("board %d has %d usable light(s) of the %d its reconstruction needs", b.board, b.lights,
-                                   kMinLightsPerBoard));
+                                   kMinSlicesPerView));
     // Where each shot's flash was found, for the operator's log (and to check against calibrate).
     Json flashes = Json::array();
-    for (const auto& [file, p] : flashes_) flashes.push_back({{"shot", file}, {"position_cam_m", {p.x(), p.y(), p.z()}}});
+    for (const auto& [file, p] : flashes_) flashes.push_back({{"shot", file}, {"position_cam_m", ToJson(p)}});
     if (Status st = WriteCoverageFolder(options_.session / "coverage", *g.coverage, "capture guidance",
                                         {{"session", options_.session.string()}, {"after_shot", shot}},
                                         {{"flashes", flashes}});

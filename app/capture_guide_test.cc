@@ -56,10 +56,8 @@ GuidedRun Capture(const fs::path& dir, const std::string& port, int shots, bool 
     run.guidance.push_back(run.guide->AfterShot(shot.file));
     const ShotGuidance& g = run.guidance.back();
     if (follow && g.coverage && !g.coverage->report.next.empty()) {
-      const Eigen::Vector3d p = g.coverage->report.next.front().position_cam;
-      ASSERT_TRUE(run.camera->SetConfig("flashposition", std::to_string(p.x()) + "," + std::to_string(p.y()) + "," +
-                                                             std::to_string(p.z()))
-                      .ok());
+      ASSERT_TRUE(
+          run.camera->SetConfig(kFlashPositionSetting, FlashPositionValue(g.coverage->report.next.front().position_cam)).ok());
     }
   };
   auto report = RunCapture(*run.camera, capture, nullptr, nullptr, after_shot);

@@ -27,7 +27,7 @@ struct CoverageArgs {
 };
 
 // Each posed board's lights: the resampled slices' (which leave out shadowed pairs) when the
-// session has them, else every calibrated flash above the board's horizon.
+// session has them, else every calibrated flash above the board's horizon that `lit` allows.
 std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibration, const std::vector<Eigen::Vector3d>& flashes,
                                              const LitFn& lit, const fs::path& session, std::string* source) {
   auto index = ReadSliceIndex(session / "slices" / "index.json");

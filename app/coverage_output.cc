@@ -100,7 +100,7 @@ Json CoverageJson(const CoverageAssessment& assessment, const std::string& sourc
                       {"targets_reachable", b.targets_reachable}, {"score", b.score()}});
   Json next = Json::array();
   for (const FlashSuggestion& s : report.next)
-    next.push_back({{"position_cam_m", {s.position_cam.x(), s.position_cam.y(), s.position_cam.z()}},
+    next.push_back({{"position_cam_m", ToJson(s.position_cam)},
                     {"elevation_deg", s.elevation_deg}, {"azimuth_deg", s.azimuth_deg},
                     {"targets_gained", s.targets_gained}, {"words", s.words}});
   return {{"format", "mesocap-coverage"}, {"lights_from", source}, {"score", report.score()},

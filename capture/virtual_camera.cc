@@ -19,8 +19,6 @@ ConfigEntry Radio(const std::string& name, const std::string& label, const std::
   return {name, label, "radio", value, std::move(choices), read_only};
 }
 
-constexpr const char* kHandHeld = "hand-held";
-
 // "x,y,z" in metres -> a position; false when it is not three finite numbers.
 bool ParsePosition(const std::string& text, Eigen::Vector3d* position) {
   std::stringstream ss(text);
@@ -37,6 +35,10 @@ bool ParsePosition(const std::string& text, Eigen::Vector3d* position) {
 }
 
 }  // namespace
+
+std::string FlashPositionValue(const Eigen::Vector3d& p) {
+  return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
+}
 
 StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& port) {
   std::unique_ptr<VirtualCamera> cam(new VirtualCamera());
@@ -82,8 +84,8 @@ StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& 
                   Radio("f-number", "F-Number", "f/8", {"f/8"}, true),
                   Radio("flashmode", "Flash Mode", "on", {"on"}, true),
                   Radio("imageformat", "Image Format", cam->format_, {cam->format_}, true),
-                  {"flashposition", "Where the photographer holds the flash: hand-held, or x,y,z (m, camera frame)",
-                   "text", kHandHeld, {}, false}};
+                  {kFlashPositionSetting, "Where the photographer holds the flash: hand-held, or x,y,z (m, camera frame)",
+                   "text", kFlashHandHeld, {}, false}};
   cam->card_ = fs::temp_directory_path() / ("mesocap-virtual-card-" + std::to_string(::getpid()) + "-" +
                                             std::to_string(reinterpret_cast<uintptr_t>(cam.get())));
   std::error_code ec;
@@ -123,8 +125,8 @@ CameraStatus VirtualCamera::SetConfig(const std::string& name, const std::string
   ConfigEntry entry;
   if (CameraStatus st = GetConfig(name, &entry); !st.ok()) return st;
   Eigen::Vector3d position;
-  if (entry.type == "text" && value != kHandHeld && !ParsePosition(value, &position))
-    return CameraStatus::Error(CameraError::kBadSetting, "virtual camera: " + name + " must be '" + kHandHeld +
+  if (entry.type == "text" && value != kFlashHandHeld && !ParsePosition(value, &position))
+    return CameraStatus::Error(CameraError::kBadSetting, "virtual camera: " + name + " must be '" + kFlashHandHeld +
                                                              "' or x,y,z in metres (camera frame), not '" + value + "'");
   if (entry.type != "text" && std::find(entry.choices.begin(), entry.choices.end(), value) == entry.choices.end()) {
     std::string choices;
@@ -141,9 +143,9 @@ CameraStatus VirtualCamera::SetConfig(const std::string& name, const std::string
 // for (its power varies from shot to shot as a real flash's does).
 RigShot VirtualCamera::NextFlash(CameraStatus* status) {
   ConfigEntry held;
-  GetConfig("flashposition", &held);
+  GetConfig(kFlashPositionSetting, &held);
   RigShot shot;
-  if (held.value == kHandHeld) {
+  if (held.value == kFlashHandHeld) {
     const int available = int(scene_->shots.size());
     if (next_flash_ >= available)
       *status = CameraStatus::Error(CameraError::kCardFull, "virtual camera: the rig has only " + std::to_string(available) +
@@ -191,8 +193,8 @@ CameraStatus VirtualCamera::Render(CameraFilePath* on_card) {
     return CameraStatus::Error(CameraError::kIo, "virtual camera: " + st.message());
   if (flash) {
     ConfigEntry held;
-    GetConfig("flashposition", &held);
-    if (held.value == kHandHeld) ++next_flash_;
+    GetConfig(kFlashPositionSetting, &held);
+    if (held.value == kFlashHandHeld) ++next_flash_;
     shot.file = name;  // as on the card
     taken_.push_back(shot);
   } else {

@@ -10,6 +10,7 @@
 #include <deque>
 #include <filesystem>
 #include <memory>
+#include <string>
 
 #include "capture/camera.h"
 #include "capture/rig_material.h"
@@ -17,6 +18,11 @@
 #include "capture/rig_scene.h"
 
 namespace mesocap {
+
+// The setting's name and its hand-held value; FlashPositionValue(p) is the value for position p.
+inline constexpr const char* kFlashPositionSetting = "flashposition";
+inline constexpr const char* kFlashHandHeld = "hand-held";
+std::string FlashPositionValue(const Eigen::Vector3d& position_cam);
 
 class VirtualCamera : public Camera {
  public:

@@ -1,9 +1,7 @@
 #include "reconstruct/slice_set.h"
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <map>
 #include <mutex>
 
@@ -75,10 +73,10 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   // The top view: the most head-on board with slices enough to interpolate its lights.
   int top = -1;
   for (size_t b = 0; b < views.size(); ++b)
-    if (boards[board_ids[b]].size() >= 3 && (top < 0 || views[b].z() > views[top].z())) top = int(b);
+    if (int(boards[board_ids[b]].size()) >= kMinSlicesPerView && (top < 0 || views[b].z() > views[top].z())) top = int(b);
   if (top < 0) return Status::Error(index_json.string() + ": no board has 3 or more slices (distinct lights)");
   rep.top_board = board_ids[top];
-  if (const double tilt = RadToDeg(std::acos(std::clamp(views[top].z(), -1.0, 1.0))); tilt > options.max_top_view_deg)
+  if (const double tilt = AngleBetweenDeg(views[top], Eigen::Vector3d::UnitZ()); tilt > options.max_top_view_deg)
     rep.warnings.push_back(Format("no top view: the most head-on board with 3 or more slices, board %d, is seen %.0f deg "
                                   "from its normal (more than %.0f); the reconstruction's base textures come from that "
                                   "tilted view",
@@ -142,7 +140,7 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   }
   std::vector<MeasuredView> usable;
   for (size_t b = 0; b < measured.size(); ++b) {
-    if (measured[b].lights.size() < 3) {
+    if (int(measured[b].lights.size()) < kMinSlicesPerView) {
       rep.skipped.push_back("board " + std::to_string(board_ids[b]) + ": fewer than 3 usable slices, view not used");
       continue;
     }

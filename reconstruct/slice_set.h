@@ -29,6 +29,9 @@ struct SliceSetOptions {
   bool Check() const;
 };
 
+// A view needs lights enough to interpolate between them (a triangle); fewer and it is not used.
+inline constexpr int kMinSlicesPerView = 3;
+
 struct SliceSetReport {
   int slices_used = 0, views = 0, top_lights = 0;
   int top_board = -1;
