@@ -44,7 +44,7 @@ StatusOr<std::unique_ptr<CaptureGuide>> CaptureGuide::Start(const CaptureGuideOp
   guide->options_ = options;
   guide->next_locate_at_ = options.locate_after_shots;
   auto layout = LoadSessionLayout(options.session, options.layout_file);
-  if (!layout.ok()) return Status::Error("guidance: " + layout.status().message());
+  if (!layout.ok()) return layout.status();
   guide->layout_ = std::move(*layout);
   CalibrateStageOptions stage;
   stage.calibrate.session = options.session;
@@ -54,7 +54,7 @@ StatusOr<std::unique_ptr<CaptureGuide>> CaptureGuide::Start(const CaptureGuideOp
   Image plot;
   auto camera = CameraFor(stage, guide->layout_, &report, &plot);
   if (!camera.ok())
-    return Status::Error("guidance: " + camera.status().message() +
+    return Status::Error(camera.status().message() +
                          " (take the checkerboard shots first with --calibration, or give --camera-file)");
   guide->camera_ = *camera;
   return guide;
