@@ -5,7 +5,17 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <opencv2/core/utility.hpp>
+
 namespace mesocap {
+
+#if defined(__SANITIZE_THREAD__)
+// Under ThreadSanitizer, OpenCV runs its own loops serially. Its cv::parallel_for_ drives oneTBB
+// through TBB header code compiled into the uninstrumented libopencv_core, so TSan misses the
+// workers' "done" hand-off and reports races on the stack the caller reuses afterwards, in our
+// code and in TBB (seen in texton analysis, whose filters call OpenCV inside ParallelFor).
+[[maybe_unused]] static const bool kOpenCvSerialUnderTsan = (cv::setNumThreads(1), true);
+#endif
 
 int EffectiveThreadCount(int num_threads) {
   const int cores = tbb::info::default_concurrency();
