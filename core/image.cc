@@ -9,14 +9,6 @@
 
 namespace mesocap {
 
-void* AllocatePixelMemory(size_t bytes) {
-  void* p = std::malloc(std::max<size_t>(bytes, 1));
-  if (!p) throw std::bad_alloc();
-  return p;
-}
-
-void FreePixelMemory(void* p) { std::free(p); }
-
 Image Image::Uninitialized(int width, int height, int channels) {
   MESOCAP_CHECK(width >= 0 && height >= 0 && channels > 0, "bad image shape");
   Image image;

@@ -3,19 +3,16 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <new>
 #include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
-namespace mesocap {
+#include "core/pixel_memory.h"
 
-// Memory for pixels, released with FreePixelMemory. (Asking Linux for transparent huge pages
-// saved page faults but, with the usual defrag=madvise, stalled the allocating thread in memory
-// compaction for up to 0.3 s when other programs had fragmented memory: measured on fit-ptm.)
-void* AllocatePixelMemory(size_t bytes);
-void FreePixelMemory(void* p);
+namespace mesocap {
 
 // The allocator of Image's samples: pixel memory, and samples left uninitialised unless a value
 // is given (Image::Uninitialized), so a buffer about to be overwritten is not written twice.
@@ -38,6 +35,9 @@ struct PixelAllocator {
   template <typename U>
   bool operator==(const PixelAllocator<U>&) const { return true; }
 };
+
+// 8-bit samples on pixel memory, not zero-filled: a decoder's or encoder's staging buffer.
+using PixelBytes = std::vector<uint8_t, PixelAllocator<uint8_t>>;
 
 class Image {
  public:

@@ -158,7 +158,7 @@ SampleType SampleTypeOf(PixelFormat format) {
 // The request to encode `image` with `options`; 8-bit encodings are made here, into *bytes, so
 // they are exactly reproducible whatever the codec does.
 StatusOr<EncodeRequest> EncodingOf(const fs::path& path, const Image& image, const ImageWriteOptions& options,
-                                   std::vector<uint8_t>* bytes) {
+                                   PixelBytes* bytes) {
   if (image.empty()) return Status::Error(path.string() + ": refusing to write an empty image");
   if (!options.channel_names.empty() && int(options.channel_names.size()) != image.channels())
     return Status::Error(path.string() + ": " + std::to_string(options.channel_names.size()) + " channel names for " +
@@ -213,7 +213,7 @@ StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options,
   auto codec = CodecToRead(path);
   if (!codec.ok()) return codec.status();
   Image image;
-  std::vector<uint8_t> bytes;  // 8-bit sRGB samples, linearised here
+  PixelBytes bytes;  // 8-bit sRGB samples, linearised here
   ImageInfo info;
   auto target = [&](const ImageInfo& header) -> StatusOr<DecodeTarget> {
     info = header;
@@ -238,7 +238,7 @@ StatusOr<Image> ReadImage(const fs::path& path, const ImageReadOptions& options,
 }
 
 Status WriteImage(const fs::path& path, const Image& image, const ImageWriteOptions& options) {
-  std::vector<uint8_t> bytes;
+  PixelBytes bytes;
   auto request = EncodingOf(path, image, options, &bytes);
   if (!request.ok()) return request.status();
   auto codec = LoadImageCodec();
@@ -252,7 +252,7 @@ Status WriteMultiPartExr(const fs::path& path, const std::vector<ExrPartHeader>&
   for (const ExrPartHeader& part : parts) {
     if (part.options.format != PixelFormat::kHalf && part.options.format != PixelFormat::kFloat)
       return Status::Error(path.string() + ": OpenEXR parts hold half or float samples");
-    std::vector<uint8_t> unused;
+    PixelBytes unused;
     auto header = EncodingOf(path, Image(part.width, part.height, part.channels), part.options, &unused);
     if (!header.ok()) return header.status();
     header->part_name = part.name;

@@ -1,0 +1,28 @@
+// Memory for pixels. Large blocks (whole photos: tens of MB) are kept for reuse when freed, up to
+// a bound: a fresh block costs the kernel a page fault per 4 KiB page on first touch, and on the
+// virtual machines we run on those faults took 45% of calibrate's CPU time (perf, 24-shot demo
+// session). glibc cannot keep them itself: blocks over 32 MiB are always mmap'ed and unmapped.
+// (Asking Linux for transparent huge pages also saved page faults but, with the usual
+// defrag=madvise, stalled the allocating thread in memory compaction for up to 0.3 s when other
+// programs had fragmented memory: measured on fit-ptm.)
+#pragma once
+
+#include <cstddef>
+
+namespace mesocap {
+
+// Never null (throws std::bad_alloc). Blocks of at least kReusedPixelBlockBytes come from the
+// cache when one of their size (up to 1/8 larger) was freed before.
+void* AllocatePixelMemory(size_t bytes);
+void FreePixelMemory(void* p);
+
+inline constexpr size_t kReusedPixelBlockBytes = size_t(4) << 20;
+inline constexpr size_t kPixelCacheBytes = size_t(512) << 20;  // freed blocks held, at most
+
+// Bytes of freed blocks held for reuse now; whether the cache is on (it is off under
+// AddressSanitizer, which must see every free to catch use after free).
+size_t CachedPixelBytes();
+bool PixelCacheEnabled();
+void ReleaseCachedPixelMemory();
+
+}  // namespace mesocap
