@@ -21,7 +21,13 @@ double Hash01(int64_t x, int64_t y, uint64_t salt) {
   return double(h >> 11) * (1.0 / 9007199254740992.0);
 }
 
-int Wrap(int64_t i, int n) { return int(((i % n) + n) % n); }
+// In-range indices (the common case) skip the divisions: Height() is the inner loop of every
+// self-shadow march.
+int Wrap(int64_t i, int n) {
+  if (uint64_t(i) < uint64_t(n)) return int(i);
+  const int64_t r = i % n;
+  return int(r < 0 ? r + n : r);
+}
 
 // Smooth periodic value noise: `cells` lattice cells across the tile, u,v in [0,1).
 double PeriodicNoise(double u, double v, int cells, uint64_t salt) {

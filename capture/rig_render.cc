@@ -241,6 +241,25 @@ std::vector<RigRenderer::ShadowCaster> RigRenderer::ShadowCastersFor(const Eigen
   return casters;
 }
 
+std::vector<RigRenderer::ShadowCaster> RigRenderer::CastersNear(const std::vector<ShadowCaster>& casters,
+                                                               const Eigen::Vector3d& light,
+                                                               const Eigen::Vector3d& centre, double radius) {
+  const Eigen::Vector3d to_centre = centre - light;
+  const double distance = to_centre.norm();
+  if (distance <= radius) return casters;  // the light is among the points
+  // Every point's direction from the light lies within `spread` of `towards`; a caster's cone
+  // can hold one only if its axis lies within spread + its half-angle (a margin for rounding).
+  const Eigen::Vector3d towards = to_centre / distance;
+  const double spread = std::asin(radius / distance);
+  std::vector<ShadowCaster> near;
+  for (const ShadowCaster& c : casters) {
+    const double half_angle = c.cos_half_angle < 0 ? std::numbers::pi : std::acos(c.cos_half_angle);
+    const double apart = std::acos(std::clamp(towards.dot(c.axis), -1.0, 1.0));
+    if (apart <= spread + half_angle + 1e-6) near.push_back(c);
+  }
+  return near;
+}
+
 bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light,
                            const std::vector<ShadowCaster>& casters, Kind self_kind, int self_index) const {
   const Eigen::Vector3d to_light = light - p;
@@ -360,14 +379,28 @@ Image RigRenderer::RenderFlashLinear(const RigShot& shot) const {
   const size_t spp = size_t(options_.samples_per_axis) * options_.samples_per_axis;
   const float scale = float(scene_.exposure / spp);
   const std::vector<ShadowCaster> casters = ShadowCastersFor(shot.light_m);
-  Image out(W, H, 3);
-  ParallelFor(0, H, [&](int y) {
-    for (int x = 0; x < W; ++x) {
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      const Sample* s = &gbuffer_[(size_t(y) * W + x) * spp];
-      for (size_t k = 0; k < spp; ++k) sum += Shade(s[k], shot, patches, casters);
-      float* px = out.pixel(x, y);
-      for (int c = 0; c < 3; ++c) px[c] = sum[c] * scale;
+  // Tiles of pixels share the casters that can shadow any of their points.
+  constexpr int kTile = 16;
+  Image out = Image::Uninitialized(W, H, 3);
+  ParallelFor(0, (H + kTile - 1) / kTile, [&](int tile_row) {
+    const int y0 = tile_row * kTile, y1 = std::min(H, y0 + kTile);
+    for (int x0 = 0; x0 < W; x0 += kTile) {
+      const int x1 = std::min(W, x0 + kTile);
+      Eigen::AlignedBox3d box;
+      for (int y = y0; y < y1; ++y)
+        for (const Sample* s = &gbuffer_[(size_t(y) * W + x0) * spp]; s != &gbuffer_[(size_t(y) * W + x1) * spp]; ++s)
+          if (s->kind != kNone) box.extend(Eigen::Vector3d(s->x, s->y, s->z));
+      const std::vector<ShadowCaster> near =
+          box.isEmpty() ? std::vector<ShadowCaster>{}
+                        : CastersNear(casters, shot.light_m, box.center(), 0.5 * box.diagonal().norm() + 1e-9);
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+          const Sample* s = &gbuffer_[(size_t(y) * W + x) * spp];
+          for (size_t k = 0; k < spp; ++k) sum += Shade(s[k], shot, patches, near);
+          float* px = out.pixel(x, y);
+          for (int c = 0; c < 3; ++c) px[c] = sum[c] * scale;
+        }
     }
   }, options_.num_threads);
   return out;

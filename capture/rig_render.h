@@ -53,6 +53,10 @@ class RigRenderer {
     double cos_half_angle;  // -1 when the light is inside the bounding sphere
   };
   std::vector<ShadowCaster> ShadowCastersFor(const Eigen::Vector3d& light) const;
+  // Of `casters`, those whose cone can hold a point within `radius` of `centre`: the same answers
+  // for every such point, fewer cones to test (a tile of pixels shares one list).
+  static std::vector<ShadowCaster> CastersNear(const std::vector<ShadowCaster>& casters, const Eigen::Vector3d& light,
+                                               const Eigen::Vector3d& centre, double radius);
   // Occluded(), testing only the casters whose cone holds `p`: the same answer, faster.
   bool Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, const std::vector<ShadowCaster>& casters,
                 Kind self_kind, int self_index) const;
