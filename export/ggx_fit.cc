@@ -136,7 +136,7 @@ TexelFit FitTexel(const std::vector<Observation>& dirs, const float* values, con
   }
   if (!options.fit_normals) problem.SetParameterBlockConstant(slope);
   ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   solver.max_num_iterations = options.max_iterations;
   solver.num_threads = 1;  // texels run in parallel
   solver.logging_type = ceres::SILENT;
