@@ -8,6 +8,7 @@
 
 #include "app/session_stages.h"
 #include "capture/btf_render.h"
+#include "capture/true_btf_renderer.h"
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -33,12 +34,14 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-Image TrueSlice(const DemoReconstructionInputs& in, const Eigen::Vector3d& light, const Eigen::Vector3d& view, int size,
-                int samples_per_axis = 2) {
-  TrueBtfRequest r = TrueBtfRequestFor(light, view, size, samples_per_axis);
-  r.patch_m = in.patch_m;
-  r.offset_m = in.top_offset_m;
-  return RenderTrueBtfSlice(*in.material, r, 1);
+// The top patch's true slices on a grid of `size` texels, each view traced once.
+TrueBtfRenderer TruthRenderer(const DemoReconstructionInputs& in, int size, int samples_per_axis = 2) {
+  TrueBtfRequest grid;
+  grid.size = size;
+  grid.samples_per_axis = samples_per_axis;
+  grid.patch_m = in.patch_m;
+  grid.offset_m = in.top_offset_m;
+  return TrueBtfRenderer(*in.material, grid);
 }
 
 Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
@@ -54,9 +57,10 @@ Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
     if (b["board"].get<int>() == in.top_board) rms_residual = b["rms_residual"].get<double>(), lights = b["lights"].get<int>();
   std::vector<Image> row;
   std::vector<std::string> labels;
+  const TrueBtfRenderer truth = TruthRenderer(in, ptm->width());
   for (double phi : {0.0, 120.0, 240.0}) {
     const Eigen::Vector3d light = DirectionFromAnglesDeg(50, phi);
-    row.push_back(TrueSlice(in, light, Eigen::Vector3d::UnitZ(), ptm->width()));
+    row.push_back(truth.Render(light, Eigen::Vector3d::UnitZ()));
     row.push_back(RelightPtm(*ptm, light, false));
     labels.push_back(Format("truth i(50,%.0f)", phi));
     labels.push_back("PTM relit");
@@ -99,12 +103,13 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
     Image truth, statistical, top_view;  // kept for the pictures
   };
   std::vector<Scored> scored(kPairs);
+  const TrueBtfRenderer truth = TruthRenderer(in, btf->width());
   ParallelFor(0, kPairs, [&](int k) {
     const size_t flat = size_t(k) * bonn.size() * bonn.size() / kPairs + 7;
     Scored& s = scored[k];
     s.light = bonn[flat % bonn.size()], s.view = bonn[(flat / bonn.size()) % bonn.size()];
     s.covered = btf->LightCovered(s.light, s.view);
-    s.truth = TrueSlice(in, s.light, s.view, btf->width());
+    s.truth = truth.Render(s.light, s.view);
     const std::array<Image, kBtfMethods> methods = ReconstructAllMethods(*btf, s.light, s.view, s.truth);
     s.w = ScoreMethods(methods, s.truth).wasserstein_pixels;
     s.statistical = methods[int(BtfMethod::kStatistical)];
@@ -176,6 +181,7 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
   };
   std::vector<Scored> scored(kPairs);
   std::vector<std::string> errors(kPairs);
+  const TrueBtfRenderer truth = TruthRenderer(in, maps->base_color.width());
   const auto relative_rms = [](const Image& got, const Image& truth) {
     double diff = 0, sum = 0;
     for (size_t i = 0; i < truth.size(); ++i) diff += std::pow(got.data()[i] - truth.data()[i], 2), sum += std::pow(truth.data()[i], 2);
@@ -186,7 +192,7 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
     auto reconstructed = ReadImage(e.file);
     if (!reconstructed.ok()) return void(errors[k] = reconstructed.status().message());
     Scored& s = scored[k];
-    s.truth = TrueSlice(in, e.light, e.view, maps->base_color.width());
+    s.truth = truth.Render(e.light, e.view);
     s.relit = RelightPbrMaterial(*maps, e.light, e.view);
     s.reconstructed = std::move(*reconstructed);
     s.gltf_error = relative_rms(s.relit, s.truth);
@@ -227,8 +233,9 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
 Status AddEvaluation(const DemoReconstructionInputs& in, Report* report) {
   // 2 x 2 samples a texel, as `mesocap evaluate` by default: 3 x 3 took twice as long to render
   // the 1053 inputs and moved the scores by less than their spread (88% beating both either way).
+  const TrueBtfRenderer renderer = TruthRenderer(in, 64);
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-    return TrueSlice(in, light, view, 64, 2);
+    return renderer.Render(light, view);
   };
   BtfEvaluationOptions options;
   options.max_pairs = 240;

@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "capture/btf_render.h"
+#include "capture/true_btf_renderer.h"
 #include "core/atomic_file.h"
 #include "core/directions.h"
 #include "core/image_io.h"
@@ -63,9 +64,12 @@ int Run(const EvaluateArgs& a) {
   if (!staging.ok()) return Fail("evaluate", staging.status().message());
   const std::filesystem::path out = staging->path();
 
+  TrueBtfRequest grid;
+  grid.size = a.size;
+  grid.samples_per_axis = a.samples_per_axis;
+  const TrueBtfRenderer renderer(*material, grid);  // each view traced once, for all its lights
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-    const TrueBtfRequest r = TrueBtfRequestFor(light, view, a.size, a.samples_per_axis);
-    return RenderTrueBtfSlice(*material, r, 1);  // parallel over slices, not inside one
+    return renderer.Render(light, view);  // parallel over slices, not inside one
   };
   BtfEvaluationOptions options;
   options.btf.num_threads = a.threads;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "capture/btf_render.h"
+#include "capture/true_btf_renderer.h"
 #include "capture/rig_render.h"
 #include "capture/rig_scene.h"
 #include "core/directions.h"
@@ -165,8 +166,12 @@ int Run(int argc, char** argv) {
           options.input_views.push_back(board.view);
           options.input_lights_by_view.push_back(board.lights);
         }
+        TrueBtfRequest grid;
+        grid.size = size;
+        grid.samples_per_axis = 2;
+        const TrueBtfRenderer true_btf(*material, grid);
         const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-          return RenderTrueBtfSlice(*material, TrueBtfRequestFor(light, view, size, 2), 1);
+          return true_btf.Render(light, view);
         };
         auto eval = EvaluateStatisticalBtf(truth, options);
         if (!eval.ok()) {

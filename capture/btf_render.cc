@@ -87,26 +87,37 @@ TrueBtfRequest TrueBtfRequestFor(const Eigen::Vector3d& light, const Eigen::Vect
   return r;
 }
 
-Image RenderTrueBtfSlice(const Material& m, const TrueBtfRequest& r, int num_threads) {
+TrueBtfFrame::TrueBtfFrame(const TrueBtfRequest& r) {
   // A turned material is the plain one seen through the inverse turn: points and directions by -r.
   const Eigen::Matrix3d material_from_patch =
       Eigen::AngleAxisd(-DegToRad(r.material_rotation_deg), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d wi = material_from_patch * DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg);
-  const Eigen::Vector3d wo = material_from_patch * DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);
-  const Eigen::Matrix2d turn = material_from_patch.topLeftCorner<2, 2>();
+  wi = material_from_patch * DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg);
+  wo = material_from_patch * DirectionFromAnglesDeg(r.theta_o_deg, r.phi_o_deg);
+  turn = material_from_patch.topLeftCorner<2, 2>();
+}
+
+Eigen::Vector2d TexelSamplePoint(const TrueBtfRequest& r, const TrueBtfFrame& frame, int i, int j, int sx, int sy) {
+  const int n = std::max(1, r.samples_per_axis);
+  const double texel_m = r.patch_m / r.size;
+  const Eigen::Vector2d centre = TexelCentre(i, j, r.size, r.patch_m);
+  return frame.turn * (centre + texel_m * Eigen::Vector2d((sx + 0.5) / n - 0.5, (sy + 0.5) / n - 0.5)) + r.offset_m;
+}
+
+Eigen::Vector3f LitRadiance(const Material& m, const MaterialHit& hit, const Eigen::Vector3d& wi, const Eigen::Vector3d& wo) {
+  return SelfShadowed(m, hit.point, wi) ? Eigen::Vector3f::Zero() : ReflectedRadiance(m, hit, wi, wo);
+}
+
+Image RenderTrueBtfSlice(const Material& m, const TrueBtfRequest& r, int num_threads) {
+  const TrueBtfFrame frame(r);
   Image out(r.size, r.size, 3);
   ParallelFor(0, r.size, [&](int j) {
     const int n = std::max(1, r.samples_per_axis);
-    const double texel_m = r.patch_m / r.size;
     for (int i = 0; i < r.size; ++i) {
-      const Eigen::Vector2d centre = TexelCentre(i, j, r.size, r.patch_m);
       Eigen::Vector3f L = Eigen::Vector3f::Zero();
       for (int sy = 0; sy < n; ++sy)
         for (int sx = 0; sx < n; ++sx) {
-          const Eigen::Vector2d xy =
-              turn * (centre + texel_m * Eigen::Vector2d((sx + 0.5) / n - 0.5, (sy + 0.5) / n - 0.5)) + r.offset_m;
-          const MaterialHit hit = TraceFromViewer(m, xy.x(), xy.y(), wo);
-          if (!SelfShadowed(m, hit.point, wi)) L += ReflectedRadiance(m, hit, wi, wo);
+          const Eigen::Vector2d xy = TexelSamplePoint(r, frame, i, j, sx, sy);
+          L += LitRadiance(m, TraceFromViewer(m, xy.x(), xy.y(), frame.wo), frame.wi, frame.wo);
         }
       L /= float(n * n);
       float* px = out.pixel(i, j);

@@ -54,6 +54,20 @@ TrueBtfRequest TrueBtfRequestFor(const Eigen::Vector3d& light, const Eigen::Vect
 // the mean over a regular grid of points inside its square.
 Image RenderTrueBtfSlice(const Material& material, const TrueBtfRequest& request, int num_threads = -1);
 
+// A request's directions and turn in the material's frame.
+struct TrueBtfFrame {
+  explicit TrueBtfFrame(const TrueBtfRequest& r);
+  Eigen::Vector3d wi, wo;  // unit, material frame
+  Eigen::Matrix2d turn;    // patch frame -> material frame
+};
+
+// The reference-plane point (material frame, metres) that sample (sx, sy) of texel (i, j) looks
+// through; the view ray from there does not depend on the light.
+Eigen::Vector2d TexelSamplePoint(const TrueBtfRequest& r, const TrueBtfFrame& frame, int i, int j, int sx, int sy);
+
+// The radiance a hit sends toward `wo` under `wi`: black when the height field shadows it.
+Eigen::Vector3f LitRadiance(const Material& m, const MaterialHit& hit, const Eigen::Vector3d& wi, const Eigen::Vector3d& wo);
+
 // Patch-frame coordinate of a texel centre (see RenderTrueBtfSlice).
 inline Eigen::Vector2d TexelCentre(int i, int j, int size, double patch_m) {
   return {-patch_m / 2 + (i + 0.5) * patch_m / size, patch_m / 2 - (j + 0.5) * patch_m / size};

@@ -1,8 +1,12 @@
 #include "capture/btf_render.h"
+#include "capture/true_btf_renderer.h"
 
 #include <gtest/gtest.h>
 
 #include <numbers>
+
+#include "core/directions.h"
+#include "core/parallel.h"
 
 namespace mesocap {
 namespace {
@@ -58,6 +62,55 @@ TEST(TrueBtf, ViewRayFindsTheFirstSurfaceAlongTheRay) {
     // Nothing of the surface is above the ray between the viewer and the hit.
     for (double t = s + 1e-5; t < corduroy->max_height_m() / wo.z(); t += 2e-5)
       EXPECT_GE(t * wo.z(), corduroy->Height(x + t * wo.x(), 0.002) - 1e-6);
+  }
+}
+
+TEST(TrueBtfRenderer, SlicesAreTheDirectRendersToTheBitWhetherTheirViewWasCachedOrEvicted) {
+  auto stones = Material::Create("stones");
+  ASSERT_TRUE(stones.ok());
+  TrueBtfRequest grid;
+  grid.size = 24;
+  grid.samples_per_axis = 2;
+  grid.patch_m = 0.05;
+  grid.offset_m = {0.013, -0.007};
+  grid.material_rotation_deg = 30;
+  // Room for two views: the third evicts the least recently used one.
+  const size_t two_views = 2 * size_t(24 * 24 * 4) * sizeof(MaterialHit);
+  const TrueBtfRenderer renderer(*stones, grid, two_views);
+  const std::vector<Eigen::Vector3d> views = {DirectionFromAnglesDeg(0, 0), DirectionFromAnglesDeg(45, 30),
+                                              DirectionFromAnglesDeg(70, 200)};
+  const std::vector<Eigen::Vector3d> lights = {DirectionFromAnglesDeg(60, 90), DirectionFromAnglesDeg(80, 10)};
+  // Traced: 0, 1, (0 reused), 2 evicting 1, 1 evicting 0, 0 evicting 2, 2 evicting 1: 6 traces, 10 slices.
+  const std::vector<std::pair<int, int>> order = {{0, 0}, {0, 1}, {1, 0}, {1, 1}, {0, 0},
+                                                  {2, 0}, {2, 1}, {1, 1}, {0, 0}, {2, 1}};
+  for (const auto& [v, l] : order) {
+    TrueBtfRequest direct = TrueBtfRequestFor(lights[l], views[v], grid.size, grid.samples_per_axis);
+    direct.patch_m = grid.patch_m;
+    direct.offset_m = grid.offset_m;
+    direct.material_rotation_deg = grid.material_rotation_deg;
+    const Image expected = RenderTrueBtfSlice(*stones, direct, 1);
+    const Image got = renderer.Render(lights[l], views[v]);
+    ASSERT_EQ(got.size(), expected.size());
+    for (size_t k = 0; k < got.size(); ++k) ASSERT_EQ(got.data()[k], expected.data()[k]) << "view " << v << " light " << l;
+  }
+  EXPECT_EQ(renderer.views_traced(), 6);
+}
+
+TEST(TrueBtfRenderer, ThreadsAskingForOneViewTraceItOnce) {
+  auto weave = Material::Create("weave");
+  ASSERT_TRUE(weave.ok());
+  TrueBtfRequest grid;
+  grid.size = 16;
+  const TrueBtfRenderer renderer(*weave, grid);
+  std::vector<Image> slices(16);
+  ParallelFor(0, 16, [&](int k) {
+    slices[k] = renderer.Render(DirectionFromAnglesDeg(10.0 + 4 * k, 20.0 * k), DirectionFromAnglesDeg(30, 60));
+  }, 2);
+  EXPECT_EQ(renderer.views_traced(), 1);
+  for (int k = 0; k < 16; ++k) {
+    const Image direct = RenderTrueBtfSlice(*weave, TrueBtfRequestFor(DirectionFromAnglesDeg(10.0 + 4 * k, 20.0 * k),
+                                                                      DirectionFromAnglesDeg(30, 60), 16), 1);
+    for (size_t i = 0; i < direct.size(); ++i) ASSERT_EQ(slices[k].data()[i], direct.data()[i]);
   }
 }
 

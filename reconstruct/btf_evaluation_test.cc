@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "capture/btf_render.h"
+#include "capture/true_btf_renderer.h"
 #include "core/directions.h"
 
 namespace mesocap {
@@ -22,10 +23,13 @@ class EvaluateMaterial : public ::testing::TestWithParam<std::string> {};
 TEST_P(EvaluateMaterial, BeatsBothBaselinesOnWassersteinForMostHeldOutPairs) {
   auto material = Material::Create(GetParam());
   ASSERT_TRUE(material.ok());
+  // Area-averaged texels (3x3 samples): point samples alias the 3 mm corduroy wales.
+  TrueBtfRequest grid;
+  grid.size = 64;
+  grid.samples_per_axis = 3;
+  const TrueBtfRenderer renderer(*material, grid);
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-    // Area-averaged texels (3x3 samples): point samples alias the 3 mm corduroy wales.
-    const TrueBtfRequest r = TrueBtfRequestFor(light, view, 64, 3);
-    return RenderTrueBtfSlice(*material, r, 1);
+    return renderer.Render(light, view);
   };
   BtfEvaluationOptions options;
   options.max_pairs = 240;
