@@ -79,10 +79,10 @@ const std::vector<float>& GaussianTable() {
   return table;
 }
 
-// Counter-based: one independent stream per (seed, stream, index).
-float GaussianAt(uint64_t seed, uint64_t stream, uint64_t index) {
-  return GaussianTable()[SplitMix64(seed ^ SplitMix64(stream ^ SplitMix64(index))) >> 52];
-}
+// Counter-based: one hash of (the shot's key, index / 5) gives noise values index / 5 * 5 to
+// + 4, 12 bits each; the values do not depend on the order they are drawn in.
+constexpr int kNoiseValuesPerHash = 5;
+uint64_t NoiseKey(uint64_t seed, uint64_t stream) { return SplitMix64(seed ^ SplitMix64(stream)); }
 
 }  // namespace
 
@@ -111,6 +111,11 @@ RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const 
 }
 
 Eigen::Vector3d RigRenderer::RayThrough(double x, double y) const {
+  const Eigen::Vector2f xy = UndistortedAt(x, y);
+  return Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
+}
+
+Eigen::Vector2f RigRenderer::UndistortedAt(double x, double y) const {
   const int W = scene_.camera.width, H = scene_.camera.height;
   const double gx = std::clamp(x + 0.5, 0.0, double(W)), gy = std::clamp(y + 0.5, 0.0, double(H));
   const int i = std::min(int(gx), W - 1), j = std::min(int(gy), H - 1);
@@ -119,8 +124,7 @@ Eigen::Vector3d RigRenderer::RayThrough(double x, double y) const {
   const Eigen::Vector2f* row1 = row0 + (W + 1);
   const Eigen::Vector2f top = row0[0] + (row0[1] - row0[0]) * ax;
   const Eigen::Vector2f bottom = row1[0] + (row1[1] - row1[0]) * ax;
-  const Eigen::Vector2f xy = top + (bottom - top) * ay;
-  return Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
+  return top + (bottom - top) * ay;
 }
 
 std::vector<Eigen::Vector2d> RigRenderer::SubpixelOffsets() const {
@@ -156,7 +160,7 @@ RigRenderer::Sample RigRenderer::TracePrimary(const Eigen::Vector3d& d) const {
     consider(IntersectSquare(o, d, c.R, c.t, c.size_m / 2, c.size_m / 2), kCard, int(i));
   }
   const Eigen::Vector3d p = kind == kNone ? Eigen::Vector3d::Zero() : Eigen::Vector3d(best * d);
-  return {float(p.x()), float(p.y()), float(p.z()), kind, uint8_t(index)};
+  return {float(p.x()), float(p.y()), float(p.z()), kind, uint8_t(index), kWhite};
 }
 
 void RigRenderer::Prepare(const ProgressFn& progress) {
@@ -168,7 +172,9 @@ void RigRenderer::Prepare(const ProgressFn& progress) {
     for (int x = 0; x < W; ++x)
       for (size_t s = 0; s < spp; ++s) {
         const Eigen::Vector2d px(x - 0.5 + offsets[s].x(), y - 0.5 + offsets[s].y());
-        gbuffer_[(size_t(y) * W + x) * spp + s] = TracePrimary(RayThrough(px.x(), px.y()));
+        Sample& sample = gbuffer_[(size_t(y) * W + x) * spp + s];
+        sample = TracePrimary(RayThrough(px.x(), px.y()));
+        sample.paint = PaintAt(sample);
       }
   }, options_.num_threads);
   ReportProgress(progress, 1, 2, "geometry buffer");
@@ -274,7 +280,33 @@ bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& ligh
   return false;
 }
 
-float RigRenderer::BoardAlbedo(int b, double u, double v) const { return TagAlbedo(scene_.boards[b].tags, u, v); }
+RigRenderer::Paint RigRenderer::PaintAt(const Sample& s) const {
+  const Eigen::Vector3d p(s.x, s.y, s.z);
+  const auto mount = [&](const std::vector<RigTag>& tags, const Eigen::Vector3d& q) {
+    return TagAlbedo(tags, q.x(), q.y()) == float(scene_.board_albedo) ? kWhite : kTagBlack;
+  };
+  if (s.kind == kCard) {
+    const auto& c = scene_.grey_cards[s.index];
+    const Eigen::Vector3d q = c.R.transpose() * (p - c.t);
+    if (std::abs(q.x()) <= c.patch_m / 2 && std::abs(q.y()) <= c.patch_m / 2) return kGreyPatch;
+    return mount(c.tags, q);
+  }
+  if (s.kind == kBoard) {
+    const RigBoard& board = scene_.boards[s.index];
+    const Eigen::Vector3d q = board.R.transpose() * (p - board.t);
+    if (std::abs(q.x()) <= board.patch_m / 2 && std::abs(q.y()) <= board.patch_m / 2) return kMaterialPatch;
+    return mount(board.tags, q);
+  }
+  return kWhite;
+}
+
+float RigRenderer::PaintAlbedo(Paint paint, const Sample& s) const {
+  switch (paint) {
+    case kGreyPatch: return float(scene_.grey_cards[s.index].albedo);
+    case kTagBlack: return float(scene_.tag_black_albedo);
+    default: return float(scene_.board_albedo);
+  }
+}
 
 float RigRenderer::TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const {
   for (const RigTag& tag : tags) {
@@ -328,24 +360,20 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
   switch (s.kind) {
     case kTable:
       return lambert(scene_.TableNormalInCam(), float(scene_.table_albedo));
-    case kCard: {
-      const auto& c = scene_.grey_cards[s.index];
-      const Eigen::Vector3d q = c.R.transpose() * (p - c.t);
-      const bool grey = std::abs(q.x()) <= c.patch_m / 2 && std::abs(q.y()) <= c.patch_m / 2;
-      return lambert(c.R.col(2), grey ? float(c.albedo) : TagAlbedo(c.tags, q.x(), q.y()));
-    }
+    case kCard:
+      return lambert(scene_.grey_cards[s.index].R.col(2), PaintAlbedo(s.paint, s));
     case kBoard: {
       const RigBoard& board = scene_.boards[s.index];
-      const Eigen::Vector3d q = board.R.transpose() * (p - board.t);
-      const double half = board.patch_m / 2;
-      if (std::abs(q.x()) <= half && std::abs(q.y()) <= half) {
+      if (s.paint == kMaterialPatch) {
+        const Eigen::Vector3d q = board.R.transpose() * (p - board.t);
+        const double half = board.patch_m / 2;
         const Image& tex = patches[s.index];
         const double scale = tex.width() / board.patch_m;
         Eigen::Vector3f L;
         tex.SampleBilinear(float((q.x() + half) * scale), float((half - q.y()) * scale), L.data());
         return L;
       }
-      return lambert(board.R.col(2), BoardAlbedo(s.index, q.x(), q.y()));
+      return lambert(board.R.col(2), PaintAlbedo(s.paint, s));
     }
     case kSphere: {
       const RigSphere& sp = scene_.spheres[s.index];
@@ -413,18 +441,22 @@ Image RigRenderer::RenderCalibLinear(int calib_index) const {
   const auto offsets = SubpixelOffsets();
   const float ambient = float(scene_.ambient_radiance_calib);
   const double sq = cb.square_m;
+  // The board's plane in its own frame: the camera at `origin`, a ray (x, y, 1) along R^T (x, y, 1).
+  const Eigen::Matrix3d to_board = cs.R.transpose();
+  const Eigen::Vector3d origin = -(to_board * cs.t);
+  const double lo = -sq - cb.margin_m, hi_x = cb.cols * sq + cb.margin_m, hi_y = cb.rows * sq + cb.margin_m;
   Image out(W, H, 3);
   ParallelFor(0, H, [&](int y) {
     for (int x = 0; x < W; ++x) {
       float sum = 0;
       for (const auto& off : offsets) {
-        const Eigen::Vector3d d = RayThrough(x - 0.5 + off.x(), y - 0.5 + off.y());
-        const double s = IntersectSquare(Eigen::Vector3d::Zero(), d, cs.R, cs.t, cb.cols * sq + cb.margin_m,
-                                         cb.rows * sq + cb.margin_m, -sq - cb.margin_m, -sq - cb.margin_m);
+        const Eigen::Vector2f u = UndistortedAt(x - 0.5 + off.x(), y - 0.5 + off.y());
+        const Eigen::Vector3d d = to_board * Eigen::Vector3d(u.x(), u.y(), 1.0);
         float albedo = float(scene_.table_albedo);
-        if (s > 0) {
-          const Eigen::Vector3d q = cs.R.transpose() * (s * d - cs.t);
-          const int a = int(std::floor(q.x() / sq)), b = int(std::floor(q.y() / sq));
+        const double s = std::abs(d.z()) < 1e-12 ? -1 : -origin.z() / d.z();
+        const double qx = origin.x() + s * d.x(), qy = origin.y() + s * d.y();
+        if (s > 0 && qx >= lo && qx <= hi_x && qy >= lo && qy <= hi_y) {
+          const int a = int(std::floor(qx / sq)), b = int(std::floor(qy / sq));
           const bool in_squares = a >= -1 && a <= cb.cols - 1 && b >= -1 && b <= cb.rows - 1;
           albedo = in_squares && ((a + b) % 2 == 0) ? 0.04f : 0.8f;
         }
@@ -438,14 +470,20 @@ Image RigRenderer::RenderCalibLinear(int calib_index) const {
 }
 
 void RigRenderer::ApplySensor(Image* image, uint64_t stream) const {
-  const uint64_t seed = scene_.options.seed;
-  const int W = image->width(), C = image->channels();
+  const uint64_t key = NoiseKey(scene_.options.seed, stream);
+  const float* gaussian = GaussianTable().data();
+  const float shot = float(scene_.noise_shot), read = float(scene_.noise_read);
+  const int values_per_row = image->width() * image->channels();
   ParallelFor(0, image->height(), [&](int y) {
     float* row = image->row(y);
-    for (int i = 0; i < W * C; ++i) {
+    const uint64_t first = uint64_t(y) * values_per_row;
+    uint64_t bits = 0;
+    for (int i = 0; i < values_per_row; ++i) {
+      const uint64_t index = first + i;
+      if (i == 0 || index % kNoiseValuesPerHash == 0) bits = SplitMix64(key ^ (index / kNoiseValuesPerHash));
+      const float noise = gaussian[(bits >> (12 * (index % kNoiseValuesPerHash))) & 4095];
       const float v = std::max(row[i], 0.0f);
-      const float sigma = std::sqrt(float(scene_.noise_shot) * v + float(scene_.noise_read));
-      row[i] = std::clamp(v + sigma * GaussianAt(seed, stream, uint64_t(y) * W * C + i), 0.0f, 1.0f);
+      row[i] = std::clamp(v + std::sqrt(shot * v + read) * noise, 0.0f, 1.0f);
     }
   }, options_.num_threads);
 }

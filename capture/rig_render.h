@@ -62,10 +62,13 @@ class RigRenderer {
                 Kind self_kind, int self_index) const;
 
  private:
+  // What a board's or card's point is painted with; it does not change between shots.
+  enum Paint : uint8_t { kMaterialPatch = 0, kGreyPatch, kWhite, kTagBlack };
   struct Sample {
     float x, y, z;  // hit point, camera frame
     Kind kind;
     uint8_t index;
+    Paint paint;    // boards and cards
   };
   struct PatchTexel {
     Eigen::Vector3f point_board;  // surface point seen, board frame (material offset removed)
@@ -75,8 +78,9 @@ class RigRenderer {
   };
 
   Sample TracePrimary(const Eigen::Vector3d& ray) const;
-  float BoardAlbedo(int board, double u, double v) const;
   float TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const;  // white mount with tags
+  Paint PaintAt(const Sample& s) const;
+  float PaintAlbedo(Paint paint, const Sample& s) const;
   Image RenderPatchRadiance(int board, const RigShot& shot) const;
   Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches,
                         const std::vector<ShadowCaster>& casters) const;
@@ -85,6 +89,8 @@ class RigRenderer {
   std::vector<Eigen::Vector2d> SubpixelOffsets() const;
   // Camera ray through continuous pixel position (x, y), interpolated in ray_grid_.
   Eigen::Vector3d RayThrough(double x, double y) const;
+  // The same ray as undistorted normalised coordinates (x, y) of the direction (x, y, 1).
+  Eigen::Vector2f UndistortedAt(double x, double y) const;
 
   RigScene scene_;
   const Material& material_;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <future>
 
 #include "capture/rig_material.h"
 #include "core/atomic_file.h"
@@ -120,7 +121,6 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   SimulateReport report;
   report.prepare_s = SecondsSince(t0);
   const int total = int(scene.calib_shots.size() + scene.shots.size());
-  int done = 0;
 
   auto write_shot = [&](Image image, const std::string& file, const std::string& kind, int index, int clock,
                         bool flash, uint64_t stream) -> Status {
@@ -135,25 +135,40 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
     record.exif = {{"ExposureTime", 1.0 / 125}, {"FNumber", 8.0}, {"ISO", 100}, {"Flash", flash ? 1 : 0}};
     return session->RecordShot(record);
   };
+  // A shot is noised, encoded and written while the next one renders: encoding is serial, and
+  // would leave the other cores idle. One write at a time keeps the journal in shot order.
+  std::future<Status> writing;
+  std::string writing_file;
+  int written = 0;
+  auto finish_writing = [&]() -> Status {  // waits for the write in flight, then reports it
+    if (!writing.valid()) return Status::Ok();
+    MESOCAP_RETURN_IF_ERROR(writing.get());
+    if (!ReportProgress(progress, ++written, total, writing_file)) return Status::Error("cancelled");
+    return Status::Ok();
+  };
+  auto render_and_write = [&](Image image, const std::string& file, const std::string& kind, int index, int clock,
+                              bool flash, uint64_t stream) -> Status {
+    MESOCAP_RETURN_IF_ERROR(finish_writing());
+    writing_file = file;
+    writing = std::async(std::launch::async, [=, &write_shot, image = std::move(image)]() mutable {
+      return write_shot(std::move(image), file, kind, index, clock, flash, stream);
+    });
+    return Status::Ok();
+  };
 
   const auto t_calib = std::chrono::steady_clock::now();
-  for (size_t k = 0; k < scene.calib_shots.size(); ++k) {
-    Status st = write_shot(renderer.RenderCalibLinear(int(k)), scene.calib_shots[k].file, "calib", int(k) + 1,
-                           int(k), false, 1'000'000 + k);
-    if (!st.ok()) return st;
-    if (!ReportProgress(progress, ++done, total, scene.calib_shots[k].file))
-      return Status::Error("cancelled");
-  }
+  for (size_t k = 0; k < scene.calib_shots.size(); ++k)
+    MESOCAP_RETURN_IF_ERROR(render_and_write(renderer.RenderCalibLinear(int(k)), scene.calib_shots[k].file, "calib",
+                                             int(k) + 1, int(k), false, 1'000'000 + k));
+  MESOCAP_RETURN_IF_ERROR(finish_writing());
   report.calib_shots_written = int(scene.calib_shots.size());
   if (report.calib_shots_written) report.per_calib_shot_s = SecondsSince(t_calib) / report.calib_shots_written;
 
   const auto t_shots = std::chrono::steady_clock::now();
-  for (size_t k = 0; k < scene.shots.size(); ++k) {
-    Status st = write_shot(renderer.RenderShotLinear(int(k)), scene.shots[k].file, "shot", int(k) + 1,
-                           int(scene.calib_shots.size() + k), true, k);
-    if (!st.ok()) return st;
-    if (!ReportProgress(progress, ++done, total, scene.shots[k].file)) return Status::Error("cancelled");
-  }
+  for (size_t k = 0; k < scene.shots.size(); ++k)
+    MESOCAP_RETURN_IF_ERROR(render_and_write(renderer.RenderShotLinear(int(k)), scene.shots[k].file, "shot", int(k) + 1,
+                                             int(scene.calib_shots.size() + k), true, k));
+  MESOCAP_RETURN_IF_ERROR(finish_writing());
   report.shots_written = int(scene.shots.size());
   report.per_shot_s = SecondsSince(t_shots) / report.shots_written;
 
