@@ -66,6 +66,13 @@ TEST(GgxFit, ATexturedMaterialGetsAnErrorMapAndAGltfAsset) {
     EXPECT_GE(maps->base_color.data()[i], 0.0f);
     EXPECT_LE(maps->base_color.data()[i], 1.0f);
   }
+  // Every texel's parameters inside their bounds (steps are projected onto them).
+  for (size_t i = 0; i < maps->roughness.size(); ++i) {
+    EXPECT_GE(maps->roughness.data()[i], 0.05f);
+    EXPECT_LE(maps->roughness.data()[i], 1.0f);
+    EXPECT_GE(maps->metallic.data()[i], 0.0f);
+    EXPECT_LE(maps->metallic.data()[i], 1.0f);
+  }
   const fs::path out = testing::MakeTempDir();
   ASSERT_TRUE(WriteGltfMaterial(out, *maps).ok());
   for (const char* file : {"material.gltf", "material.bin", "base_color.png", "metallic_roughness.png", "normal.png"})
