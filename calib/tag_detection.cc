@@ -7,6 +7,35 @@
 #include <cmath>
 
 namespace mesocap {
+namespace {
+
+// One tag36h11 detector per thread, made on first use: adding the family builds its decode table
+// for 2-bit error correction (about 9 MB), which cost more than detecting in a board's crop, and a
+// detector serves one image at a time.
+class ThreadDetector {
+ public:
+  ThreadDetector() : family_(tag36h11_create()), detector_(apriltag_detector_create()) {
+    apriltag_detector_add_family(detector_, family_);
+    detector_->quad_decimate = 1.0f;
+    detector_->nthreads = 1;  // callers parallelise over images
+  }
+  ~ThreadDetector() {
+    apriltag_detector_destroy(detector_);
+    tag36h11_destroy(family_);
+  }
+  ThreadDetector(const ThreadDetector&) = delete;
+  ThreadDetector& operator=(const ThreadDetector&) = delete;
+  static apriltag_detector_t* Get() {
+    thread_local ThreadDetector detector;
+    return detector.detector_;
+  }
+
+ private:
+  apriltag_family_t* family_;
+  apriltag_detector_t* detector_;
+};
+
+}  // namespace
 
 std::vector<TagDetection> DetectTags(const Image& im, const TagDetectOptions& options) {
   // Linear luminance scaled so the bright end (not the mirror highlights) reaches 255: detecting
@@ -26,12 +55,8 @@ std::vector<TagDetection> DetectTags(const Image& im, const TagDetectOptions& op
 
   // Debian's libapriltag exports no image_u8_create: the detector reads our buffer.
   image_u8_t gray{W, H, W, buf.data()};
-  apriltag_family_t* family = tag36h11_create();
-  apriltag_detector_t* detector = apriltag_detector_create();
-  apriltag_detector_add_family(detector, family);
-  detector->quad_decimate = 1.0f;
+  apriltag_detector_t* detector = ThreadDetector::Get();
   detector->quad_sigma = options.quad_sigma;
-  detector->nthreads = 1;  // callers parallelise over images
   zarray_t* found = apriltag_detector_detect(detector, &gray);
   std::vector<TagDetection> out;
   for (int i = 0; i < zarray_size(found); ++i) {
@@ -45,8 +70,6 @@ std::vector<TagDetection> DetectTags(const Image& im, const TagDetectOptions& op
     out.push_back(d);
   }
   apriltag_detections_destroy(found);
-  apriltag_detector_destroy(detector);
-  tag36h11_destroy(family);
   std::sort(out.begin(), out.end(), [](const TagDetection& a, const TagDetection& b) { return a.id < b.id; });
   return out;
 }
