@@ -9,9 +9,11 @@
 #include "app/commands.h"
 #include "core/image_io.h"
 #include "core/logging.h"
+#include "core/pixel_memory.h"
 #include "core/provenance.h"
 
 int main(int argc, char** argv) {
+  mesocap::KeepLargeLibraryBuffersInHeap();
   // Results are printed line by line as stages finish; piped into a log or `tee`, stdout would
   // otherwise hold them all until exit.
   std::setvbuf(stdout, nullptr, _IOLBF, 0);

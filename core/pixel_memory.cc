@@ -1,5 +1,7 @@
 #include "core/pixel_memory.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
@@ -79,6 +81,11 @@ void KeepCached(void* base, size_t capacity) {
 }
 
 }  // namespace
+
+void KeepLargeLibraryBuffersInHeap() {
+  mallopt(M_MMAP_THRESHOLD, int(kHeapServedBytes));
+  mallopt(M_TRIM_THRESHOLD, int(kHeapKeptBytes));
+}
 
 bool PixelCacheEnabled() {
 #if defined(MESOCAP_NO_PIXEL_CACHE)
