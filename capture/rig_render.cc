@@ -445,25 +445,45 @@ Image RigRenderer::RenderCalibLinear(int calib_index) const {
   const Eigen::Matrix3d to_board = cs.R.transpose();
   const Eigen::Vector3d origin = -(to_board * cs.t);
   const double lo = -sq - cb.margin_m, hi_x = cb.cols * sq + cb.margin_m, hi_y = cb.rows * sq + cb.margin_m;
+  // What a point of the image sees, as a region that is convex on the board's plane: a square of
+  // the board (cut by its edge), or one side of the board's outline.
+  constexpr int64_t kBehind = -100, kLeft = -1, kRight = -2, kBelow = -3, kAbove = -4;
+  const auto region_at = [&](double x, double y) -> int64_t {
+    const Eigen::Vector2f u = UndistortedAt(x, y);
+    const Eigen::Vector3d d = to_board * Eigen::Vector3d(u.x(), u.y(), 1.0);
+    const double s = std::abs(d.z()) < 1e-12 ? -1 : -origin.z() / d.z();
+    if (!(s > 0)) return kBehind;
+    const double qx = origin.x() + s * d.x(), qy = origin.y() + s * d.y();
+    if (qx < lo) return kLeft;
+    if (qx > hi_x) return kRight;
+    if (qy < lo) return kBelow;
+    if (qy > hi_y) return kAbove;
+    return (int64_t(std::floor(qx / sq)) + (1 << 20)) << 21 | (int64_t(std::floor(qy / sq)) + (1 << 20));
+  };
+  const auto albedo_of = [&](int64_t region) {
+    if (region < 0) return float(scene_.table_albedo);
+    const int a = int((region >> 21) - (1 << 20)), b = int((region & ((1 << 21) - 1)) - (1 << 20));
+    const bool in_squares = a >= -1 && a <= cb.cols - 1 && b >= -1 && b <= cb.rows - 1;
+    return in_squares && ((a + b) % 2 == 0) ? 0.04f : 0.8f;
+  };
   Image out(W, H, 3);
   ParallelFor(0, H, [&](int y) {
+    std::vector<int64_t> top(W + 1), bottom(W + 1);
+    for (int i = 0; i <= W; ++i) top[i] = region_at(i - 0.5, y - 0.5), bottom[i] = region_at(i - 0.5, y + 0.5);
     for (int x = 0; x < W; ++x) {
-      float sum = 0;
-      for (const auto& off : offsets) {
-        const Eigen::Vector2f u = UndistortedAt(x - 0.5 + off.x(), y - 0.5 + off.y());
-        const Eigen::Vector3d d = to_board * Eigen::Vector3d(u.x(), u.y(), 1.0);
-        float albedo = float(scene_.table_albedo);
-        const double s = std::abs(d.z()) < 1e-12 ? -1 : -origin.z() / d.z();
-        const double qx = origin.x() + s * d.x(), qy = origin.y() + s * d.y();
-        if (s > 0 && qx >= lo && qx <= hi_x && qy >= lo && qy <= hi_y) {
-          const int a = int(std::floor(qx / sq)), b = int(std::floor(qy / sq));
-          const bool in_squares = a >= -1 && a <= cb.cols - 1 && b >= -1 && b <= cb.rows - 1;
-          albedo = in_squares && ((a + b) % 2 == 0) ? 0.04f : 0.8f;
-        }
-        sum += albedo * ambient;
+      // A pixel whose corners see one region sees it everywhere: within a pixel the undistortion
+      // is bilinear and the plane projective, so its samples lie in the corners' convex hull.
+      const int64_t r = top[x];
+      float value;
+      if (r != kBehind && top[x + 1] == r && bottom[x] == r && bottom[x + 1] == r) {
+        value = albedo_of(r) * ambient;
+      } else {
+        float sum = 0;
+        for (const auto& off : offsets) sum += albedo_of(region_at(x - 0.5 + off.x(), y - 0.5 + off.y())) * ambient;
+        value = sum / offsets.size();
       }
       float* px = out.pixel(x, y);
-      px[0] = px[1] = px[2] = sum / offsets.size();
+      px[0] = px[1] = px[2] = value;
     }
   }, options_.num_threads);
   return out;

@@ -170,7 +170,8 @@ struct JpegRowReader::Decoder {
 JpegRowReader::JpegRowReader(fs::path path) : path_(std::move(path)), decoder_(std::make_unique<Decoder>()) {}
 JpegRowReader::~JpegRowReader() = default;
 
-StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels) {
+StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels, int reduce) {
+  MESOCAP_CHECK(reduce == 1 || reduce == 2 || reduce == 4 || reduce == 8, "JpegRowReader: reduce must be 1, 2, 4 or 8");
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   const auto file_size = fs::file_size(path, ec);
@@ -210,6 +211,8 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   const bool grey = d.cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
   d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
   d.cinfo.dct_method = JDCT_ISLOW;  // accurate (and SIMD in libjpeg-turbo); not JDCT_IFAST
+  d.cinfo.scale_num = 1;
+  d.cinfo.scale_denom = unsigned(reduce);
   if (!d.Guarded([&] { jpeg_start_decompress(&d.cinfo); })) return corrupt();
   reader->width_ = int(d.cinfo.output_width);
   reader->height_ = int(d.cinfo.output_height);

@@ -74,7 +74,10 @@ class JpegRowReader {
   // JPEG markers, CMYK, 12-bit): read it whole with ReadImageU8. A JPEG that is corrupt, too
   // large (CheckImageSize) or unreadable is an error naming the file. `max_channels` < 3 gives
   // grey.
-  static StatusOr<std::unique_ptr<JpegRowReader>> Open(const std::filesystem::path& path, int max_channels = 4);
+  // `reduce` (1, 2, 4 or 8) decodes at that fraction of the size, by libjpeg's scaled inverse DCT:
+  // a preview needs no full decode.
+  static StatusOr<std::unique_ptr<JpegRowReader>> Open(const std::filesystem::path& path, int max_channels = 4,
+                                                       int reduce = 1);
   ~JpegRowReader();
   JpegRowReader(const JpegRowReader&) = delete;
   JpegRowReader& operator=(const JpegRowReader&) = delete;

@@ -153,6 +153,41 @@ TEST(ImageU8IO, JpegRowReaderDecodesBandsAsTheWholeImage) {
   EXPECT_EQ(png->get(), nullptr);
 }
 
+// Decoding at 1/2, 1/4 and 1/8 of the size gives about the block averages of the full decode
+// (libjpeg's scaled IDCT keeps each 8x8 block's low frequencies).
+TEST(ImageU8IO, JpegRowReaderDecodesAtAFractionOfTheSize) {
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "photo.jpg", Textured(256, 192, 3, testing::SeedFromTestName())).ok());
+  auto whole = ReadImageU8(dir / "photo.jpg");
+  ASSERT_TRUE(whole.ok());
+  for (int reduce : {2, 4, 8}) {
+    auto reader = JpegRowReader::Open(dir / "photo.jpg", 3, reduce);
+    ASSERT_TRUE(reader.ok() && *reader) << reader.status().message();
+    JpegRowReader& jpeg = **reader;
+    ASSERT_EQ(jpeg.width(), 256 / reduce);
+    ASSERT_EQ(jpeg.height(), 192 / reduce);
+    ImageU8 small(jpeg.width(), jpeg.height(), 3);
+    std::vector<uint8_t*> rows;
+    for (int y = 0; y < small.height(); ++y) rows.push_back(small.row(y));
+    ASSERT_TRUE(jpeg.ReadRows(small.height(), rows.data()).ok());
+    double worst = 0, sum = 0;
+    for (int y = 0; y < small.height(); ++y)
+      for (int x = 0; x < small.width(); ++x)
+        for (int c = 0; c < 3; ++c) {
+          double mean = 0;
+          for (int j = 0; j < reduce; ++j)
+            for (int i = 0; i < reduce; ++i) mean += whole->row(y * reduce + j)[(x * reduce + i) * 3 + c];
+          mean /= reduce * reduce;
+          const double d = std::abs(small.row(y)[x * 3 + c] - mean);
+          worst = std::max(worst, d), sum += d;
+        }
+    // Measured: mean 4.0, 2.0, 1.0 levels; worst 30, 15, 6 (the texture's per-pixel noise is what
+    // the scaled transform and the box average treat differently).
+    EXPECT_LT(sum / small.size(), 10.0 / reduce) << "reduce " << reduce;
+    EXPECT_LT(worst, 60.0 / reduce) << "reduce " << reduce;
+  }
+}
+
 TEST(ImageU8IO, CopyAndCompare) {
   ImageU8 a(3, 2, 3);
   for (size_t i = 0; i < a.size(); ++i) a.data()[i] = uint8_t(i * 11);
