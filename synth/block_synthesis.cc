@@ -213,12 +213,19 @@ BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, dou
   ParallelFor(
       0, int(candidates), [&](int c) { bound[size_t(c)] = (index.projection.col(c) - projected).squaredNorm(); },
       num_threads_);
-  std::vector<long> order(static_cast<size_t>(candidates));
-  std::iota(order.begin(), order.end(), 0L);
-  std::sort(order.begin(), order.end(), [&](long a, long b) { return bound[size_t(a)] < bound[size_t(b)] || (bound[size_t(a)] == bound[size_t(b)] && a < b); });
+  // Candidates in increasing order of their bound (ties by index), popped from a heap: the search
+  // stops after a few, and sorting all of them took longer than the search.
+  std::vector<long> heap(static_cast<size_t>(candidates));
+  std::iota(heap.begin(), heap.end(), 0L);
+  const auto later = [&](long a, long b) {
+    return bound[size_t(a)] > bound[size_t(b)] || (bound[size_t(a)] == bound[size_t(b)] && a > b);
+  };
+  std::make_heap(heap.begin(), heap.end(), later);
   std::vector<BlockCandidate> found;
   double best = inf, threshold = inf;
-  for (long c : order) {
+  for (auto heap_end = heap.end(); heap_end != heap.begin();) {
+    std::pop_heap(heap.begin(), heap_end, later);
+    const long c = *--heap_end;
     // The bound is exact up to rounding (relative 1e-12 in doubles): a small margin keeps a
     // candidate whose distance equals the threshold.
     if (bound[size_t(c)] * (1 - 1e-9) > threshold) break;
