@@ -282,33 +282,30 @@ bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& ligh
 
 RigRenderer::Paint RigRenderer::PaintAt(const Sample& s) const {
   const Eigen::Vector3d p(s.x, s.y, s.z);
-  const auto mount = [&](const std::vector<RigTag>& tags, const Eigen::Vector3d& q) {
-    return TagAlbedo(tags, q.x(), q.y()) == float(scene_.board_albedo) ? kWhite : kTagBlack;
-  };
   if (s.kind == kCard) {
     const auto& c = scene_.grey_cards[s.index];
     const Eigen::Vector3d q = c.R.transpose() * (p - c.t);
     if (std::abs(q.x()) <= c.patch_m / 2 && std::abs(q.y()) <= c.patch_m / 2) return kGreyPatch;
-    return mount(c.tags, q);
+    return TagPaint(c.tags, q.x(), q.y());
   }
   if (s.kind == kBoard) {
     const RigBoard& board = scene_.boards[s.index];
     const Eigen::Vector3d q = board.R.transpose() * (p - board.t);
     if (std::abs(q.x()) <= board.patch_m / 2 && std::abs(q.y()) <= board.patch_m / 2) return kMaterialPatch;
-    return mount(board.tags, q);
+    return TagPaint(board.tags, q.x(), q.y());
   }
   return kWhite;
 }
 
-float RigRenderer::PaintAlbedo(Paint paint, const Sample& s) const {
-  switch (paint) {
+float RigRenderer::PaintAlbedo(const Sample& s) const {
+  switch (s.paint) {
     case kGreyPatch: return float(scene_.grey_cards[s.index].albedo);
     case kTagBlack: return float(scene_.tag_black_albedo);
     default: return float(scene_.board_albedo);
   }
 }
 
-float RigRenderer::TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const {
+RigRenderer::Paint RigRenderer::TagPaint(const std::vector<RigTag>& tags, double u, double v) const {
   for (const RigTag& tag : tags) {
     const TagBitmap& bm = tag_bitmaps_[tag.id];
     const double cell = tag.size_m / bm.border_cells;
@@ -316,9 +313,9 @@ float RigRenderer::TagAlbedo(const std::vector<RigTag>& tags, double u, double v
     const int col = int(std::floor((u - (tag.centre_m.x() - half)) / cell));
     const int row = int(std::floor(((tag.centre_m.y() + half) - v) / cell));
     if (col >= 0 && row >= 0 && col < bm.cells && row < bm.cells)
-      return bm.white[size_t(row) * bm.cells + col] ? float(scene_.board_albedo) : float(scene_.tag_black_albedo);
+      return bm.white[size_t(row) * bm.cells + col] ? kWhite : kTagBlack;
   }
-  return float(scene_.board_albedo);
+  return kWhite;
 }
 
 Image RigRenderer::RenderPatchRadiance(int b, const RigShot& shot) const {
@@ -361,7 +358,7 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
     case kTable:
       return lambert(scene_.TableNormalInCam(), float(scene_.table_albedo));
     case kCard:
-      return lambert(scene_.grey_cards[s.index].R.col(2), PaintAlbedo(s.paint, s));
+      return lambert(scene_.grey_cards[s.index].R.col(2), PaintAlbedo(s));
     case kBoard: {
       const RigBoard& board = scene_.boards[s.index];
       if (s.paint == kMaterialPatch) {
@@ -373,7 +370,7 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
         tex.SampleBilinear(float((q.x() + half) * scale), float((half - q.y()) * scale), L.data());
         return L;
       }
-      return lambert(board.R.col(2), PaintAlbedo(s.paint, s));
+      return lambert(board.R.col(2), PaintAlbedo(s));
     }
     case kSphere: {
       const RigSphere& sp = scene_.spheres[s.index];
@@ -466,24 +463,30 @@ Image RigRenderer::RenderCalibLinear(int calib_index) const {
     const bool in_squares = a >= -1 && a <= cb.cols - 1 && b >= -1 && b <= cb.rows - 1;
     return in_squares && ((a + b) % 2 == 0) ? 0.04f : 0.8f;
   };
+  // A pixel whose corners see one region sees it everywhere: within a pixel the undistortion is
+  // bilinear and the plane projective, so its samples lie in the corners' convex hull.
+  const auto pixel_value = [&](int x, int y, const int64_t* top, const int64_t* bottom) {
+    const int64_t r = top[x];
+    if (r != kBehind && top[x + 1] == r && bottom[x] == r && bottom[x + 1] == r) return albedo_of(r) * ambient;
+    float sum = 0;
+    for (const auto& off : offsets) sum += albedo_of(region_at(x - 0.5 + off.x(), y - 0.5 + off.y())) * ambient;
+    return sum / offsets.size();
+  };
   Image out(W, H, 3);
-  ParallelFor(0, H, [&](int y) {
+  // Bands of rows, so that each row of pixel corners is looked up once (the bottom of one pixel
+  // row is the top of the next), but for the bands' first rows.
+  constexpr int kBandRows = 32;
+  ParallelFor(0, (H + kBandRows - 1) / kBandRows, [&](int band) {
+    const int y0 = band * kBandRows, y1 = std::min(H, y0 + kBandRows);
     std::vector<int64_t> top(W + 1), bottom(W + 1);
-    for (int i = 0; i <= W; ++i) top[i] = region_at(i - 0.5, y - 0.5), bottom[i] = region_at(i - 0.5, y + 0.5);
-    for (int x = 0; x < W; ++x) {
-      // A pixel whose corners see one region sees it everywhere: within a pixel the undistortion
-      // is bilinear and the plane projective, so its samples lie in the corners' convex hull.
-      const int64_t r = top[x];
-      float value;
-      if (r != kBehind && top[x + 1] == r && bottom[x] == r && bottom[x + 1] == r) {
-        value = albedo_of(r) * ambient;
-      } else {
-        float sum = 0;
-        for (const auto& off : offsets) sum += albedo_of(region_at(x - 0.5 + off.x(), y - 0.5 + off.y())) * ambient;
-        value = sum / offsets.size();
+    for (int i = 0; i <= W; ++i) bottom[i] = region_at(i - 0.5, y0 - 0.5);
+    for (int y = y0; y < y1; ++y) {
+      std::swap(top, bottom);
+      for (int i = 0; i <= W; ++i) bottom[i] = region_at(i - 0.5, y + 0.5);
+      for (int x = 0; x < W; ++x) {
+        float* px = out.pixel(x, y);
+        px[0] = px[1] = px[2] = pixel_value(x, y, top.data(), bottom.data());
       }
-      float* px = out.pixel(x, y);
-      px[0] = px[1] = px[2] = value;
     }
   }, options_.num_threads);
   return out;

@@ -78,9 +78,9 @@ class RigRenderer {
   };
 
   Sample TracePrimary(const Eigen::Vector3d& ray) const;
-  float TagAlbedo(const std::vector<RigTag>& tags, double u, double v) const;  // white mount with tags
+  Paint TagPaint(const std::vector<RigTag>& tags, double u, double v) const;  // white mount with tags
   Paint PaintAt(const Sample& s) const;
-  float PaintAlbedo(Paint paint, const Sample& s) const;
+  float PaintAlbedo(const Sample& s) const;
   Image RenderPatchRadiance(int board, const RigShot& shot) const;
   Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches,
                         const std::vector<ShadowCaster>& casters) const;
