@@ -33,24 +33,18 @@ struct DemoArgs {
   bool no_progress = false;
 };
 
-// Thumbnails of every few of `files`, decoded in parallel (full-size photos: seconds each).
 // The photo at no less than `width` pixels across: a JPEG decoded at 1/2 to 1/8 of its size by
 // libjpeg's scaled inverse DCT (a 6 MP shot in a few ms), anything else read whole.
 StatusOr<Image> ReadPreview(const fs::path& file, int width) {
-  auto jpeg = JpegRowReader::Open(file, 3);
+  auto jpeg = JpegRowReader::Open(file, 3, width);
   if (!jpeg.ok()) return jpeg.status();
   if (!*jpeg) return ReadImage(file, {.linearize = false});
-  int reduce = 8;
-  while (reduce > 1 && (*jpeg)->width() / reduce < width) reduce /= 2;
-  jpeg = JpegRowReader::Open(file, 3, reduce);
-  if (!jpeg.ok()) return jpeg.status();
-  ImageU8 image((*jpeg)->width(), (*jpeg)->height(), (*jpeg)->channels());
-  std::vector<uint8_t*> rows(size_t(image.height()));
-  for (int y = 0; y < image.height(); ++y) rows[size_t(y)] = image.row(y);
-  MESOCAP_RETURN_IF_ERROR((*jpeg)->ReadRows(image.height(), rows.data()));
-  return ImageU8ToFloat(image);
+  auto image = (*jpeg)->ReadAll();
+  if (!image.ok()) return image.status();
+  return ImageU8ToFloat(*image);
 }
 
+// Thumbnails of every few of `files`, decoded in parallel (full-size photos: seconds each).
 Status ContactSheetOf(const fs::path& session, const std::vector<std::string>& files, const fs::path& out_file,
                       int max_images) {
   std::vector<std::string> chosen;

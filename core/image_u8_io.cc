@@ -132,12 +132,7 @@ StatusOr<ImageU8> ReadImageU8(const fs::path& path, int max_channels) {
   auto reader = JpegRowReader::Open(path, max_channels);
   if (!reader.ok()) return reader.status();
   if (!*reader) return ReadWithCodec(path, max_channels);
-  JpegRowReader& jpeg = **reader;
-  ImageU8 image(jpeg.width(), jpeg.height(), jpeg.channels());
-  std::vector<uint8_t*> rows(size_t(jpeg.height()));
-  for (int y = 0; y < jpeg.height(); ++y) rows[size_t(y)] = image.row(y);
-  MESOCAP_RETURN_IF_ERROR(jpeg.ReadRows(jpeg.height(), rows.data()));
-  return image;
+  return (*reader)->ReadAll();
 }
 
 // libjpeg's decompressor with its error manager. Every call into libjpeg goes through Guarded,
@@ -170,8 +165,7 @@ struct JpegRowReader::Decoder {
 JpegRowReader::JpegRowReader(fs::path path) : path_(std::move(path)), decoder_(std::make_unique<Decoder>()) {}
 JpegRowReader::~JpegRowReader() = default;
 
-StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels, int reduce) {
-  MESOCAP_CHECK(reduce == 1 || reduce == 2 || reduce == 4 || reduce == 8, "JpegRowReader: reduce must be 1, 2, 4 or 8");
+StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels, int min_width) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   const auto file_size = fs::file_size(path, ec);
@@ -211,13 +205,25 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   const bool grey = d.cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
   d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
   d.cinfo.dct_method = JDCT_ISLOW;  // accurate (and SIMD in libjpeg-turbo); not JDCT_IFAST
+  unsigned reduce = 1;
+  while (min_width > 0 && reduce < 8 && (d.cinfo.image_width + 2 * reduce - 1) / (2 * reduce) >= unsigned(min_width))
+    reduce *= 2;
   d.cinfo.scale_num = 1;
-  d.cinfo.scale_denom = unsigned(reduce);
+  d.cinfo.scale_denom = reduce;
   if (!d.Guarded([&] { jpeg_start_decompress(&d.cinfo); })) return corrupt();
   reader->width_ = int(d.cinfo.output_width);
   reader->height_ = int(d.cinfo.output_height);
   reader->channels_ = d.cinfo.output_components;
   return reader;
+}
+
+StatusOr<ImageU8> JpegRowReader::ReadAll() {
+  MESOCAP_CHECK(next_row_ == 0, "JpegRowReader: ReadAll on a reader that has read rows");
+  ImageU8 image(width_, height_, channels_);
+  std::vector<uint8_t*> rows(static_cast<size_t>(height_));
+  for (int y = 0; y < height_; ++y) rows[size_t(y)] = image.row(y);
+  MESOCAP_RETURN_IF_ERROR(ReadRows(height_, rows.data()));
+  return image;
 }
 
 Status JpegRowReader::ReadRows(int count, uint8_t* const* rows) {

@@ -74,10 +74,10 @@ class JpegRowReader {
   // JPEG markers, CMYK, 12-bit): read it whole with ReadImageU8. A JPEG that is corrupt, too
   // large (CheckImageSize) or unreadable is an error naming the file. `max_channels` < 3 gives
   // grey.
-  // `reduce` (1, 2, 4 or 8) decodes at that fraction of the size, by libjpeg's scaled inverse DCT:
-  // a preview needs no full decode.
+  // `min_width` > 0 decodes at the smallest of 1/1, 1/2, 1/4 or 1/8 of the size that is still at
+  // least that wide, by libjpeg's scaled inverse DCT: a preview needs no full decode.
   static StatusOr<std::unique_ptr<JpegRowReader>> Open(const std::filesystem::path& path, int max_channels = 4,
-                                                       int reduce = 1);
+                                                       int min_width = 0);
   ~JpegRowReader();
   JpegRowReader(const JpegRowReader&) = delete;
   JpegRowReader& operator=(const JpegRowReader&) = delete;
@@ -89,6 +89,8 @@ class JpegRowReader {
   // Decodes the next `count` rows into rows[0..count), each width() * channels() bytes. Corrupt
   // data (libjpeg's warnings included, as in ReadImage) is an error naming the file.
   Status ReadRows(int count, uint8_t* const* rows);
+  // Decodes every row (on a reader positioned at row 0) into one image.
+  StatusOr<ImageU8> ReadAll();
 
  private:
   struct Decoder;

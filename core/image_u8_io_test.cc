@@ -160,16 +160,21 @@ TEST(ImageU8IO, JpegRowReaderDecodesAtAFractionOfTheSize) {
   ASSERT_TRUE(WriteImage(dir / "photo.jpg", Textured(256, 192, 3, testing::SeedFromTestName())).ok());
   auto whole = ReadImageU8(dir / "photo.jpg");
   ASSERT_TRUE(whole.ok());
-  for (int reduce : {2, 4, 8}) {
-    auto reader = JpegRowReader::Open(dir / "photo.jpg", 3, reduce);
+  // The smallest reduction that keeps `min_width`: one pixel more asks for the next size up.
+  for (const auto& [min_width, expected] : {std::pair{0, 1}, {129, 1}, {65, 2}, {33, 4}, {32, 8}, {1, 8}}) {
+    auto reader = JpegRowReader::Open(dir / "photo.jpg", 3, min_width);
     ASSERT_TRUE(reader.ok() && *reader) << reader.status().message();
-    JpegRowReader& jpeg = **reader;
-    ASSERT_EQ(jpeg.width(), 256 / reduce);
-    ASSERT_EQ(jpeg.height(), 192 / reduce);
-    ImageU8 small(jpeg.width(), jpeg.height(), 3);
-    std::vector<uint8_t*> rows;
-    for (int y = 0; y < small.height(); ++y) rows.push_back(small.row(y));
-    ASSERT_TRUE(jpeg.ReadRows(small.height(), rows.data()).ok());
+    EXPECT_EQ((*reader)->width(), 256 / expected) << "min_width " << min_width;
+    EXPECT_EQ((*reader)->height(), 192 / expected) << "min_width " << min_width;
+  }
+  for (int reduce : {2, 4, 8}) {
+    auto reader = JpegRowReader::Open(dir / "photo.jpg", 3, 256 / reduce);
+    ASSERT_TRUE(reader.ok() && *reader) << reader.status().message();
+    auto read = (*reader)->ReadAll();
+    ASSERT_TRUE(read.ok()) << read.status().message();
+    const ImageU8& small = *read;
+    ASSERT_EQ(small.width(), 256 / reduce);
+    ASSERT_EQ(small.height(), 192 / reduce);
     double worst = 0, sum = 0;
     for (int y = 0; y < small.height(); ++y)
       for (int x = 0; x < small.width(); ++x)
