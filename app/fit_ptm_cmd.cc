@@ -1,9 +1,12 @@
 // mesocap fit-ptm: fit a polynomial texture map (reconstruct/ptm.h) to an RTI capture given as a
 // .lp light file and its photos, and write it as HP's .ptm (export/ptm_file.h) plus a JSON report.
+#include <sys/resource.h>
+
 #include <array>
 #include <atomic>
 #include <cctype>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -21,6 +24,7 @@
 #include "core/json.h"
 #include "core/parallel.h"
 #include "core/progress.h"
+#include "core/scratch_file.h"
 #include "core/provenance.h"
 #include "export/lp_file.h"
 #include "export/ptm_file.h"
@@ -119,9 +123,28 @@ Status CheckSameShape(const std::vector<LpEntry>& entries, const std::function<s
   return Status::Ok();
 }
 
-StatusOr<Ptm> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& readers, const std::vector<LpEntry>& entries,
-                                const std::vector<Eigen::Vector3d>& lights, const PtmFitOptions& fit, ProgressBar& bar,
-                                PtmFitReport* report, PhaseSeconds* seconds) {
+// Every photo's decoder keeps its file open: raises the soft limit on open files as far as the
+// hard limit allows; false if that is still fewer than `count` plus a margin.
+bool AllowOpenFiles(int count) {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
+  const rlim_t wanted = rlim_t(count) + 64;
+  if (limit.rlim_cur >= wanted) return true;
+  if (limit.rlim_max != RLIM_INFINITY && limit.rlim_max < wanted) return false;
+  limit.rlim_cur = wanted;
+  return setrlimit(RLIMIT_NOFILE, &limit) == 0;
+}
+
+// Decodes a band of rows of every photo, fits it, and parks the fitted rows in a scratch file
+// (beside the output: row y's coefficients, then the LRGB colours), returned as the .ptm writer
+// reads them, with their coefficient range; the normals and albedo, when asked for, are taken
+// from each fitted band. Nothing grows with the image but the maps asked for: fresh memory costs
+// page faults, the scratch file only page-cache copies.
+StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& readers,
+                                       const std::vector<LpEntry>& entries, const std::vector<Eigen::Vector3d>& lights,
+                                       const PtmFitOptions& fit, const fs::path& scratch_folder, bool want_maps,
+                                       ProgressBar& bar, PtmFitReport* report, PtmNormalsAlbedo* maps,
+                                       PhaseSeconds* seconds) {
   const int n = int(readers.size());
   MESOCAP_RETURN_IF_ERROR(CheckSameShape(entries, [&](int i) {
     return std::array<int, 3>{readers[size_t(i)]->width(), readers[size_t(i)]->height(), readers[size_t(i)]->channels()};
@@ -129,11 +152,22 @@ StatusOr<Ptm> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& rea
   const int width = readers[0]->width(), height = readers[0]->height(), channels = readers[0]->channels();
   auto fitter = PtmRowFitter::Create(lights, width, height, channels, fit);
   if (!fitter.ok()) return fitter.status();
-  // 32 rows of 36 photos of 2000 pixels: 7 MB, in cache from decoding to fitting.
-  constexpr int kBandRows = 32;
+  auto created = ScratchFile::Create(scratch_folder);
+  if (!created.ok()) return created.status();
+  const auto scratch = std::make_shared<const ScratchFile>(std::move(*created));
+  // 16 rows (a 4:2:0 JPEG's MCU row) of 36 photos of 2000 pixels: 3.5 MB, in cache from decoding
+  // to fitting.
+  constexpr int kBandRows = 16;
   const size_t row_bytes = size_t(width) * channels;
   std::vector<std::vector<uint8_t>> band(size_t(n), std::vector<uint8_t>(kBandRows * row_bytes));
-  std::vector<std::string> errors(readers.size());
+  Ptm fitted = fitter->NewRows(std::min(kBandRows, height));
+  const bool lrgb = fit.format == PtmFormat::kLrgb;
+  const size_t coefficient_row_floats = size_t(width) * fitted.coefficients.channels(), rgb_row_floats = size_t(width) * 3;
+  const auto coefficient_offset = [=](int y) { return uint64_t(y) * coefficient_row_floats * sizeof(float); };
+  const auto rgb_offset = [=](int y) { return (uint64_t(height) * coefficient_row_floats + uint64_t(y) * rgb_row_floats) * sizeof(float); };
+  if (want_maps) *maps = {Image::Uninitialized(width, height, 3), Image::Uninitialized(width, height, 3)};
+  std::vector<CoefficientRange> row_ranges(static_cast<size_t>(height));
+  std::vector<std::string> errors(size_t(std::max(n, height)));
   for (int y0 = 0; y0 < height; y0 += kBandRows) {
     const int rows = std::min(kBandRows, height - y0);
     {
@@ -149,16 +183,45 @@ StatusOr<Ptm> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& rea
     }
     for (const std::string& error : errors)
       if (!error.empty()) return Status::Error(error);
-    {
-      PhaseTimer timer(&seconds->fit, &seconds->fit_cpu);
-      fitter->FitRows(y0, y0 + rows, std::function<const uint8_t*(int, int)>([&](int i, int y) -> const uint8_t* {
-                        return band[size_t(i)].data() + size_t(y - y0) * row_bytes;
-                      }));
+    PhaseTimer timer(&seconds->fit, &seconds->fit_cpu);
+    if (fitted.height() != rows) fitted = fitter->NewRows(rows);  // the last, shorter band
+    const auto park = [&](int y) {
+      const float* coefficients = fitted.coefficients.row(y - y0);
+      row_ranges[size_t(y)] = RowCoefficientRange(coefficients, int(coefficient_row_floats));
+      Status st = scratch->Write(coefficient_offset(y), coefficients, coefficient_row_floats * sizeof(float));
+      if (st.ok() && lrgb) st = scratch->Write(rgb_offset(y), fitted.rgb.row(y - y0), rgb_row_floats * sizeof(float));
+      if (!st.ok()) errors[size_t(y)] = st.message();
+    };
+    fitter->FitRows(
+        y0, y0 + rows,
+        std::function<const uint8_t*(int, int)>(
+            [&](int i, int y) -> const uint8_t* { return band[size_t(i)].data() + size_t(y - y0) * row_bytes; }),
+        &fitted, park);
+    for (const std::string& error : errors)
+      if (!error.empty()) return Status::Error(error);
+    if (want_maps) {
+      const PtmNormalsAlbedo band_maps = PtmNormalsAndAlbedo(fitted, fit.num_threads);
+      for (int r = 0; r < rows; ++r) {
+        std::memcpy(maps->normals.row(y0 + r), band_maps.normals.row(r), rgb_row_floats * sizeof(float));
+        std::memcpy(maps->albedo.row(y0 + r), band_maps.albedo.row(r), rgb_row_floats * sizeof(float));
+      }
     }
     bar.Update(y0 + rows, height + 1, "rows");
   }
-  readers.clear();  // the files' bytes
-  return fitter->Finish(report);
+  readers.clear();  // the files
+  fitter->Report(report);
+  PtmRowSource parked{fit.format, width, height, CoefficientRange::Empty(), {}, {}};
+  for (const CoefficientRange& range : row_ranges) parked.range.Include(range);
+  const auto read_back = [scratch](uint64_t offset, size_t floats, std::vector<float>* buffer) -> StatusOr<const float*> {
+    buffer->resize(floats);
+    MESOCAP_RETURN_IF_ERROR(scratch->Read(offset, buffer->data(), floats * sizeof(float)));
+    return buffer->data();
+  };
+  parked.coefficients = [=](int y, std::vector<float>* buffer) {
+    return read_back(coefficient_offset(y), coefficient_row_floats, buffer);
+  };
+  parked.rgb = [=](int y, std::vector<float>* buffer) { return read_back(rgb_offset(y), rgb_row_floats, buffer); };
+  return parked;
 }
 
 // Any other photos (PNG, TIFF, 16-bit, --linearize): decoded whole in parallel, then fitted.
@@ -235,38 +298,42 @@ int Run(const FitPtmArgs& args) {
   PtmFitReport report;
   PhaseSeconds seconds;
   std::string read_path;
-  StatusOr<Ptm> ptm = Status::Error("no fit");
+  StatusOr<Ptm> ptm = Status::Error("no fit");  // photos fitted whole
+  StatusOr<PtmRowSource> parked = Status::Error("no fit");  // JPEGs streamed
+  PtmNormalsAlbedo maps;
+  const bool want_maps = !args.normals.empty() || !args.albedo.empty();
   // Reading the files and their JPEG headers counts as decoding.
   StatusOr<std::vector<std::unique_ptr<JpegRowReader>>> readers = std::vector<std::unique_ptr<JpegRowReader>>();
-  if (!args.linearize) {
+  if (!args.linearize && AllowOpenFiles(n)) {
     PhaseTimer timer(&seconds.decode, &seconds.decode_cpu);
     readers = OpenJpegReaders(*entries, args.threads);
   }
   if (!readers.ok()) return Fail(verb, readers.status().message());
-  if (!readers->empty()) {
+  const bool streamed = !readers->empty();
+  if (streamed) {
     read_path = "8-bit JPEG streamed in bands of rows (decoded and fitted band by band)";
-    ptm = FitStreamingJpegs(*readers, *entries, lights, fit, bar, &report, &seconds);
+    parked = FitStreamingJpegs(*readers, *entries, lights, fit, out.parent_path(), want_maps, bar, &report, &maps,
+                               &seconds);
+    if (!parked.ok()) return Fail(verb, parked.status().message());
   } else {
     ptm = FitWholePhotos(*entries, lights, fit, args, bar, &report, &seconds, &read_path);
+    if (!ptm.ok()) return Fail(verb, ptm.status().message());
+    if (want_maps) maps = PtmNormalsAndAlbedo(*ptm, args.threads);
   }
-  if (!ptm.ok()) return Fail(verb, ptm.status().message());
   bar.Update(n + 1, n + 1, "fit");
   const double decode_seconds = seconds.decode, fit_seconds = seconds.fit;
   const double decode_cpu_seconds = seconds.decode_cpu, fit_cpu_seconds = seconds.fit_cpu;
-
-  PtmNormalsAlbedo maps;
-  if (!args.normals.empty() || !args.albedo.empty()) {
-    maps = PtmNormalsAndAlbedo(*ptm, args.threads);
-    // Normals map [-1, 1] to [0, 1] as normal maps do.
-    for (size_t k = 0; k < maps.normals.size(); ++k) maps.normals.data()[k] = 0.5f * (maps.normals.data()[k] + 1.f);
-  }
+  // Normals map [-1, 1] to [0, 1] as normal maps do.
+  for (size_t k = 0; k < maps.normals.size(); ++k) maps.normals.data()[k] = 0.5f * (maps.normals.data()[k] + 1.f);
 
   // Write: the .ptm, the optional maps, then the report; all appear together or none does.
   const auto write_start = std::chrono::steady_clock::now();
   const double write_cpu_start = ProcessCpuSeconds();
   OutputFileSet outputs;
   PtmQuantization quantization;
-  if (Status s = outputs.Stage(out, [&](const fs::path& temp) { return WritePtmFile(temp, *ptm, {}, &quantization); });
+  if (Status s = outputs.Stage(out, [&](const fs::path& temp) {
+        return streamed ? WritePtmFile(temp, *parked, {}, &quantization) : WritePtmFile(temp, *ptm, {}, &quantization);
+      });
       !s.ok())
     return Fail(verb, s.message());
   for (const auto& named_map : {std::pair{args.normals, &maps.normals}, std::pair{args.albedo, &maps.albedo}}) {

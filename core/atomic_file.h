@@ -2,6 +2,7 @@
 // flushed to disk and renamed over it, so a reader sees the old file or the new one, never half.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -42,7 +43,8 @@ class OutputFile {
   bool Close();  // false if any write or the close failed, errno set
 
  private:
-  int fd_ = -1, error_ = 0;
+  int fd_ = -1;
+  std::atomic<int> error_{0};  // parts may be written from several threads at once
 };
 
 // Reads a whole file; error names it.

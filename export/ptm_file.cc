@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <future>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -136,23 +135,23 @@ int FirstUnboundedCoefficient(const PtmQuantization& q) {
 
 namespace {
 
-// Each row's coefficient range and finiteness, rows in parallel.
-std::vector<CoefficientRange> RowRanges(const Ptm& ptm) {
+// The range and finiteness of every coefficient, rows in parallel; `rows_out`, if given,
+// receives each row's.
+CoefficientRange RangeOf(const Ptm& ptm, std::vector<CoefficientRange>* rows_out = nullptr) {
   std::vector<CoefficientRange> ranges(size_t(ptm.height()));
   const int count = ptm.width() * ptm.coefficients.channels();
   ParallelFor(0, ptm.height(), [&](int y) { ranges[size_t(y)] = RowCoefficientRange(ptm.coefficients.row(y), count); });
-  return ranges;
+  CoefficientRange all = CoefficientRange::Empty();
+  for (const CoefficientRange& r : ranges) all.Include(r);
+  if (rows_out) *rows_out = std::move(ranges);
+  return all;
 }
 
-// The quantisation for rows of those (finite) ranges.
-PtmQuantization QuantizationFor(const std::vector<CoefficientRange>& ranges, bool integer_scales) {
+// The quantisation for a (finite) range.
+PtmQuantization QuantizationFor(const CoefficientRange& range, bool integer_scales) {
   // In file units: 255 * the float's min is exactly the min of 255 * each (an exact product).
   std::array<double, 6> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
-  for (const CoefficientRange& r : ranges)
-    for (int k = 0; k < 6; ++k)
-      lo[k] = std::min(lo[k], kFileUnits * r.lo[k]), hi[k] = std::max(hi[k], kFileUnits * r.hi[k]);
+  for (int k = 0; k < 6; ++k) lo[k] = kFileUnits * range.lo[k], hi[k] = kFileUnits * range.hi[k];
   PtmQuantization q;
   for (int k = 0; k < 6; ++k) {
     // Byte 0 decodes to -bias * scale and byte 255 to (255 - bias) * scale: find the bias whose
@@ -193,11 +192,24 @@ PtmQuantization QuantizationFor(const std::vector<CoefficientRange>& ranges, boo
   return q;
 }
 
+std::string PtmHeader(const PtmRowSource& rows, const PtmQuantization& q) {
+  std::ostringstream header;
+  header << kMagic << '\n' << (rows.format == PtmFormat::kLrgb ? kLrgbName : kRgbName) << '\n' << rows.width << '\n'
+         << rows.height << '\n';
+  char buf[64];
+  for (int k = 0; k < 6; ++k) {
+    std::snprintf(buf, sizeof buf, "%.9g", double(q.scale[k]));
+    header << buf << (k < 5 ? ' ' : '\n');
+  }
+  for (int k = 0; k < 6; ++k) header << q.bias[k] << (k < 5 ? ' ' : '\n');
+  return header.str();
+}
+
 }  // namespace
 
 PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales) {
   MESOCAP_CHECK(ptm.IsConsistent(), "inconsistent Ptm");
-  return QuantizationFor(RowRanges(ptm), integer_scales);
+  return QuantizationFor(RangeOf(ptm), integer_scales);
 }
 
 Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions& options,
@@ -206,82 +218,76 @@ Status WritePtmFile(const fs::path& path, const Ptm& ptm, const PtmWriteOptions&
     return Status::Error(path.string() +
                          ": cannot write PTM: coefficient and colour images do not match "
                          "the format");
-  const int w = ptm.width(), h = ptm.height();
-  // The ranges for the quantisation and, in the same pass, the first non-finite coefficient in
-  // file order.
-  const int per_pixel = ptm.coefficients.channels();
-  const std::vector<CoefficientRange> ranges = RowRanges(ptm);
-  for (int y = 0; y < h; ++y)
-    if (!ranges[size_t(y)].finite) {
-      const float* row = ptm.coefficients.row(y);
-      int x = 0;
-      while (x < w * per_pixel && std::isfinite(row[x])) ++x;
-      return Status::Error(path.string() + ": cannot write PTM: non-finite coefficient at pixel (" +
-                           std::to_string(x / per_pixel) + ", " + std::to_string(y) + ")");
-    }
-  const PtmQuantization q = QuantizationFor(ranges, options.integer_scales);
-  const bool lrgb = ptm.format == PtmFormat::kLrgb;
-
-  std::string out;
-  {
-    std::ostringstream header;
-    header << kMagic << '\n' << (lrgb ? kLrgbName : kRgbName) << '\n' << w << '\n' << h << '\n';
-    char buf[64];
-    for (int k = 0; k < 6; ++k) {
-      std::snprintf(buf, sizeof buf, "%.9g", double(q.scale[k]));
-      header << buf << (k < 5 ? ' ' : '\n');
-    }
-    for (int k = 0; k < 6; ++k) header << q.bias[k] << (k < 5 ? ' ' : '\n');
-    out = header.str();
+  std::vector<CoefficientRange> row_ranges;
+  PtmRowSource rows{ptm.format, ptm.width(), ptm.height(), RangeOf(ptm, &row_ranges), {}, {}};
+  if (!rows.range.finite) {
+    // The first non-finite coefficient in file order, for the message.
+    int y = 0;
+    while (row_ranges[size_t(y)].finite) ++y;
+    const float* row = ptm.coefficients.row(y);
+    const int per_pixel = ptm.coefficients.channels();
+    int x = 0;
+    while (x < ptm.width() * per_pixel && std::isfinite(row[x])) ++x;
+    return Status::Error(path.string() + ": cannot write PTM: non-finite coefficient at pixel (" +
+                         std::to_string(x / per_pixel) + ", " + std::to_string(y) + ")");
   }
+  rows.coefficients = [&](int y, std::vector<float>*) -> StatusOr<const float*> { return ptm.coefficients.row(y); };
+  rows.rgb = [&](int y, std::vector<float>*) -> StatusOr<const float*> { return ptm.rgb.row(y); };
+  return WritePtmFile(path, rows, options, quantization);
+}
+
+Status WritePtmFile(const fs::path& path, const PtmRowSource& rows, const PtmWriteOptions& options,
+                    PtmQuantization* quantization) {
+  if (!rows.range.finite) return Status::Error(path.string() + ": cannot write PTM: non-finite coefficients");
+  const int w = rows.width, h = rows.height;
+  const PtmQuantization q = QuantizationFor(rows.range, options.integer_scales);
+  const bool lrgb = rows.format == PtmFormat::kLrgb;
+  const std::string header = PtmHeader(rows, q);
   double inv_scale[6];
   for (int k = 0; k < 6; ++k) inv_scale[k] = 1.0 / double(q.scale[k]);
   // The file after the header: one block per polynomial (LRGB: one; RGB: red, green, blue) of
   // 6 bytes per pixel, then for LRGB a block of 3 colour bytes per pixel; in each block, rows run
   // bottom to top.
-  const int polynomials = ptm.polynomials(), blocks = polynomials + (lrgb ? 1 : 0);
+  const int polynomials = lrgb ? 1 : 3, blocks = polynomials + (lrgb ? 1 : 0), per_pixel = 6 * polynomials;
   auto row_bytes = [&](int block) { return size_t(w) * (block < polynomials ? 6 : 3); };
-  auto block_offset = [&](int block) { return out.size() + size_t(block) * size_t(h) * size_t(w) * 6; };
-  // Bands of image rows, every block of a row quantised from one read of its coefficients (the
-  // RGB blocks interleave in memory: reading them block by block would stream the coefficients
-  // three times). A band's rows are contiguous in each block, reversed: each block's part is one
-  // write at its offset. Two sets of buffers take turns: one band is written (and its write-back
-  // to disk started) while the next is quantised; memory stays at a few megabytes.
-  const int band_rows = int(std::clamp<size_t>((size_t(4) << 20) / (size_t(w) * 6 * blocks), 1, size_t(h)));
+  auto block_offset = [&](int block) { return header.size() + size_t(block) * size_t(h) * size_t(w) * 6; };
+  // Bands of rows in parallel, each quantised into small per-thread buffers (every block of a row
+  // from one read of its coefficients: the RGB blocks interleave in memory) and written at its
+  // offsets, its write-back to disk started at once. A band's rows are contiguous in each block,
+  // reversed. No buffer grows with the image: fresh memory costs page faults.
+  const int band_rows = int(std::clamp<size_t>((size_t(256) << 10) / (size_t(w) * 6), 1, 64));
+  const int bands = (h + band_rows - 1) / band_rows;
   MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(path, [&](const fs::path& temp) -> Status {
     OutputFile file(temp);
     if (!file.ok()) return Status::Error(path.string() + ": cannot create: " + std::strerror(errno));
-    file.WriteAt(0, out.data(), out.size());
-    std::vector<unsigned char> buffers[2][4];
-    for (auto& turn : buffers)
-      for (int block = 0; block < blocks; ++block) turn[block].resize(size_t(band_rows) * row_bytes(block));
-    std::future<void> writing;
-    for (int y0 = 0, turn = 0; y0 < h; y0 += band_rows, turn ^= 1) {
-      const int rows = std::min(band_rows, h - y0);
-      auto& band = buffers[turn];
-      ParallelFor(0, rows, [&](int r) {
-        const int y = y0 + r;
-        const size_t slot = size_t(rows - 1 - r);  // file rows run bottom to top
+    file.WriteAt(0, header.data(), header.size());
+    std::vector<Status> errors(size_t(bands), Status::Ok());
+    ParallelFor(0, bands, [&](int band) {
+      thread_local std::vector<unsigned char> buffers[4];
+      thread_local std::vector<float> scratch;
+      const int y0 = band * band_rows, count = std::min(band_rows, h - y0);
+      for (int block = 0; block < blocks; ++block) buffers[block].resize(size_t(band_rows) * row_bytes(block));
+      for (int r = 0; r < count; ++r) {
+        const size_t slot = size_t(count - 1 - r);  // file rows run bottom to top
+        StatusOr<const float*> coefficients = rows.coefficients(y0 + r, &scratch);
+        if (!coefficients.ok()) return void(errors[size_t(band)] = coefficients.status());
         for (int block = 0; block < polynomials; ++block)
-          QuantizeCoefficients(ptm.coefficients.row(y) + block * kPtmCoefficients, per_pixel, w, inv_scale, q.bias.data(),
-                               band[block].data() + slot * row_bytes(block));
-        if (lrgb) {
-          unsigned char* dst = band[polynomials].data() + slot * row_bytes(polynomials);
-          const float* rgb = ptm.rgb.row(y);
-          for (int i = 0; i < 3 * w; ++i) dst[i] = QuantizeByte(kFileUnits * rgb[i]);
-        }
-      });
-      if (writing.valid()) writing.get();
-      writing = std::async(std::launch::async, [&, y0, rows, turn] {
-        const size_t first_file_row = size_t(h - y0 - rows);
-        for (int block = 0; block < blocks; ++block) {
-          const size_t offset = block_offset(block) + first_file_row * row_bytes(block);
-          file.WriteAt(offset, buffers[turn][block].data(), size_t(rows) * row_bytes(block));
-          file.StartWriteBack(offset, size_t(rows) * row_bytes(block));
-        }
-      });
-    }
-    if (writing.valid()) writing.get();
+          QuantizeCoefficients(*coefficients + block * kPtmCoefficients, per_pixel, w, inv_scale, q.bias.data(),
+                               buffers[block].data() + slot * row_bytes(block));
+        if (!lrgb) continue;
+        StatusOr<const float*> rgb = rows.rgb(y0 + r, &scratch);
+        if (!rgb.ok()) return void(errors[size_t(band)] = rgb.status());
+        unsigned char* dst = buffers[polynomials].data() + slot * row_bytes(polynomials);
+        for (int i = 0; i < 3 * w; ++i) dst[i] = QuantizeByte(kFileUnits * (*rgb)[i]);
+      }
+      const size_t first_file_row = size_t(h - y0 - count);
+      for (int block = 0; block < blocks; ++block) {
+        const size_t offset = block_offset(block) + first_file_row * row_bytes(block);
+        file.WriteAt(offset, buffers[block].data(), size_t(count) * row_bytes(block));
+        file.StartWriteBack(offset, size_t(count) * row_bytes(block));
+      }
+    });
+    for (const Status& error : errors) MESOCAP_RETURN_IF_ERROR(error);
     return file.Close() ? Status::Ok() : Status::Error(path.string() + ": write failed: " + std::strerror(errno));
   }));
   if (quantization) *quantization = q;

@@ -16,8 +16,11 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
+#include <vector>
 
 #include "core/status.h"
+#include "export/ptm_quantize.h"
 #include "reconstruct/ptm.h"
 
 namespace mesocap {
@@ -45,6 +48,23 @@ PtmQuantization ChoosePtmQuantization(const Ptm& ptm, bool integer_scales = true
 // Writes `ptm` atomically (temp file, fsync, rename). Errors name the file. `quantization`, if
 // given, receives the scales and biases written.
 Status WritePtmFile(const std::filesystem::path& path, const Ptm& ptm,
+                    const PtmWriteOptions& options = {}, PtmQuantization* quantization = nullptr);
+
+// A PTM that is not held whole, as the writer reads it (fit-ptm parks its fit in a scratch file):
+// its shape, the range of all its coefficients (which fixes the quantisation before any row is
+// written), and its rows. Row y's coefficients (width x 6 floats per polynomial, as in
+// Ptm::coefficients) and, LRGB only, colours (width x 3): called from several threads at once,
+// each passing its own buffer for a row that must be read from somewhere.
+struct PtmRowSource {
+  PtmFormat format = PtmFormat::kLrgb;
+  int width = 0, height = 0;
+  CoefficientRange range = CoefficientRange::Empty();
+  std::function<StatusOr<const float*>(int y, std::vector<float>* buffer)> coefficients, rgb;
+};
+
+// The same file from such rows: byte for byte what WritePtmFile writes for the Ptm they come from.
+// A non-finite range is refused.
+Status WritePtmFile(const std::filesystem::path& path, const PtmRowSource& rows,
                     const PtmWriteOptions& options = {}, PtmQuantization* quantization = nullptr);
 
 // Reads a PTM_1.2 file in the LRGB or RGB format. A truncated or malformed file gives an error

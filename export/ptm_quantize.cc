@@ -127,6 +127,18 @@ MESOCAP_SIMD_CLONES void QuantizeKernel(const float* src, int stride, int pixels
 
 }  // namespace
 
+CoefficientRange CoefficientRange::Empty() {
+  CoefficientRange range;
+  range.lo.fill(std::numeric_limits<float>::infinity());
+  range.hi.fill(-std::numeric_limits<float>::infinity());
+  return range;
+}
+
+void CoefficientRange::Include(const CoefficientRange& other) {
+  for (int k = 0; k < 6; ++k) lo[k] = std::min(lo[k], other.lo[k]), hi[k] = std::max(hi[k], other.hi[k]);
+  finite = finite && other.finite;
+}
+
 CoefficientRange RowCoefficientRange(const float* values, int count) { return RangeKernel(values, count); }
 
 void QuantizeCoefficients(const float* src, int stride, int pixels, const double inv_scale[6], const int bias[6],

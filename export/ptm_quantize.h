@@ -10,6 +10,9 @@ namespace mesocap {
 struct CoefficientRange {
   std::array<float, 6> lo, hi;  // per coefficient index k
   bool finite = true;           // no inf or NaN among the values
+
+  static CoefficientRange Empty();  // lo = +inf, hi = -inf: includes nothing yet
+  void Include(const CoefficientRange& other);
 };
 
 // Over values[0..count), count a multiple of 6, coefficient index k = i % 6.

@@ -294,14 +294,12 @@ Status CheckPtmImages(const std::vector<ImageT>& images) {
 // The fit of one row: rows[i] is row y of image i, width * channels values of T, each counted
 // as value * scale.
 template <typename T>
-void PtmRowFitter::FitRow(int y, const T* const* rows, float scale) {
+void PtmRowFitter::FitRow(int y, const T* const* rows, float scale, float* coef_row, float* rgb_row) {
   const int n = n_, width = width_, channels = channels_;
   const bool lrgb = options_.format == PtmFormat::kLrgb;
   // Scratch buffers live per thread: allocating them per row costs more than the fit.
   thread_local std::vector<float> obs, coef, lum, fitted, ymax, inv;
   thread_local std::vector<double> num, den;
-  float* coef_row = ptm_.coefficients.row(y);
-  float* rgb_row = lrgb ? ptm_.rgb.row(y) : nullptr;
   double sse = 0;
   for (int x0 = 0; x0 < width; x0 += kBlockPixels) {
     const int bw = std::min(kBlockPixels, width - x0);
@@ -439,49 +437,58 @@ StatusOr<PtmRowFitter> PtmRowFitter::Create(const std::vector<Eigen::Vector3d>& 
       fitter.p_[k * n + i] = float(pinv(k, i));
       fitter.a_f_[i * kPtmCoefficients + k] = float(a(i, k));
     }
-  const bool lrgb = options.format == PtmFormat::kLrgb;
-  fitter.ptm_.format = options.format;
-  fitter.ptm_.coefficients = Image::Uninitialized(width, height, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
-  if (lrgb) fitter.ptm_.rgb = Image::Uninitialized(width, height, 3);
   fitter.row_sse_.assign(size_t(height), 0.0);
   return fitter;
 }
 
+Ptm PtmRowFitter::NewRows(int rows) const {
+  MESOCAP_CHECK(rows > 0, "PtmRowFitter::NewRows: no rows");
+  Ptm ptm;
+  ptm.format = options_.format;
+  const bool lrgb = options_.format == PtmFormat::kLrgb;
+  ptm.coefficients = Image::Uninitialized(width_, rows, lrgb ? kPtmCoefficients : 3 * kPtmCoefficients);
+  if (lrgb) ptm.rgb = Image::Uninitialized(width_, rows, 3);
+  return ptm;
+}
+
 template <typename T>
-void PtmRowFitter::FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale) {
+void PtmRowFitter::FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale, Ptm* into,
+                             const std::function<void(int)>& fitted) {
   MESOCAP_CHECK(0 <= y0 && y0 <= y1 && y1 <= height_, "PtmRowFitter: rows out of range");
+  MESOCAP_CHECK(into && into->format == options_.format && into->width() == width_ && into->height() >= y1 - y0,
+                "PtmRowFitter: the target Ptm does not fit the rows");
   ParallelFor(
       y0, y1,
       [&](int y) {
         thread_local std::vector<const T*> rows;
         rows.resize(size_t(n_));
         for (int i = 0; i < n_; ++i) rows[size_t(i)] = row(i, y);
-        FitRow(y, rows.data(), scale);
+        FitRow(y, rows.data(), scale, into->coefficients.row(y - y0), into->rgb.empty() ? nullptr : into->rgb.row(y - y0));
+        if (fitted) fitted(y);
       },
       options_.num_threads);
 }
 
-void PtmRowFitter::FitRows(int y0, int y1, const std::function<const float*(int, int)>& row) {
-  FitRowsOf<float>(y0, y1, row, 1.0f);
+void PtmRowFitter::FitRows(int y0, int y1, const std::function<const float*(int, int)>& row, Ptm* into,
+                           const std::function<void(int)>& fitted) {
+  FitRowsOf<float>(y0, y1, row, 1.0f, into, fitted);
 }
 
-void PtmRowFitter::FitRows(int y0, int y1, const std::function<const uint8_t*(int, int)>& row) {
-  FitRowsOf<uint8_t>(y0, y1, row, kU8ToUnit);
+void PtmRowFitter::FitRows(int y0, int y1, const std::function<const uint8_t*(int, int)>& row, Ptm* into,
+                           const std::function<void(int)>& fitted) {
+  FitRowsOf<uint8_t>(y0, y1, row, kU8ToUnit, into, fitted);
 }
 
-Ptm PtmRowFitter::Finish(PtmFitReport* report) {
-  if (report) {
-    double sse = 0;
-    for (double v : row_sse_) sse += v;  // in row order: independent of the thread count
-    report->num_lights = n_;
-    report->width = width_;
-    report->height = height_;
-    report->light_matrix_condition = light_check_.condition;
-    report->warnings = light_check_.warnings;
-    report->rms_residual = options_.compute_residual ? std::sqrt(sse / (double(width_) * height_ * n_ * 3)) : -1.0;
-    report->fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  return std::move(ptm_);
+void PtmRowFitter::Report(PtmFitReport* report) const {
+  double sse = 0;
+  for (double v : row_sse_) sse += v;  // in row order: independent of the thread count
+  report->num_lights = n_;
+  report->width = width_;
+  report->height = height_;
+  report->light_matrix_condition = light_check_.condition;
+  report->warnings = light_check_.warnings;
+  report->rms_residual = options_.compute_residual ? std::sqrt(sse / (double(width_) * height_ * n_ * 3)) : -1.0;
+  report->fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
 namespace {
@@ -499,8 +506,10 @@ StatusOr<Ptm> FitWholeImages(const std::vector<ImageT>& images, const std::vecto
   auto fitter = PtmRowFitter::Create(light_dirs, images[0].width(), images[0].height(), images[0].channels(), options);
   if (!fitter.ok()) return fitter.status();
   const std::function<const T*(int, int)> row = [&](int i, int y) -> const T* { return images[size_t(i)].row(y); };
-  fitter->FitRows(0, images[0].height(), row);
-  return fitter->Finish(report);
+  Ptm ptm = fitter->NewRows(images[0].height());
+  fitter->FitRows(0, images[0].height(), row, &ptm);
+  if (report) fitter->Report(report);
+  return ptm;
 }
 
 }  // namespace

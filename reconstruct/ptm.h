@@ -129,32 +129,40 @@ StatusOr<Ptm> FitPtm(const std::vector<ImageU8>& images,
                      const PtmFitOptions& options = {}, PtmFitReport* report = nullptr);
 
 // The same fit row by row, for callers that stream their photos (fit-ptm decodes bands of rows
-// and never holds a photo whole). Rows may come in any order and grouping: each row's result,
-// the residual included, is the same as FitPtm's, bit for bit.
+// and never holds a photo or the result whole). Rows may come in any order and grouping: each
+// row's result, the residual included, is the same as FitPtm's, bit for bit.
 class PtmRowFitter {
  public:
-  // Checks the lights (ValidatePtmLights) and the shape, and allocates the result.
+  // Checks the lights (ValidatePtmLights) and the shape.
   static StatusOr<PtmRowFitter> Create(const std::vector<Eigen::Vector3d>& light_dirs, int width, int height,
                                        int channels, const PtmFitOptions& options = {});
-  // Fits rows [y0, y1) on options.num_threads threads: row(i, y) is row y of image i (width x
-  // channels values; 8-bit values count as v * kU8ToUnit), called from those threads.
-  void FitRows(int y0, int y1, const std::function<const float*(int image, int y)>& row);
-  void FitRows(int y0, int y1, const std::function<const uint8_t*(int image, int y)>& row);
-  // The PTM, once every row is fitted; the fitter is spent.
-  Ptm Finish(PtmFitReport* report = nullptr);
+  // A Ptm of `rows` rows (not initialised) in this fit's format and width: the whole result, or
+  // a band of it.
+  Ptm NewRows(int rows) const;
+  // Fits rows [y0, y1) into rows [0, y1 - y0) of *into (from NewRows) on options.num_threads
+  // threads: row(i, y) is row y of image i (width x channels values; 8-bit values count as
+  // v * kU8ToUnit), called from those threads. `fitted(y)`, if given, runs on the same thread
+  // right after row y is fitted (while it is in cache).
+  void FitRows(int y0, int y1, const std::function<const float*(int image, int y)>& row, Ptm* into,
+               const std::function<void(int y)>& fitted = {});
+  void FitRows(int y0, int y1, const std::function<const uint8_t*(int image, int y)>& row, Ptm* into,
+               const std::function<void(int y)>& fitted = {});
+  // Once every row is fitted: the light-set figures, the residual over all rows and the time
+  // since Create.
+  void Report(PtmFitReport* report) const;
 
  private:
   PtmRowFitter() = default;
   template <typename T>
-  void FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale);
+  void FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale, Ptm* into,
+                 const std::function<void(int)>& fitted);
   template <typename T>
-  void FitRow(int y, const T* const* rows, float scale);
+  void FitRow(int y, const T* const* rows, float scale, float* coef_row, float* rgb_row);
 
   PtmFitOptions options_;
   PtmLightCheck light_check_;
   int n_ = 0, width_ = 0, height_ = 0, channels_ = 0;
   std::vector<float> p_, a_f_;  // pinv(A) row-major 6 x n; A row-major n x 6
-  Ptm ptm_;
   std::vector<double> row_sse_;
   std::chrono::steady_clock::time_point start_;
 };
