@@ -14,6 +14,7 @@
 
 #include "capture/btf_render.h"
 #include "core/directions.h"
+#include "core/scratch_file.h"
 #include "core/image_io.h"
 #include "reconstruct/statistical_btf.h"
 #include "tests/testing.h"
@@ -373,7 +374,54 @@ TEST(PtmFile, ParallelWritingGivesTheReferenceBytes) {
       ASSERT_GT(bytes.size(), reference.size());
       EXPECT_TRUE(bytes.compare(bytes.size() - reference.size(), reference.size(), reference) == 0)
           << PtmFormatToString(format) << (integer_scales ? " integer" : " float") << " scales";
+      // The same PTM parked in a scratch file row by row, as fit-ptm does, and written from
+      // there: the same file.
+      const fs::path parked_file = file.parent_path() / "parked.ptm";
+      auto scratch = ScratchFile::Create(file.parent_path());
+      ASSERT_TRUE(scratch.ok()) << scratch.status().message();
+      const size_t row_floats = size_t(ptm.width()) * ptm.coefficients.channels(), rgb_floats = size_t(ptm.width()) * 3;
+      const uint64_t rgb_start = uint64_t(ptm.height()) * row_floats * sizeof(float);
+      PtmRowSource parked{format, ptm.width(), ptm.height(), CoefficientRange::Empty(), {}, {}};
+      for (int y = ptm.height() - 1; y >= 0; --y) {  // any order
+        parked.range.Include(RowCoefficientRange(ptm.coefficients.row(y), int(row_floats)));
+        ASSERT_TRUE(scratch->Write(y * row_floats * sizeof(float), ptm.coefficients.row(y), row_floats * sizeof(float)).ok());
+        if (format == PtmFormat::kLrgb) {
+          ASSERT_TRUE(scratch->Write(rgb_start + y * rgb_floats * sizeof(float), ptm.rgb.row(y), rgb_floats * sizeof(float)).ok());
+        }
+      }
+      const auto read = [&](uint64_t offset, size_t floats, std::vector<float>* buffer) -> StatusOr<const float*> {
+        buffer->resize(floats);
+        MESOCAP_RETURN_IF_ERROR(scratch->Read(offset, buffer->data(), floats * sizeof(float)));
+        return buffer->data();
+      };
+      parked.coefficients = [&](int y, std::vector<float>* buffer) { return read(y * row_floats * sizeof(float), row_floats, buffer); };
+      parked.rgb = [&](int y, std::vector<float>* buffer) {
+        return read(rgb_start + y * rgb_floats * sizeof(float), rgb_floats, buffer);
+      };
+      PtmQuantization parked_q;
+      ASSERT_TRUE(WritePtmFile(parked_file, parked, {.integer_scales = integer_scales}, &parked_q).ok());
+      EXPECT_EQ(parked_q.scale, q.scale);
+      EXPECT_EQ(parked_q.bias, q.bias);
+      EXPECT_TRUE(ReadBytes(parked_file) == bytes) << PtmFormatToString(format) << ": written from parked rows";
     }
+}
+
+TEST(PtmFile, ARowThatCannotBeReadFailsTheWriteAndLeavesNoFile) {
+  Ptm ptm;
+  ptm.format = PtmFormat::kRgb;
+  ptm.coefficients = Image(40, 300, 18, 0.25f);
+  PtmRowSource rows{ptm.format, ptm.width(), ptm.height(), RowCoefficientRange(ptm.coefficients.data(), 18), {}, {}};
+  rows.coefficients = [&](int y, std::vector<float>*) -> StatusOr<const float*> {
+    if (y == 211) return Status::Error("scratch: cannot read back row 211");
+    return ptm.coefficients.row(y);
+  };
+  const fs::path file = testing::MakeTempDir() / "failed.ptm";
+  const Status st = WritePtmFile(file, rows);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("row 211"), std::string::npos) << st.message();
+  EXPECT_FALSE(fs::exists(file));
+  rows.range.finite = false;
+  EXPECT_FALSE(WritePtmFile(file, rows).ok());
 }
 
 class PtmFileErrors : public ::testing::Test {

@@ -217,9 +217,29 @@ int RoundUpToLane(int len) { return (len + kLane - 1) / kLane * kLane; }
 
 // out[k * stride + j] = sum_i p[k * n + i] * obs[i * stride + j] for j < stride (a multiple of
 // kLane): the least-squares coefficients of every value, with p = pinv(A) row-major 6 x n. The
-// sum runs over the lights in order, so the result does not depend on blocks or threads.
+// sum runs over the lights in order, so the result does not depend on blocks or threads. Two
+// chunks of kLane values at a time: each broadcast p[k * n + i] serves both (the loop is bound by
+// loads, not by multiply-adds, with one chunk).
 MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const float* p, float* out) {
-  for (int j0 = 0; j0 < stride; j0 += kLane) {
+  int j0 = 0;
+  for (; j0 + 2 * kLane <= stride; j0 += 2 * kLane) {
+    Lane acc[2][kPtmCoefficients] = {};
+    for (int i = 0; i < n; ++i) {
+      Lane v[2];
+      LoadLane(obs + size_t(i) * stride + j0, v[0]);
+      LoadLane(obs + size_t(i) * stride + j0 + kLane, v[1]);
+      for (int k = 0; k < kPtmCoefficients; ++k) {
+        const float pk = p[k * n + i];
+        acc[0][k] += pk * v[0];
+        acc[1][k] += pk * v[1];
+      }
+    }
+    for (int k = 0; k < kPtmCoefficients; ++k) {
+      StoreLane(out + size_t(k) * stride + j0, acc[0][k]);
+      StoreLane(out + size_t(k) * stride + j0 + kLane, acc[1][k]);
+    }
+  }
+  for (; j0 < stride; j0 += kLane) {
     Lane acc[kPtmCoefficients] = {};
     for (int i = 0; i < n; ++i) {
       Lane v;
@@ -228,6 +248,12 @@ MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const f
     }
     for (int k = 0; k < kPtmCoefficients; ++k) StoreLane(out + size_t(k) * stride + j0, acc[k]);
   }
+}
+
+// dst[j] = float(src[j]) * scale for j < len: a block's observations as float.
+template <typename T>
+MESOCAP_SIMD_CLONES void ConvertValues(const T* src, int len, float scale, float* dst) {
+  for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
 }
 
 // fitted[j] = sum_k a_row[k] * coef[k * stride + j]: the fit evaluated at one light.
@@ -243,10 +269,37 @@ MESOCAP_SIMD_CLONES void EvaluateBlock(const float* coef, const float* a_row, in
   }
 }
 
-// Sum over lights and values of (fit - observation)^2, with a row-major n x 6.
+// Sum over lights and values of (fit - observation)^2, with a row-major n x 6. Two chunks of
+// kLane values at a time, as in SolveBlock; the chunks' sums are added in order.
 MESOCAP_SIMD_CLONES double ResidualBlock(const float* obs, int n, int stride, const float* a, const float* coef) {
   double total = 0;
-  for (int j0 = 0; j0 < stride; j0 += kLane) {
+  int j0 = 0;
+  for (; j0 + 2 * kLane <= stride; j0 += 2 * kLane) {
+    Lane c[2][kPtmCoefficients];
+    for (int k = 0; k < kPtmCoefficients; ++k) {
+      LoadLane(coef + size_t(k) * stride + j0, c[0][k]);
+      LoadLane(coef + size_t(k) * stride + j0 + kLane, c[1][k]);
+    }
+    Lane s[2] = {};
+    for (int i = 0; i < n; ++i) {
+      const float* ai = a + i * kPtmCoefficients;
+      Lane f[2] = {};
+      for (int k = 0; k < kPtmCoefficients; ++k) {
+        f[0] += ai[k] * c[0][k];
+        f[1] += ai[k] * c[1][k];
+      }
+      Lane o[2];
+      LoadLane(obs + size_t(i) * stride + j0, o[0]);
+      LoadLane(obs + size_t(i) * stride + j0 + kLane, o[1]);
+      for (int h = 0; h < 2; ++h) {
+        const Lane r = f[h] - o[h];
+        s[h] += r * r;
+      }
+    }
+    for (int h = 0; h < 2; ++h)
+      for (int l = 0; l < kLane; ++l) total += s[h][l];
+  }
+  for (; j0 < stride; j0 += kLane) {
     Lane c[kPtmCoefficients];
     for (int k = 0; k < kPtmCoefficients; ++k) LoadLane(coef + size_t(k) * stride + j0, c[k]);
     Lane s = {};
@@ -319,7 +372,7 @@ void PtmRowFitter::FitRow(int y, const T* const* rows, float scale, float* coef_
         for (size_t b = 0; b < bytes; b += 64) __builtin_prefetch(next + b);
       }
       if (channels == 3) {
-        for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
+        ConvertValues(src, len, scale, dst);
       } else {
         for (int x = 0; x < bw; ++x)
           for (int c = 0; c < 3; ++c)
