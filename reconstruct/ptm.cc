@@ -250,6 +250,32 @@ MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const f
   }
 }
 
+// dst[j * 6 + k] = src[k * stride + j] for j < len: a block's coefficients, solved as one run
+// per coefficient index, into the Ptm's six per value. Four values at a time: a 4x4 transpose of
+// coefficients 0-3 and the pairs of 4 and 5, woven by shuffles.
+typedef float Quad __attribute__((vector_size(4 * sizeof(float))));
+MESOCAP_SIMD_CLONES void InterleaveCoefficients(const float* src, int stride, int len, float* dst) {
+  int j = 0;
+  for (; j + 4 <= len; j += 4) {
+    Quad r[kPtmCoefficients];
+    for (int k = 0; k < kPtmCoefficients; ++k) std::memcpy(&r[k], src + size_t(k) * stride + j, sizeof r[k]);
+    const Quad a = __builtin_shufflevector(r[0], r[1], 0, 4, 1, 5), b = __builtin_shufflevector(r[2], r[3], 0, 4, 1, 5);
+    const Quad c = __builtin_shufflevector(r[0], r[1], 2, 6, 3, 7), d = __builtin_shufflevector(r[2], r[3], 2, 6, 3, 7);
+    const Quad t[4] = {__builtin_shufflevector(a, b, 0, 1, 4, 5), __builtin_shufflevector(a, b, 2, 3, 6, 7),
+                       __builtin_shufflevector(c, d, 0, 1, 4, 5), __builtin_shufflevector(c, d, 2, 3, 6, 7)};
+    const Quad u = __builtin_shufflevector(r[4], r[5], 0, 4, 1, 5), v = __builtin_shufflevector(r[4], r[5], 2, 6, 3, 7);
+    const Quad out[6] = {t[0],
+                         __builtin_shufflevector(u, t[1], 0, 1, 4, 5),
+                         __builtin_shufflevector(t[1], u, 2, 3, 6, 7),
+                         t[2],
+                         __builtin_shufflevector(v, t[3], 0, 1, 4, 5),
+                         __builtin_shufflevector(t[3], v, 2, 3, 6, 7)};
+    std::memcpy(dst + size_t(j) * kPtmCoefficients, out, sizeof out);
+  }
+  for (; j < len; ++j)
+    for (int k = 0; k < kPtmCoefficients; ++k) dst[size_t(j) * kPtmCoefficients + k] = src[size_t(k) * stride + j];
+}
+
 // dst[j] = float(src[j]) * scale for j < len: a block's observations as float.
 template <typename T>
 MESOCAP_SIMD_CLONES void ConvertValues(const T* src, int len, float scale, float* dst) {
@@ -383,10 +409,9 @@ void PtmRowFitter::FitRow(int y, const T* const* rows, float scale, float* coef_
     if (!lrgb) {
       coef.resize(size_t(kPtmCoefficients) * stride);
       SolveBlock(obs.data(), n, stride, p_.data(), coef.data());
-      for (int x = 0; x < bw; ++x)
-        for (int c = 0; c < 3; ++c)
-          for (int k = 0; k < kPtmCoefficients; ++k)
-            coef_row[size_t(x0 + x) * 18 + c * 6 + k] = coef[size_t(k) * stride + x * 3 + c];
+      // Value j = 3 x + c of the block is pixel x0 + x's channel c: its six coefficients sit at
+      // (x0 + x) * 18 + c * 6 = x0 * 18 + j * 6.
+      InterleaveCoefficients(coef.data(), stride, len, coef_row + size_t(x0) * 18);
       if (options_.compute_residual)
         sse += ResidualBlock(obs.data(), n, stride, a_f_.data(), coef.data());
       continue;
