@@ -38,9 +38,6 @@ std::string MesocapBinary() {
   return bin ? bin : "mesocap";
 }
 
-namespace {
-
-// Runs a shell command; its stdout (and whatever it redirects there) into *output; the exit code.
 int RunCommand(const std::string& command, std::string* output) {
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return -1;
@@ -52,8 +49,6 @@ int RunCommand(const std::string& command, std::string* output) {
   if (output) *output = out;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
-
-}  // namespace
 
 int RunMesocap(const std::string& args, std::string* output) {
   return RunCommand(MesocapBinary() + " " + args + " 2>&1", output);

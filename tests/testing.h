@@ -14,6 +14,9 @@ std::filesystem::path MakeTempDir();
 uint32_t SeedFromTestName();
 // Path of the mesocap executable (from $MESOCAP_BIN, set by ctest).
 std::string MesocapBinary();
+// Runs a shell command (sh), its stdout (and whatever it redirects there) into *output; returns
+// the exit code.
+int RunCommand(const std::string& command, std::string* output = nullptr);
 // Runs `mesocap ARGS`, capturing stdout+stderr into *output; returns the exit code.
 int RunMesocap(const std::string& args, std::string* output = nullptr);
 // Runs the Khronos glTF validator on `gltf` (scripts/validate-gltf.mjs, node + the npm package
