@@ -10,22 +10,29 @@ RUNS=${2:-10}
 MESOCAP=$BUILD/app/mesocap
 [[ -x $MESOCAP ]] || { echo "build the mesocap target in $BUILD first" >&2; exit 2; }
 
-# Median wall time of RUNS runs of a command line, in milliseconds (one warm-up run first).
+# Median wall time of RUNS runs of a command line, in milliseconds (one warm-up run first): the
+# time from spawning the process to reaping it (Python's perf_counter around subprocess.run; no
+# shell or `date` process inside the interval).
 median_ms() {
-  "$@" >/dev/null 2>&1 || true
-  local times=()
-  for ((r = 0; r < RUNS; r++)); do
-    local start=$(date +%s%N)
-    "$@" >/dev/null 2>&1 || true
-    times+=($((($(date +%s%N) - start) / 1000)))
-  done
-  printf '%s\n' "${times[@]}" | sort -n | awk '{ t[NR] = $1 } END { m = (NR % 2) ? t[(NR + 1) / 2] : (t[NR / 2] + t[NR / 2 + 1]) / 2; printf "%.1f", m / 1000 }'
+  python3 - "$RUNS" "$@" <<'PY'
+import statistics, subprocess, sys, time
+runs, command = int(sys.argv[1]), sys.argv[2:]
+quiet = dict(stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+subprocess.run(command, **quiet)
+times = []
+for _ in range(runs):
+    start = time.perf_counter()
+    subprocess.run(command, **quiet)
+    times.append(time.perf_counter() - start)
+print(f"{1000 * statistics.median(times):.1f}")
+PY
 }
 
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 printf 'P3\n1 1\n255\n128 128 128\n' > "$WORK/grey.ppm"
 printf '%-44s %10s\n' "request" "median ms"
+printf '%-44s %10s\n' "(/bin/true: the cost of spawning a process)" "$(median_ms /bin/true)"
 for request in "--version" "--help" "fit-ptm --help" "synth --help"; do
   # shellcheck disable=SC2086
   printf '%-44s %10s\n' "$request" "$(median_ms "$MESOCAP" $request)"

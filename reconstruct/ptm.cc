@@ -276,10 +276,17 @@ MESOCAP_SIMD_CLONES void InterleaveCoefficients(const float* src, int stride, in
     for (int k = 0; k < kPtmCoefficients; ++k) dst[size_t(j) * kPtmCoefficients + k] = src[size_t(k) * stride + j];
 }
 
-// dst[j] = float(src[j]) * scale for j < len: a block's observations as float.
+// dst[j] = float(src[j]) * scale for j < len: a block's observations as float. One clone pair
+// per input type (clang's target_clones does not take templates).
 template <typename T>
-MESOCAP_SIMD_CLONES void ConvertValues(const T* src, int len, float scale, float* dst) {
+inline void ConvertEach(const T* src, int len, float scale, float* dst) {
   for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
+}
+MESOCAP_SIMD_CLONES void ConvertValues(const uint8_t* src, int len, float scale, float* dst) {
+  ConvertEach(src, len, scale, dst);
+}
+MESOCAP_SIMD_CLONES void ConvertValues(const float* src, int len, float scale, float* dst) {
+  ConvertEach(src, len, scale, dst);
 }
 
 // fitted[j] = sum_k a_row[k] * coef[k * stride + j]: the fit evaluated at one light.
