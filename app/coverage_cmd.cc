@@ -23,6 +23,7 @@ namespace fs = std::filesystem;
 
 struct CoverageArgs {
   fs::path session, out, layout_file;
+  std::string objective = "spread";
   CoverageOptions options;
 };
 
@@ -43,8 +44,9 @@ std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibratio
   return boards;
 }
 
-int Run(const CoverageArgs& a) {
+int Run(CoverageArgs a) {
   const std::string verb = "coverage";
+  a.options.objective = a.objective == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
   if (a.options.near_deg <= 0 || a.options.near_deg > 90 || a.options.suggestions < 0 || a.options.suggestions > 100)
     return Fail(verb, "--near-deg must be in (0, 90] and --suggest in [0, 100]", kExitUsage);
   const fs::path rig_file = a.session / "calibration" / "rig.json";
@@ -73,7 +75,7 @@ int Run(const CoverageArgs& a) {
       AssessBoards(MeasuredBoardLights(calibration, flashes, lit, a.session, &source), top->id, flashes, a.options, lit);
   const fs::path out = a.out.empty() ? a.session / "coverage" : a.out;
   if (Status st = WriteCoverageFolder(out, assessment, source,
-                                      {{"session", a.session.string()}, {"near_deg", a.options.near_deg},
+                                      {{"session", a.session.string()}, {"near_deg", a.options.near_deg}, {"objective", a.objective},
                                        {"suggestions", a.options.suggestions}});
       !st.ok())
     return Fail(verb, st.message());
@@ -102,6 +104,11 @@ Command CoverageCommand() {
     sub->add_option("--near-deg", args->options.near_deg, "A target light within this of a measured one is covered")
         ->capture_default_str();
     sub->add_option("--suggest", args->options.suggestions, "How many next flash positions to list")->capture_default_str();
+    sub->add_option("--objective", args->objective,
+                    "How the next positions are chosen: spread (where the measured lights are sparsest) or near (most "
+                    "targets brought within --near-deg)")
+        ->check(CLI::IsMember({"spread", "near"}))
+        ->capture_default_str();
   };
   c.run = [args]() { return Run(*args); };
   return c;

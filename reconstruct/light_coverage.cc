@@ -12,17 +12,16 @@ namespace {
 
 constexpr double kHorizonZ = 0.02;  // about 1 deg above a board's plane
 
-// Targets (board, target index) a light covers.
-std::vector<std::pair<int, int>> CoveredBy(const std::vector<BoardLights>& boards, const Eigen::Vector3d& position_cam,
-                                           const std::vector<Eigen::Vector3d>& targets, double near_deg, const LitFn& lit) {
-  std::vector<std::pair<int, int>> covered;
+// The light a flash at `position_cam` gives each board it lights: above the board's horizon and,
+// by `lit`, with no shadow on its patch.
+std::vector<std::pair<int, Eigen::Vector3d>> LightsGiven(const std::vector<BoardLights>& boards,
+                                                         const Eigen::Vector3d& position_cam, const LitFn& lit) {
+  std::vector<std::pair<int, Eigen::Vector3d>> given;
   for (int b = 0; b < int(boards.size()); ++b) {
     const Eigen::Vector3d light = boards[b].LightFrom(position_cam);
-    if (light.z() <= kHorizonZ || (lit && !lit(boards[b].board, position_cam))) continue;
-    for (int k = 0; k < int(targets.size()); ++k)
-      if (AngleBetweenDeg(light, targets[k]) <= near_deg) covered.push_back({b, k});
+    if (light.z() > kHorizonZ && (!lit || lit(boards[b].board, position_cam))) given.push_back({b, light});
   }
-  return covered;
+  return given;
 }
 
 }  // namespace
@@ -70,8 +69,14 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
       candidates.push_back(top_board.R * in_top + top_board.t);
       angles.push_back({el, az});
     }
-  std::vector<std::vector<std::pair<int, int>>> covers(candidates.size());
-  for (size_t c = 0; c < candidates.size(); ++c) covers[c] = CoveredBy(boards, candidates[c], targets, options.near_deg, lit);
+  std::vector<std::vector<std::pair<int, Eigen::Vector3d>>> gives(candidates.size());
+  std::vector<std::vector<std::pair<int, int>>> covers(candidates.size());  // (board, target)
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    gives[c] = LightsGiven(boards, candidates[c], lit);
+    for (const auto& [b, light] : gives[c])
+      for (int k = 0; k < int(targets.size()); ++k)
+        if (AngleBetweenDeg(light, targets[k]) <= options.near_deg) covers[c].push_back({b, k});
+  }
 
   // What is covered now, and what could be.
   std::vector<std::vector<char>> covered(boards.size(), std::vector<char>(targets.size(), 0)), reachable = covered;
@@ -94,21 +99,38 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
     report.boards.push_back(bc);
   }
 
-  // Greedy: the position that covers most of what is still uncovered, then again.
-  for (int n = 0; n < options.suggestions; ++n) {
-    int best = -1, best_gain = 0;
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      int gain = 0;
+  // Greedy: the position that gains most, then again with its lights taken (kSpread: each
+  // target's angle to its nearest light).
+  const bool spread = options.objective == CoverageObjective::kSpread;
+  std::vector<std::vector<double>> nearest(boards.size(), std::vector<double>(targets.size(), options.spread_cap_deg));
+  for (int b = 0; spread && b < int(boards.size()); ++b)
+    for (int k = 0; k < int(targets.size()); ++k)
+      for (const Eigen::Vector3d& light : boards[b].lights) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
+  const auto gain_of = [&](size_t c) {
+    double gain = 0;
+    if (!spread) {
       for (const auto& [b, k] : covers[c]) gain += !covered[b][k];
-      if (gain > best_gain) best = int(c), best_gain = gain;
+      return gain;
     }
+    for (const auto& [b, light] : gives[c])
+      for (int k = 0; k < int(targets.size()); ++k) gain += std::max(0.0, nearest[b][k] - AngleBetweenDeg(light, targets[k]));
+    return gain;
+  };
+  for (int n = 0; n < options.suggestions; ++n) {
+    int best = -1;
+    double best_gain = 1e-9;
+    for (size_t c = 0; c < candidates.size(); ++c)
+      if (const double gain = gain_of(c); gain > best_gain) best = int(c), best_gain = gain;
     if (best < 0) break;
-    for (const auto& [b, k] : covers[best]) covered[b][k] = 1;
     FlashSuggestion s;
+    for (const auto& [b, k] : covers[best]) s.targets_gained += !covered[b][k], covered[b][k] = 1;
+    for (size_t g = 0; spread && g < gives[best].size(); ++g) {
+      const auto& [b, light] = gives[best][g];
+      for (int k = 0; k < int(targets.size()); ++k) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
+    }
     s.position_cam = candidates[best];
     s.elevation_deg = angles[best].first;
     s.azimuth_deg = angles[best].second;
-    s.targets_gained = best_gain;
     s.words = FlashPositionWords(s.position_cam, top_board);
     report.next.push_back(s);
   }
