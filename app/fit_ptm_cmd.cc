@@ -83,10 +83,8 @@ class PhaseTimer {
   double cpu_start_;
 };
 
-// Photos that are all baseline 8-bit JPEGs, fitted as stored, stream: every photo's decoder stays
-// open and bands of rows are decoded (in parallel over the photos) and then fitted (in parallel
-// over the rows) while they are in cache. No photo is held whole: memory is the files' bytes, one
-// band per photo and the result. Null readers: not all photos are such JPEGs.
+// Photos that are all baseline 8-bit JPEGs, fitted as stored, stream (FitStreamingJpegs): every
+// photo's decoder stays open on its file. Null readers: not all photos are such JPEGs.
 StatusOr<std::vector<std::unique_ptr<JpegRowReader>>> OpenJpegReaders(const std::vector<LpEntry>& entries, int threads) {
   const int n = int(entries.size());
   std::vector<std::unique_ptr<JpegRowReader>> readers(entries.size());
