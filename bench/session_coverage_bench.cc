@@ -12,7 +12,7 @@
 // Usage: bench_session_coverage [--shots 24,50,100,150] [--materials weave,stones,corduroy]
 //                               [--seeds 11,12] [--size 64] [--pairs 240] [--colour-space NAME]
 //                               [--top-view-prior 0|1] [--list-lights 1] [--guided START]
-//                               [--predict-shadows 0|1] [--objective spread|near]
+//                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 #include <cstdio>
@@ -82,7 +82,7 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
 // With `predict_shadows`, the guidance knows which positions shadow which board (as `mesocap
 // capture --guide` predicts them from the calibrated rig).
 std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total, bool predict_shadows,
-                                     CoverageObjective objective) {
+                                     CoverageObjective objective, double spread_cap_deg) {
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
@@ -93,6 +93,7 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     CoverageOptions options;
     options.suggestions = 1;
     options.objective = objective;
+    options.spread_cap_deg = spread_cap_deg;
     options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
     LitFn lit;
     if (predict_shadows)
@@ -113,6 +114,7 @@ int Run(int argc, char** argv) {
   int guided_start = 0;
   bool predict_shadows = true;
   CoverageObjective objective = CoverageObjective::kSpread;
+  double spread_cap_deg = CoverageOptions().spread_cap_deg;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "--shots") shots = Split(value);
@@ -125,6 +127,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
+    else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
     else if (flag == "--objective") objective = value == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
     else {
       std::fprintf(stderr, "unknown option %s\n", flag.c_str());
@@ -153,7 +156,7 @@ int Run(int argc, char** argv) {
         options.btf.top_view_prior = top_view_prior;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
-        for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective))) {
+        for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg))) {
           if (list_lights) {
             const Eigen::Vector2d v = AnglesDegFromDirection(board.view);
             std::printf("view (%.0f, %.0f), %zu lights:", v.x(), v.y(), board.lights.size());
