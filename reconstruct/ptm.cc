@@ -215,39 +215,36 @@ inline void StoreLane(float* p, const Lane& v) { std::memcpy(p, &v, sizeof v); }
 
 int RoundUpToLane(int len) { return (len + kLane - 1) / kLane * kLane; }
 
+// Helpers of the cloned kernels are always inlined: each clone then compiles them for its own
+// target. Called instead, the x86-64-v3 clone ran their baseline code (fit-ptm's fit 10x
+// slower, without fused multiply-adds).
+#define MESOCAP_KERNEL_HELPER __attribute__((always_inline)) inline
+
+// SolveBlock for kChunks chunks of kLane values from j0: each broadcast p[k * n + i] serves every
+// chunk (with one chunk the loop is bound by loads, not by multiply-adds).
+template <int kChunks>
+MESOCAP_KERNEL_HELPER void SolveChunks(const float* obs, int n, int stride, const float* p, int j0, float* out) {
+  Lane acc[kChunks][kPtmCoefficients] = {};
+  for (int i = 0; i < n; ++i) {
+    Lane v[kChunks];
+    for (int h = 0; h < kChunks; ++h) LoadLane(obs + size_t(i) * stride + j0 + h * kLane, v[h]);
+    for (int k = 0; k < kPtmCoefficients; ++k) {
+      const float pk = p[k * n + i];
+      for (int h = 0; h < kChunks; ++h) acc[h][k] += pk * v[h];
+    }
+  }
+  for (int k = 0; k < kPtmCoefficients; ++k)
+    for (int h = 0; h < kChunks; ++h) StoreLane(out + size_t(k) * stride + j0 + h * kLane, acc[h][k]);
+}
+
 // out[k * stride + j] = sum_i p[k * n + i] * obs[i * stride + j] for j < stride (a multiple of
 // kLane): the least-squares coefficients of every value, with p = pinv(A) row-major 6 x n. The
 // sum runs over the lights in order, so the result does not depend on blocks or threads. Two
-// chunks of kLane values at a time: each broadcast p[k * n + i] serves both (the loop is bound by
-// loads, not by multiply-adds, with one chunk).
+// chunks of kLane values at a time, then the odd one.
 MESOCAP_SIMD_CLONES void SolveBlock(const float* obs, int n, int stride, const float* p, float* out) {
   int j0 = 0;
-  for (; j0 + 2 * kLane <= stride; j0 += 2 * kLane) {
-    Lane acc[2][kPtmCoefficients] = {};
-    for (int i = 0; i < n; ++i) {
-      Lane v[2];
-      LoadLane(obs + size_t(i) * stride + j0, v[0]);
-      LoadLane(obs + size_t(i) * stride + j0 + kLane, v[1]);
-      for (int k = 0; k < kPtmCoefficients; ++k) {
-        const float pk = p[k * n + i];
-        acc[0][k] += pk * v[0];
-        acc[1][k] += pk * v[1];
-      }
-    }
-    for (int k = 0; k < kPtmCoefficients; ++k) {
-      StoreLane(out + size_t(k) * stride + j0, acc[0][k]);
-      StoreLane(out + size_t(k) * stride + j0 + kLane, acc[1][k]);
-    }
-  }
-  for (; j0 < stride; j0 += kLane) {
-    Lane acc[kPtmCoefficients] = {};
-    for (int i = 0; i < n; ++i) {
-      Lane v;
-      LoadLane(obs + size_t(i) * stride + j0, v);
-      for (int k = 0; k < kPtmCoefficients; ++k) acc[k] += p[k * n + i] * v;
-    }
-    for (int k = 0; k < kPtmCoefficients; ++k) StoreLane(out + size_t(k) * stride + j0, acc[k]);
-  }
+  for (; j0 + 2 * kLane <= stride; j0 += 2 * kLane) SolveChunks<2>(obs, n, stride, p, j0, out);
+  for (; j0 < stride; j0 += kLane) SolveChunks<1>(obs, n, stride, p, j0, out);
 }
 
 // dst[j * 6 + k] = src[k * stride + j] for j < len: a block's coefficients, solved as one run
@@ -279,7 +276,7 @@ MESOCAP_SIMD_CLONES void InterleaveCoefficients(const float* src, int stride, in
 // dst[j] = float(src[j]) * scale for j < len: a block's observations as float. One clone pair
 // per input type (clang's target_clones does not take templates).
 template <typename T>
-inline void ConvertEach(const T* src, int len, float scale, float* dst) {
+MESOCAP_KERNEL_HELPER void ConvertEach(const T* src, int len, float scale, float* dst) {
   for (int j = 0; j < len; ++j) dst[j] = float(src[j]) * scale;
 }
 MESOCAP_SIMD_CLONES void ConvertValues(const uint8_t* src, int len, float scale, float* dst) {
@@ -302,51 +299,38 @@ MESOCAP_SIMD_CLONES void EvaluateBlock(const float* coef, const float* a_row, in
   }
 }
 
-// Sum over lights and values of (fit - observation)^2, with a row-major n x 6. Two chunks of
-// kLane values at a time, as in SolveBlock; the chunks' sums are added in order.
+// ResidualBlock for kChunks chunks of kLane values from j0, as SolveChunks; the chunks' sums are
+// added to *total in order.
+template <int kChunks>
+MESOCAP_KERNEL_HELPER void ResidualChunks(const float* obs, int n, int stride, const float* a, const float* coef, int j0,
+                                           double* total) {
+  Lane c[kChunks][kPtmCoefficients];
+  for (int k = 0; k < kPtmCoefficients; ++k)
+    for (int h = 0; h < kChunks; ++h) LoadLane(coef + size_t(k) * stride + j0 + h * kLane, c[h][k]);
+  Lane s[kChunks] = {};
+  for (int i = 0; i < n; ++i) {
+    const float* ai = a + i * kPtmCoefficients;
+    Lane f[kChunks] = {};
+    for (int k = 0; k < kPtmCoefficients; ++k)
+      for (int h = 0; h < kChunks; ++h) f[h] += ai[k] * c[h][k];
+    for (int h = 0; h < kChunks; ++h) {
+      Lane o;
+      LoadLane(obs + size_t(i) * stride + j0 + h * kLane, o);
+      const Lane r = f[h] - o;
+      s[h] += r * r;
+    }
+  }
+  for (int h = 0; h < kChunks; ++h)
+    for (int l = 0; l < kLane; ++l) *total += s[h][l];
+}
+
+// Sum over lights and values of (fit - observation)^2, with a row-major n x 6: two chunks at a
+// time, then the odd one.
 MESOCAP_SIMD_CLONES double ResidualBlock(const float* obs, int n, int stride, const float* a, const float* coef) {
   double total = 0;
   int j0 = 0;
-  for (; j0 + 2 * kLane <= stride; j0 += 2 * kLane) {
-    Lane c[2][kPtmCoefficients];
-    for (int k = 0; k < kPtmCoefficients; ++k) {
-      LoadLane(coef + size_t(k) * stride + j0, c[0][k]);
-      LoadLane(coef + size_t(k) * stride + j0 + kLane, c[1][k]);
-    }
-    Lane s[2] = {};
-    for (int i = 0; i < n; ++i) {
-      const float* ai = a + i * kPtmCoefficients;
-      Lane f[2] = {};
-      for (int k = 0; k < kPtmCoefficients; ++k) {
-        f[0] += ai[k] * c[0][k];
-        f[1] += ai[k] * c[1][k];
-      }
-      Lane o[2];
-      LoadLane(obs + size_t(i) * stride + j0, o[0]);
-      LoadLane(obs + size_t(i) * stride + j0 + kLane, o[1]);
-      for (int h = 0; h < 2; ++h) {
-        const Lane r = f[h] - o[h];
-        s[h] += r * r;
-      }
-    }
-    for (int h = 0; h < 2; ++h)
-      for (int l = 0; l < kLane; ++l) total += s[h][l];
-  }
-  for (; j0 < stride; j0 += kLane) {
-    Lane c[kPtmCoefficients];
-    for (int k = 0; k < kPtmCoefficients; ++k) LoadLane(coef + size_t(k) * stride + j0, c[k]);
-    Lane s = {};
-    for (int i = 0; i < n; ++i) {
-      const float* ai = a + i * kPtmCoefficients;
-      Lane f = {};
-      for (int k = 0; k < kPtmCoefficients; ++k) f += ai[k] * c[k];
-      Lane o;
-      LoadLane(obs + size_t(i) * stride + j0, o);
-      const Lane r = f - o;
-      s += r * r;
-    }
-    for (int l = 0; l < kLane; ++l) total += s[l];
-  }
+  for (; j0 + 2 * kLane <= stride; j0 += 2 * kLane) ResidualChunks<2>(obs, n, stride, a, coef, j0, &total);
+  for (; j0 < stride; j0 += kLane) ResidualChunks<1>(obs, n, stride, a, coef, j0, &total);
   return total;
 }
 
