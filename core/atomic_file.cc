@@ -229,17 +229,20 @@ OutputFile::~OutputFile() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void OutputFile::WriteAt(uint64_t offset, const void* bytes, size_t size) {
+int WriteAllAt(int fd, const void* bytes, size_t size, uint64_t offset) {
   const char* p = static_cast<const char*>(bytes);
-  while (ok() && size > 0) {
-    const ssize_t n = ::pwrite(fd_, p, size, off_t(offset));
+  while (size > 0) {
+    const ssize_t n = ::pwrite(fd, p, size, off_t(offset));
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      error_ = n < 0 ? errno : EIO;
-      return;
-    }
+    if (n <= 0) return n < 0 ? errno : EIO;
     p += n, size -= size_t(n), offset += uint64_t(n);
   }
+  return 0;
+}
+
+void OutputFile::WriteAt(uint64_t offset, const void* bytes, size_t size) {
+  if (!ok()) return;
+  if (const int error = WriteAllAt(fd_, bytes, size, offset)) error_ = error;
 }
 
 void OutputFile::StartWriteBack(uint64_t offset, size_t size) {

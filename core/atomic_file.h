@@ -26,6 +26,10 @@ Status WriteTextAtomically(const std::filesystem::path& path, std::string_view t
 // Appends one line and fsyncs it: used for journals, where a crash may cut only the last line.
 Status AppendLineDurably(const std::filesystem::path& path, std::string_view line);
 
+// Writes all `size` bytes at `offset` of file descriptor `fd` (pwrite, resumed after a partial
+// write or EINTR): 0, or the errno of the failure (EIO for a write that wrote nothing).
+int WriteAllAt(int fd, const void* bytes, size_t size, uint64_t offset);
+
 // A file written in parts at their offsets (pwrite), for large outputs written in bands: each
 // part can start its write-back to disk at once (StartWriteBack), so the fsync that
 // WriteFileAtomically ends with finds little left to do. Errors are remembered: ok() and Close()

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <string>
 
+#include "core/atomic_file.h"
+
 namespace mesocap {
 namespace fs = std::filesystem;
 
@@ -36,14 +38,8 @@ ScratchFile::~ScratchFile() {
 }
 
 Status ScratchFile::Write(uint64_t offset, const void* bytes, size_t size) const {
-  const char* p = static_cast<const char*>(bytes);
-  while (size > 0) {
-    const ssize_t n = ::pwrite(fd_, p, size, off_t(offset));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0)
-      return Status::Error(folder_.string() + ": cannot write a scratch file: " + std::strerror(n < 0 ? errno : EIO));
-    p += n, size -= size_t(n), offset += uint64_t(n);
-  }
+  if (const int error = WriteAllAt(fd_, bytes, size, offset))
+    return Status::Error(folder_.string() + ": cannot write a scratch file: " + std::strerror(error));
   return Status::Ok();
 }
 
