@@ -12,14 +12,23 @@ namespace {
 
 constexpr double kHorizonZ = 0.02;  // about 1 deg above a board's plane
 
-// The light a flash at `position_cam` gives each board it lights: above the board's horizon and,
+// What a flash gives a board it lights: the light's angle to each of the board's targets.
+struct GivenLight {
+  int board = 0;
+  std::vector<double> target_angles_deg;
+};
+
+// The lights a flash at `position_cam` gives the boards it lights: above a board's horizon and,
 // by `lit`, with no shadow on its patch.
-std::vector<std::pair<int, Eigen::Vector3d>> LightsGiven(const std::vector<BoardLights>& boards,
-                                                         const Eigen::Vector3d& position_cam, const LitFn& lit) {
-  std::vector<std::pair<int, Eigen::Vector3d>> given;
+std::vector<GivenLight> LightsGiven(const std::vector<BoardLights>& boards, const Eigen::Vector3d& position_cam,
+                                    const std::vector<Eigen::Vector3d>& targets, const LitFn& lit) {
+  std::vector<GivenLight> given;
   for (int b = 0; b < int(boards.size()); ++b) {
     const Eigen::Vector3d light = boards[b].LightFrom(position_cam);
-    if (light.z() > kHorizonZ && (!lit || lit(boards[b].board, position_cam))) given.push_back({b, light});
+    if (light.z() <= kHorizonZ || (lit && !lit(boards[b].board, position_cam))) continue;
+    GivenLight g{b, {}};
+    for (const Eigen::Vector3d& target : targets) g.target_angles_deg.push_back(AngleBetweenDeg(light, target));
+    given.push_back(std::move(g));
   }
   return given;
 }
@@ -69,13 +78,13 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
       candidates.push_back(top_board.R * in_top + top_board.t);
       angles.push_back({el, az});
     }
-  std::vector<std::vector<std::pair<int, Eigen::Vector3d>>> gives(candidates.size());
+  std::vector<std::vector<GivenLight>> gives(candidates.size());
   std::vector<std::vector<std::pair<int, int>>> covers(candidates.size());  // (board, target)
   for (size_t c = 0; c < candidates.size(); ++c) {
-    gives[c] = LightsGiven(boards, candidates[c], lit);
-    for (const auto& [b, light] : gives[c])
+    gives[c] = LightsGiven(boards, candidates[c], targets, lit);
+    for (const GivenLight& g : gives[c])
       for (int k = 0; k < int(targets.size()); ++k)
-        if (AngleBetweenDeg(light, targets[k]) <= options.near_deg) covers[c].push_back({b, k});
+        if (g.target_angles_deg[k] <= options.near_deg) covers[c].push_back({g.board, k});
   }
 
   // What is covered now, and what could be.
@@ -112,8 +121,8 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
       for (const auto& [b, k] : covers[c]) gain += !covered[b][k];
       return gain;
     }
-    for (const auto& [b, light] : gives[c])
-      for (int k = 0; k < int(targets.size()); ++k) gain += std::max(0.0, nearest[b][k] - AngleBetweenDeg(light, targets[k]));
+    for (const GivenLight& g : gives[c])
+      for (int k = 0; k < int(targets.size()); ++k) gain += std::max(0.0, nearest[g.board][k] - g.target_angles_deg[k]);
     return gain;
   };
   for (int n = 0; n < options.suggestions; ++n) {
@@ -124,10 +133,8 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
     if (best < 0) break;
     FlashSuggestion s;
     for (const auto& [b, k] : covers[best]) s.targets_gained += !covered[b][k], covered[b][k] = 1;
-    for (size_t g = 0; spread && g < gives[best].size(); ++g) {
-      const auto& [b, light] = gives[best][g];
-      for (int k = 0; k < int(targets.size()); ++k) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
-    }
+    for (const GivenLight& g : gives[best])
+      for (int k = 0; k < int(targets.size()); ++k) nearest[g.board][k] = std::min(nearest[g.board][k], g.target_angles_deg[k]);
     s.position_cam = candidates[best];
     s.elevation_deg = angles[best].first;
     s.azimuth_deg = angles[best].second;
