@@ -11,6 +11,8 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <sstream>
 
 namespace mesocap {
@@ -20,7 +22,41 @@ namespace {
 
 std::string ErrnoText() { return std::strerror(errno); }
 
+// Whether `pid_text` names a process id (decimal) of a process that has ended: what it left may
+// go (a live process may be another run at work; one of another user answers EPERM and stays).
+bool ProcessEnded(const std::string& pid_text) {
+  if (pid_text.empty() || pid_text.size() > 9 || pid_text.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  const pid_t pid = pid_t(std::stol(pid_text));
+  return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+// Removes the temps that killed runs left in `folder` (`.NAME.tmpPID_N...`, also nested ones
+// such as `..NAME.tmpPID_0.tmpPID_1.ext` of a file set's member): a run interrupted by Ctrl-C
+// or the machine stopping cannot remove its own. Once per folder and process, so a folder written
+// file by file is listed once.
+void RemoveStaleTempsOnce(const fs::path& folder) {
+  static std::mutex mutex;
+  static std::set<fs::path> swept;
+  const std::lock_guard lock(mutex);
+  if (!swept.insert(folder).second) return;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder.empty() ? fs::path(".") : folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.front() != '.') continue;
+    for (size_t tag = name.find(".tmp"); tag != std::string::npos; tag = name.find(".tmp", tag + 1)) {
+      const size_t pid_end = name.find('_', tag);
+      if (pid_end == std::string::npos) break;
+      if (ProcessEnded(name.substr(tag + 4, pid_end - tag - 4))) {
+        fs::remove_all(entry.path(), ec);
+        break;
+      }
+    }
+  }
+}
+
 fs::path TempPathFor(const fs::path& path) {
+  RemoveStaleTempsOnce(path.parent_path());
   static std::atomic<unsigned> counter{0};
   // {fmt}, not string operator+: GCC 12 warns falsely (-Wrestrict) on "." + std::string.
   return path.parent_path() /
@@ -93,10 +129,7 @@ static void RemoveStaleSiblings(const fs::path& out) {
     for (const char* tag : {"partial", "old"}) {
       const std::string prefix = fmt::format(".{}.{}-", name, tag);
       if (sibling.rfind(prefix, 0) != 0) continue;
-      const std::string pid_text = sibling.substr(prefix.size());
-      if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) continue;
-      const pid_t pid = pid_t(std::stol(pid_text));
-      if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+      if (ProcessEnded(sibling.substr(prefix.size()))) fs::remove_all(entry.path(), ec);
     }
   }
 }

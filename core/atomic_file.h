@@ -17,7 +17,8 @@ namespace mesocap {
 
 // Calls `write(temp)` with a temp path in the same folder that keeps `path`'s extension (so
 // writers that choose a format by extension still work), then fsyncs and renames it to `path`.
-// On any failure the temp file is removed and `path` is untouched.
+// On any failure the temp file is removed and `path` is untouched. A run killed mid-write (Ctrl-C)
+// cannot remove its temp: the first write into a folder removes those of runs that have ended.
 Status WriteFileAtomically(const std::filesystem::path& path,
                            const std::function<Status(const std::filesystem::path& temp)>& write);
 

@@ -42,6 +42,25 @@ TEST(AtomicFile, FullDiskGivesAnErrorNamingTheFile) {
   EXPECT_NE(st.message().find("/dev/full"), std::string::npos);
 }
 
+TEST(AtomicFile, AWriteRemovesTheTempsOfEndedRunsAndKeepsLiveOnes) {
+  const auto dir = testing::MakeTempDir();
+  // What runs killed mid-write leave: a temp and a file set member's nested temp (pid 999999999
+  // cannot exist: pid_max is at most 2^22), next to a live run's temp and a user's hidden file.
+  const std::vector<std::string> stale = {".a.tmp999999999_0.txt", "..b.tmp999999999_0.tmp999999999_1.ptm"};
+  const std::vector<std::string> kept = {".c.tmp1_0.txt", ".notes.tmp", ".x.tmpfile_1.txt"};
+  for (const auto& name : stale) ASSERT_TRUE(WriteTextAtomically(dir / name, "left").ok());
+  for (const auto& name : kept) ASSERT_TRUE(WriteTextAtomically(dir / name, "keep").ok());
+  // The sweep runs once per folder and process: a fresh subfolder sees this write's sweep.
+  const auto sub = dir / "sub";
+  std::filesystem::create_directory(sub);
+  for (const auto& name : stale) std::filesystem::rename(dir / name, sub / name);
+  for (const auto& name : kept) std::filesystem::rename(dir / name, sub / name);
+  ASSERT_TRUE(WriteTextAtomically(sub / "a.txt", "new").ok());
+  for (const auto& name : stale) EXPECT_FALSE(std::filesystem::exists(sub / name)) << name;
+  for (const auto& name : kept) EXPECT_TRUE(std::filesystem::exists(sub / name)) << name;
+  EXPECT_EQ(*ReadTextFile(sub / "a.txt"), "new");
+}
+
 int FilesIn(const std::filesystem::path& dir) {
   int files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
