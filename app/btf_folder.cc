@@ -48,6 +48,15 @@ void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& n
                     "of moving them by the top view's change in light");
 }
 
+void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::string& name) {
+  command
+      ->add_option(name, *degrees,
+                   "With the top-view prior: past 15 deg from a view's nearest measured light, its own change from the top "
+                   "view fades with this scale in degrees (0: carried whole)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+}
+
 std::vector<DirectionPair> GridPairs(const std::string& grid) {
   const std::vector<Eigen::Vector3d> dirs = GridDirections(grid);
   std::vector<DirectionPair> pairs;

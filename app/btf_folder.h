@@ -42,6 +42,8 @@ void AddColourSpaceOption(CLI::App* command, std::string* text, const std::strin
 // `--no-top-view-prior` (or `name`): hold a view's statistics at the edge of its measured lights
 // for lights beyond them, as the paper does (StatisticalBtfOptions::top_view_prior).
 void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& name = "--no-top-view-prior");
+// `--far-light-falloff` (or `name`): StatisticalBtfOptions::far_light_falloff_deg, in degrees.
+void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::string& name = "--far-light-falloff");
 
 struct BtfFolderReport {
   int slices = 0;

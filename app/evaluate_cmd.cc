@@ -34,6 +34,7 @@ struct EvaluateArgs {
   double max_view_extrapolation = 1e9;
   std::string colour_space = "chromaticity";
   bool no_top_view_prior = false;
+  double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
   int threads = -1;
   bool no_progress = false;
 };
@@ -78,6 +79,7 @@ int Run(const EvaluateArgs& a) {
   options.btf.max_view_extrapolation = a.max_view_extrapolation;
   options.btf.colour_space = *ParseColourSpace(a.colour_space);
   options.btf.top_view_prior = !a.no_top_view_prior;
+  options.btf.far_light_falloff_deg = a.far_light_falloff_deg;
   ProgressBar bar("evaluate", !a.no_progress);
   std::optional<StatisticalBtf> model;
   auto eval = EvaluateStatisticalBtf(truth, options, bar.AsCallback(), &model);
@@ -88,7 +90,8 @@ int Run(const EvaluateArgs& a) {
   j["material"] = a.material;
   j["size"] = a.size;
   j["provenance"] = MakeProvenance({{"material", a.material}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
-                                      {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior}});
+                                      {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
+                                      {"far_light_falloff_deg", a.far_light_falloff_deg}});
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";
   for (int m = 0; m < kBtfMethods; ++m)
@@ -158,6 +161,7 @@ Command EvaluateCommand() {
         ->capture_default_str();
     AddColourSpaceOption(sub, &args->colour_space);
     AddTopViewPriorFlag(sub, &args->no_top_view_prior);
+    AddFarLightFalloffOption(sub, &args->far_light_falloff_deg);
     sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   };

@@ -160,7 +160,8 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
   stages.push_back({"reconstruct", {"resample"}, {},
                     {{"size", a.reconstruct.slices.size}, {"grid", a.reconstruct.grid},
                      {"pixel_only", a.reconstruct.pixel_only}, {"colour_space", a.reconstruct.colour_space},
-                     {"top_view_prior", !a.reconstruct.no_top_view_prior}},
+                     {"top_view_prior", !a.reconstruct.no_top_view_prior},
+                     {"far_light_falloff_deg", a.reconstruct.far_light_falloff_deg}},
                     {"btf"},
                     [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
   if (!a.synth.method.empty())

@@ -263,6 +263,7 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (!colour_space) return Status::Error("unknown BTF colour space '" + options.colour_space + "'");
   slice_options.btf.colour_space = *colour_space;
   slice_options.btf.top_view_prior = !options.no_top_view_prior;
+  slice_options.btf.far_light_falloff_deg = options.far_light_falloff_deg;
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
   const fs::path index = session / "slices" / "index.json";
   if (!fs::exists(index))
@@ -278,7 +279,8 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
                                        staging->path(),
                                        {{"index", index.string()}, {"size", slice_options.size}, {"grid", options.grid},
                                         {"pixel_only", options.pixel_only}, {"colour_space", options.colour_space},
-                                        {"top_view_prior", !options.no_top_view_prior}},
+                                        {"top_view_prior", !options.no_top_view_prior},
+                                        {"far_light_falloff_deg", options.far_light_falloff_deg}},
                                        bar.AsCallback());
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));

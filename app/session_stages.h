@@ -68,6 +68,7 @@ struct ReconstructStageOptions {
   bool pixel_only = false;
   std::string colour_space = "chromaticity";  // AddColourSpaceOption
   bool no_top_view_prior = false;             // AddTopViewPriorFlag
+  double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;  // AddFarLightFalloffOption
 };
 // The statistical BTF (Ngan & Durand) over a grid of direction pairs -> SESSION/btf/.
 StatusOr<StageSummary> RunReconstructStage(const std::filesystem::path& session, const ReconstructStageOptions& options,

@@ -11,10 +11,12 @@
 //
 // Usage: bench_session_coverage [--shots 24,50,100,150] [--materials weave,stones,corduroy]
 //                               [--seeds 11,12] [--size 64] [--pairs 240] [--colour-space NAME]
-//                               [--top-view-prior 0|1] [--list-lights 1] [--guided START]
+//                               [--top-view-prior 0|1] [--far-light-falloff DEG] [--details 1]
+//                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -111,6 +113,8 @@ int Run(int argc, char** argv) {
   int size = 64, pairs = 240;
   std::string colour_space = "chromaticity";
   bool list_lights = false, top_view_prior = true;
+  double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
+  bool details = false;
   int guided_start = 0;
   bool predict_shadows = true;
   CoverageObjective objective = CoverageObjective::kSpread;
@@ -125,6 +129,8 @@ int Run(int argc, char** argv) {
     else if (flag == "--colour-space") colour_space = value;
     else if (flag == "--list-lights") list_lights = value == "1";
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
+    else if (flag == "--details") details = value == "1";
+    else if (flag == "--far-light-falloff") far_light_falloff = std::stod(value);
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
@@ -154,6 +160,7 @@ int Run(int argc, char** argv) {
         options.max_pairs = pairs;
         options.btf.colour_space = ParseColourSpace(colour_space).value_or(ColourSpace::kChromaticity);
         options.btf.top_view_prior = top_view_prior;
+        options.btf.far_light_falloff_deg = far_light_falloff;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg))) {
@@ -194,6 +201,32 @@ int Run(int argc, char** argv) {
                     wins(LightCoverage::kNear), wins(LightCoverage::kFar), eval->CountWith(LightCoverage::kInside),
                     eval->CountWith(LightCoverage::kNear), eval->CountWith(LightCoverage::kFar), w[0], w[1],
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity));
+        if (details) {  // which baseline the far pairs lose to, and the wins by the view's incidence
+          int lose_top = 0, lose_mod = 0, lose_both = 0, far = 0;
+          double ratio_sum = 0;
+          for (const PairScore& p : eval->pairs) {
+            if (p.coverage != LightCoverage::kFar) continue;
+            ++far;
+            const auto& w = p.wasserstein_pixels;
+            lose_top += w[0] >= w[1] && w[0] < w[2];
+            lose_mod += w[0] >= w[2] && w[0] < w[1];
+            lose_both += w[0] >= w[1] && w[0] >= w[2];
+            ratio_sum += std::log(w[0] / std::min(w[1], w[2]));
+          }
+          for (int theta : {15, 30, 45, 60, 75}) {
+            int n = 0, wins = 0, nf = 0, wf = 0;
+            for (const PairScore& p : eval->pairs) {
+              if (std::abs(AnglesDegFromDirection(p.view).x() - theta) > 1) continue;
+              const auto& w = p.wasserstein_pixels;
+              const bool win = w[0] < w[1] && w[0] < w[2];
+              ++n, wins += win;
+              if (p.coverage == LightCoverage::kFar) ++nf, wf += win;
+            }
+            std::printf("   view theta %d: %d/%d won (far %d/%d)\n", theta, wins, n, wf, nf);
+          }
+          std::printf("   far %d: lose only to top %d, only to modulated %d, to both %d; geo-mean W1 ratio to best baseline %.3f\n",
+                      far, lose_top, lose_mod, lose_both, std::exp(ratio_sum / std::max(far, 1)));
+        }
         if (dropped) std::printf("          (%d boards with too few lights to triangulate left out)\n", dropped);
         std::fflush(stdout);
       }

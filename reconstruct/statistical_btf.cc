@@ -1,6 +1,7 @@
 #include "reconstruct/statistical_btf.h"
 
 #include <atomic>
+#include <cmath>
 #include <sstream>
 
 #include "core/directions.h"
@@ -8,7 +9,9 @@
 
 namespace mesocap {
 
-bool StatisticalBtfOptions::Check() const { return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0; }
+bool StatisticalBtfOptions::Check() const {
+  return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0 && far_light_falloff_deg >= 0;
+}
 
 StatisticalBtfOptions WithColourChannels(StatisticalBtfOptions options, std::span<const Image> top_slices) {
   options.colour = ColourChannels::For(options.colour_space, top_slices);
@@ -89,14 +92,24 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
   std::vector<const SliceStatistics*> stats;
   std::vector<std::vector<double>> weights(top_slices_.front().channels());
   for (const WeightedIndex& v : view_rings_.Weights(view)) {
-    const Eigen::Vector3d edge = AddViewStatistics(v.index, light, light, v.weight, &stats, &weights);
-    if (!options_.top_view_prior || v.index == top_view_ || view_lights_[v.index].Contains(light)) continue;
+    const bool outside = options_.top_view_prior && v.index != top_view_ && !view_lights_[v.index].Contains(light);
+    const double trust = outside ? ViewChangeTrust(v.index, light) : 1.0;
+    const Eigen::Vector3d edge = AddViewStatistics(v.index, light, light, trust * v.weight, &stats, &weights);
+    if (!outside) continue;
     // Outside the view's hull: plus the top view at the light, minus the top view at the hull
     // edge's light the view's own statistics stand for.
     AddViewStatistics(top_view_, light, light, v.weight, &stats, &weights);
-    AddViewStatistics(top_view_, edge.normalized(), light, -v.weight, &stats, &weights);
+    AddViewStatistics(top_view_, edge.normalized(), light, -trust * v.weight, &stats, &weights);
   }
   return BlendSliceStatistics(stats, weights);
+}
+
+double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) const {
+  if (options_.far_light_falloff_deg <= 0) return 1.0;
+  constexpr double kTrustedGapDeg = 15.0;  // the evaluation's "near the measured lights"
+  double nearest = 180;
+  for (const Eigen::Vector3d& measured : views_[v].lights) nearest = std::min(nearest, AngleBetweenDeg(light, measured));
+  return std::exp(-std::max(0.0, nearest - kTrustedGapDeg) / options_.far_light_falloff_deg);
 }
 
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,

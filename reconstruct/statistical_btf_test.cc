@@ -153,43 +153,76 @@ TEST(StatisticalBtf, ColourSlicesStayFiniteAndNonNegativeWhereStatisticsExtrapol
 }
 
 // A BTF whose views differ from the top view by an offset, slice(l, v) = top(l) + c(v), where the
-// top view changes with the light in a way no single light's slice predicts. A tilted view that
-// measured lights on one side only: for a light on the other side the paper's blend holds the
-// hull edge's statistics (relative error 0.27); the top-view prior gives the slice to within the
-// top view's light interpolation (0.014): the offset is measured at the edge, the light dependence
-// comes from the top view.
-TEST(StatisticalBtf, TheTopViewPriorCarriesLightDependenceBeyondAViewsMeasuredLights) {
-  SyntheticBtf texture(32, testing::SeedFromTestName());
-  auto slice = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+// top view changes with the light in a way no single light's slice predicts, measured from the
+// top under every Bonn light and from a view tilted 45 deg under the lights with x < 0 only.
+struct OneSidedBtf {
+  SyntheticBtf texture{32, testing::SeedFromTestName()};
+  const Eigen::Vector3d tilted = DirectionFromAnglesDeg(45, 0);
+  Image Slice(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
     Image out = texture.texture;
     const double gain = 0.5 + 0.4 * light.x() + 0.2 * light.y(), offset = 0.3 * (1 - view.z());
     for (float& value : std::span(out.data(), out.size())) value = float(std::pow(value, 1 + light.x()) * gain + offset);
     return out;
-  };
-  const std::vector<Eigen::Vector3d> all = BonnDirections();
-  std::vector<Eigen::Vector3d> one_side;  // lights with x < 0 only
-  for (const auto& l : all)
-    if (l.x() < -0.05) one_side.push_back(l);
-  const Eigen::Vector3d tilted = DirectionFromAnglesDeg(45, 0);
+  }
+  StatusOr<StatisticalBtf> Reconstruction(StatisticalBtfOptions options) const {
+    options.cosine_weighted_lights = false;
+    options.match_subbands = false;
+    const std::vector<Eigen::Vector3d> all = BonnDirections();
+    std::vector<Eigen::Vector3d> one_side;
+    for (const auto& l : all)
+      if (l.x() < -0.05) one_side.push_back(l);
+    std::vector<Image> top, side;
+    for (const auto& l : all) top.push_back(Slice(l, Eigen::Vector3d::UnitZ()));
+    for (const auto& l : one_side) side.push_back(Slice(l, tilted));
+    std::vector<MeasuredView> views = {MeasureView(Eigen::Vector3d::UnitZ(), all, top, options),
+                                       MeasureView(tilted, one_side, side, options)};
+    return StatisticalBtf::Create(top, all, std::move(views), options);
+  }
+};
+
+// For a light on the side the tilted view never measured, the paper's blend holds the hull
+// edge's statistics (relative error 0.27); the top-view prior, carrying the view's offset whole,
+// gives the slice to within the top view's light interpolation (0.014): the offset is measured at
+// the edge, the light dependence comes from the top view.
+TEST(StatisticalBtf, TheTopViewPriorCarriesLightDependenceBeyondAViewsMeasuredLights) {
+  const OneSidedBtf truth;
   const Eigen::Vector3d light = DirectionFromAnglesDeg(50, 20);  // x > 0: outside the tilted view's hull
   for (const bool prior : {true, false}) {
     StatisticalBtfOptions options;
-    options.cosine_weighted_lights = false;
-    options.match_subbands = false;
     options.top_view_prior = prior;
-    std::vector<Image> top, side;
-    for (const auto& l : all) top.push_back(slice(l, Eigen::Vector3d::UnitZ()));
-    for (const auto& l : one_side) side.push_back(slice(l, tilted));
-    std::vector<MeasuredView> views = {MeasureView(Eigen::Vector3d::UnitZ(), all, top, options),
-                                       MeasureView(tilted, one_side, side, options)};
-    auto btf = StatisticalBtf::Create(top, all, std::move(views), options);
+    options.far_light_falloff_deg = 0;  // the edge's offset carried however far
+    auto btf = truth.Reconstruction(options);
     ASSERT_TRUE(btf.ok()) << btf.status().message();
-    ASSERT_FALSE(btf->LightCovered(light, tilted));
-    const double error = RelativeRms(btf->Reconstruct(light, tilted), slice(light, tilted));
+    ASSERT_FALSE(btf->LightCovered(light, truth.tilted));
+    const double error = RelativeRms(btf->Reconstruct(light, truth.tilted), truth.Slice(light, truth.tilted));
     std::printf("top-view prior %d: relative RMS error %.4f\n", int(prior), error);
     if (prior) { EXPECT_LT(error, 0.03); }
     else EXPECT_GT(error, 0.1);
   }
+}
+
+// With a falloff, the view's own change from the top view is carried whole within 15 deg of its
+// measured lights, and fades beyond: far from them the slice is the top view's at that light.
+TEST(StatisticalBtf, AViewsChangeFromTheTopViewFadesFarBeyondItsMeasuredLights) {
+  const OneSidedBtf truth;
+  StatisticalBtfOptions whole, fading;
+  whole.far_light_falloff_deg = 0;
+  fading.far_light_falloff_deg = 10;
+  auto carried = truth.Reconstruction(whole), faded = truth.Reconstruction(fading);
+  ASSERT_TRUE(carried.ok() && faded.ok());
+  // Just past the hull's edge (x > -0.05), about 9 deg from the measured light (45, 100).
+  const Eigen::Vector3d near = DirectionFromAnglesDeg(40, 88);
+  ASSERT_FALSE(faded->LightCovered(near, truth.tilted));
+  ASSERT_LT(faded->LightGapDeg(near, truth.tilted), 15);
+  EXPECT_LT(RelativeRms(faded->Reconstruct(near, truth.tilted), carried->Reconstruct(near, truth.tilted)), 1e-6);
+  // Opposite the measured side, more than 60 deg away: trust below exp(-4.5).
+  const Eigen::Vector3d far = DirectionFromAnglesDeg(60, 0);
+  ASSERT_GT(faded->LightGapDeg(far, truth.tilted), 60);
+  const Image top_view = faded->Reconstruct(far, Eigen::Vector3d::UnitZ());
+  const double to_top = RelativeRms(faded->Reconstruct(far, truth.tilted), top_view);
+  const double carried_to_top = RelativeRms(carried->Reconstruct(far, truth.tilted), top_view);
+  std::printf("far light: faded %.4f, carried %.4f from the top view's slice\n", to_top, carried_to_top);
+  EXPECT_LT(to_top, 0.02 * carried_to_top + 1e-3);
 }
 
 TEST(StatisticalBtf, RejectsBadInput) {
