@@ -107,9 +107,13 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
 double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) const {
   if (options_.far_light_falloff_deg <= 0) return 1.0;
   constexpr double kTrustedGapDeg = 15.0;  // the evaluation's "near the measured lights"
+  return std::exp(-std::max(0.0, NearestMeasuredLightDeg(v, light) - kTrustedGapDeg) / options_.far_light_falloff_deg);
+}
+
+double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& light) const {
   double nearest = 180;
   for (const Eigen::Vector3d& measured : views_[v].lights) nearest = std::min(nearest, AngleBetweenDeg(light, measured));
-  return std::exp(-std::max(0.0, nearest - kTrustedGapDeg) / options_.far_light_falloff_deg);
+  return nearest;
 }
 
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
@@ -135,11 +139,7 @@ bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vec
 
 double StatisticalBtf::LightGapDeg(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   double gap = 0;
-  for (const WeightedIndex& v : view_rings_.Weights(view)) {
-    double nearest = 180;
-    for (const Eigen::Vector3d& measured : views_[v.index].lights) nearest = std::min(nearest, AngleBetweenDeg(light, measured));
-    gap = std::max(gap, nearest);
-  }
+  for (const WeightedIndex& v : view_rings_.Weights(view)) gap = std::max(gap, NearestMeasuredLightDeg(v.index, light));
   return gap;
 }
 

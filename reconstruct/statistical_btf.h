@@ -109,6 +109,7 @@ class StatisticalBtf {
   // How much of view v's change from the top view is carried to `light`, outside its measured
   // lights (StatisticalBtfOptions::far_light_falloff_deg).
   double ViewChangeTrust(int v, const Eigen::Vector3d& light) const;
+  double NearestMeasuredLightDeg(int v, const Eigen::Vector3d& light) const;
   std::vector<Image> top_slices_;
   std::vector<Eigen::Vector3d> top_lights_dirs_;
   LightInterpolator top_lights_;
