@@ -157,12 +157,7 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                     {{"format", PtmFormatToString(a.ptm.format)}, {"min_slices", a.ptm.min_slices}},
                     {"ptm"},
                     [&a, progress] { return RunPtmStage(a.session, a.calibrate.layout_file, a.ptm, progress); }});
-  stages.push_back({"reconstruct", {"resample"}, {},
-                    {{"size", a.reconstruct.slices.size}, {"grid", a.reconstruct.grid},
-                     {"pixel_only", a.reconstruct.pixel_only}, {"colour_space", a.reconstruct.colour_space},
-                     {"top_view_prior", !a.reconstruct.no_top_view_prior},
-                     {"far_light_falloff_deg", a.reconstruct.far_light_falloff_deg}},
-                    {"btf"},
+  stages.push_back({"reconstruct", {"resample"}, {}, a.reconstruct.ToJson(), {"btf"},
                     [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
   if (!a.synth.method.empty())
     stages.push_back({"synth", {"reconstruct"}, {},

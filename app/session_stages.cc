@@ -254,6 +254,15 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
   return summary;
 }
 
+Json ReconstructStageOptions::ToJson() const {
+  return {{"size", slices.size},
+          {"grid", grid},
+          {"pixel_only", pixel_only},
+          {"colour_space", colour_space},
+          {"top_view_prior", !no_top_view_prior},
+          {"far_light_falloff_deg", far_light_falloff_deg}};
+}
+
 StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const ReconstructStageOptions& options, bool progress) {
   const std::vector<DirectionPair> pairs = GridPairs(options.grid);
   if (pairs.empty()) return Status::Error("the BTF grid must be bonn or coarse, not '" + options.grid + "'");
@@ -275,13 +284,10 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   auto staging = StagingFolder::Begin(session / "btf");
   if (!staging.ok()) return staging.status();
   ProgressBar bar("reconstruct", progress);
+  Json provenance = options.ToJson();
+  provenance["index"] = index.string();
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, options.pixel_only, slice_options.btf.num_threads,
-                                       staging->path(),
-                                       {{"index", index.string()}, {"size", slice_options.size}, {"grid", options.grid},
-                                        {"pixel_only", options.pixel_only}, {"colour_space", options.colour_space},
-                                        {"top_view_prior", !options.no_top_view_prior},
-                                        {"far_light_falloff_deg", options.far_light_falloff_deg}},
-                                       bar.AsCallback());
+                                       staging->path(), provenance, bar.AsCallback());
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   StageSummary summary;

@@ -69,6 +69,8 @@ struct ReconstructStageOptions {
   std::string colour_space = "chromaticity";  // AddColourSpaceOption
   bool no_top_view_prior = false;             // AddTopViewPriorFlag
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;  // AddFarLightFalloffOption
+  // The settings the stage's outputs depend on: its cache key and its provenance.
+  Json ToJson() const;
 };
 // The statistical BTF (Ngan & Durand) over a grid of direction pairs -> SESSION/btf/.
 StatusOr<StageSummary> RunReconstructStage(const std::filesystem::path& session, const ReconstructStageOptions& options,

@@ -46,7 +46,6 @@ struct BtfEvaluationOptions {
 // Where a held-out pair's light lies against the lights the views it borrows from measured:
 // inside their triangulated hull, near it (within kNearHullDeg of a measured light) or far outside.
 enum class LightCoverage { kInside = 0, kNear = 1, kFar = 2 };
-inline constexpr double kNearHullDeg = 15.0;
 std::string LightCoverageToString(LightCoverage coverage);  // "inside", "near", "far"
 
 struct PairScore {

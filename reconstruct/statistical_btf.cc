@@ -106,8 +106,7 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
 
 double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) const {
   if (options_.far_light_falloff_deg <= 0) return 1.0;
-  constexpr double kTrustedGapDeg = 15.0;  // the evaluation's "near the measured lights"
-  return std::exp(-std::max(0.0, NearestMeasuredLightDeg(v, light) - kTrustedGapDeg) / options_.far_light_falloff_deg);
+  return std::exp(-std::max(0.0, NearestMeasuredLightDeg(v, light) - kNearHullDeg) / options_.far_light_falloff_deg);
 }
 
 double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& light) const {

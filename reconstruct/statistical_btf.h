@@ -19,6 +19,10 @@
 
 namespace mesocap {
 
+// A light within this angle of a light a view measured counts as near it: the evaluation's "near"
+// pairs, and where a view's change from the top view starts to fade (far_light_falloff_deg).
+inline constexpr double kNearHullDeg = 15.0;
+
 struct StatisticalBtfOptions {
   SliceStatisticsOptions statistics;
   double ring_gap_deg = 10.0;         // incidences further apart than this start a new view ring
