@@ -54,7 +54,7 @@ void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::str
                    "With the top-view prior: past 15 deg from a view's nearest measured light, its own change from the top "
                    "view fades with this scale in degrees (0: carried whole)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 180.0));
 }
 
 std::vector<DirectionPair> GridPairs(const std::string& grid) {
