@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
 
 namespace mesocap::testing {
 
@@ -17,6 +18,41 @@ std::string CurrentTestName() {
   return info ? std::string(info->test_suite_name()) + "." + info->name() : "no_test";
 }
 
+namespace {
+
+// Removes the folders MakeTempDir made once their owner passed: a test's at its end, a suite's
+// (made outside any test) at the program's end. A failure keeps them to look at, and so does
+// MESOCAP_KEEP_TEST_FILES; otherwise every run would leave its renders behind in /tmp.
+class TempDirSweeper : public ::testing::EmptyTestEventListener {
+ public:
+  static TempDirSweeper& Installed() {
+    static TempDirSweeper* sweeper = [] {
+      auto* s = new TempDirSweeper;
+      ::testing::UnitTest::GetInstance()->listeners().Append(s);  // owned by gtest from here
+      return s;
+    }();
+    return *sweeper;
+  }
+  void Add(const std::filesystem::path& dir) {
+    (::testing::UnitTest::GetInstance()->current_test_info() ? test_dirs_ : program_dirs_).push_back(dir);
+  }
+  void OnTestEnd(const ::testing::TestInfo& info) override { Sweep(&test_dirs_, info.result()->Passed()); }
+  void OnTestProgramEnd(const ::testing::UnitTest& unit) override { Sweep(&program_dirs_, unit.Passed()); }
+
+ private:
+  static void Sweep(std::vector<std::filesystem::path>* dirs, bool passed) {
+    if (passed && !std::getenv("MESOCAP_KEEP_TEST_FILES"))
+      for (const auto& dir : *dirs) {
+        std::error_code ec;
+        std::filesystem::remove_all(dir, ec);
+      }
+    dirs->clear();
+  }
+  std::vector<std::filesystem::path> test_dirs_, program_dirs_;
+};
+
+}  // namespace
+
 std::filesystem::path MakeTempDir() {
   static int counter = 0;
   const auto dir = std::filesystem::temp_directory_path() /
@@ -24,6 +60,7 @@ std::filesystem::path MakeTempDir() {
                     std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  TempDirSweeper::Installed().Add(dir);
   return dir;
 }
 

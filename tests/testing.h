@@ -8,7 +8,8 @@
 
 namespace mesocap::testing {
 
-// A fresh empty folder under the system temp dir, named after the current test.
+// A fresh empty folder under the system temp dir, named after the current test. Removed when
+// the test (or, made outside a test, the whole program) passes, kept when it fails.
 std::filesystem::path MakeTempDir();
 // A stable seed from the current test's full name.
 uint32_t SeedFromTestName();
