@@ -1,7 +1,8 @@
 // mesocap evaluate: the paper's validation on the virtual rig. Renders a material's true BTF at
-// the rig's 13 views under the Bonn 81 lights, reconstructs the held-out pairs of the Bonn
-// 81 x 81 grid, and scores them against truth next to the two baselines. Writes
-// evaluation.json (every pair), evaluation.csv, a picture sheet and report.md/html.
+// the rig's 13 views under the Bonn 81 lights (or, with --session, takes a virtual session's
+// calibrated slices: the lights a hand-held flash gave each board), reconstructs the held-out
+// pairs of the Bonn 81 x 81 grid, and scores them against truth next to the two baselines.
+// Writes evaluation.json (every pair), evaluation.csv, a picture sheet and report.md/html.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 
 #include "app/commands.h"
 #include "capture/btf_render.h"
+#include "capture/rig_scene.h"
 #include "capture/true_btf_renderer.h"
 #include "core/atomic_file.h"
 #include "core/directions.h"
@@ -20,12 +22,14 @@
 #include "export/report.h"
 #include "app/btf_folder.h"
 #include "reconstruct/btf_evaluation.h"
+#include "reconstruct/slice_set.h"
 
 namespace mesocap::app {
 namespace {
 
 struct EvaluateArgs {
   std::string material = "weave";
+  std::filesystem::path session;  // a virtual session's calibrated slices instead of the rig's 13 x 81
   std::filesystem::path out;
   int size = 128;
   int pairs = -1;
@@ -56,8 +60,60 @@ Image PictureSheet(const StatisticalBtf& btf, const TrueSliceFn& truth) {
   return ContactSheet(cells, labels, 4, 200);
 }
 
+// The material and layout a virtual session was rendered with, from its truth.json.
+StatusOr<RigScene> SessionTruth(const std::filesystem::path& session) {
+  const std::filesystem::path file = session / "truth.json";
+  if (!std::filesystem::exists(file))
+    return Status::Error(file.string() + " not found: --session scores a virtual session (mesocap simulate), whose true "
+                         "BTF is known");
+  auto json = ReadJsonFile(file);
+  if (!json.ok()) return json.status();
+  auto scene = TruthFromJson(*json);
+  if (!scene.ok()) return Status::Error(file.string() + ": " + scene.status().message());
+  return scene;
+}
+
+// The statistical BTF of the session's slices (SESSION/slices from `mesocap calibrate`) scored
+// against the true BTF of `material` (which must outlive `renderer`) at its top board's patch.
+// `renderer` receives the truth's renderer.
+StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& scene, const Material& material,
+                                        const BtfEvaluationOptions& options, std::optional<TrueBtfRenderer>* renderer,
+                                        std::optional<StatisticalBtf>* model, const ProgressFn& progress) {
+  SliceSetOptions slices;
+  slices.btf = options.btf;
+  slices.size = a.size;
+  SliceSetReport loaded;
+  const std::filesystem::path index = a.session / "slices" / "index.json";
+  if (!std::filesystem::exists(index)) return Status::Error(index.string() + " not found: run `mesocap calibrate` first");
+  auto btf = LoadStatisticalBtf(index, slices, &loaded, progress);
+  if (!btf.ok()) return btf.status();
+  for (const std::string& warning : loaded.warnings) std::fprintf(stderr, "evaluate: %s\n", warning.c_str());
+  const auto top = std::find_if(scene.boards.begin(), scene.boards.end(), [&](const RigBoard& b) { return b.id == loaded.top_board; });
+  if (top == scene.boards.end()) return Status::Error(Format("board %d of the slices is not in truth.json", loaded.top_board));
+  TrueBtfRequest grid;
+  grid.size = btf->width();
+  grid.samples_per_axis = a.samples_per_axis;
+  grid.patch_m = top->patch_m;
+  grid.offset_m = top->material_offset_m;
+  renderer->emplace(material, grid);
+  const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) { return (*renderer)->Render(light, view); };
+  auto eval = ScoreHeldOutPairs(*btf, truth, options, progress);
+  if (!eval.ok()) return eval.status();
+  eval->input_slices = loaded.slices_used;
+  eval->seconds_statistics = loaded.seconds;
+  *model = std::move(*btf);
+  return eval;
+}
+
 int Run(const EvaluateArgs& a) {
-  auto material = Material::Create(a.material);
+  std::optional<RigScene> scene;
+  if (!a.session.empty()) {
+    auto truth = SessionTruth(a.session);
+    if (!truth.ok()) return Fail("evaluate", truth.status().message(), kExitUsage);
+    scene = std::move(*truth);
+  }
+  const std::string material_name = scene ? scene->options.material : a.material;
+  auto material = Material::Create(material_name);
   if (!material.ok()) return Fail("evaluate", material.status().message(), kExitUsage);
   if (a.size < 16 || (a.size & (a.size - 1)) != 0) return Fail("evaluate", "--size must be a power of two >= 16", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("evaluate", a.out.string() + ": exists and is not empty", kExitUsage);
@@ -65,13 +121,6 @@ int Run(const EvaluateArgs& a) {
   if (!staging.ok()) return Fail("evaluate", staging.status().message());
   const std::filesystem::path out = staging->path();
 
-  TrueBtfRequest grid;
-  grid.size = a.size;
-  grid.samples_per_axis = a.samples_per_axis;
-  const TrueBtfRenderer renderer(*material, grid);  // each view traced once, for all its lights
-  const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
-    return renderer.Render(light, view);  // parallel over slices, not inside one
-  };
   BtfEvaluationOptions options;
   options.btf.num_threads = a.threads;
   options.btf.match_subbands = !a.pixel_only;
@@ -81,15 +130,29 @@ int Run(const EvaluateArgs& a) {
   options.btf.top_view_prior = !a.no_top_view_prior;
   options.btf.far_light_falloff_deg = a.far_light_falloff_deg;
   ProgressBar bar("evaluate", !a.no_progress);
+  std::optional<TrueBtfRenderer> renderer;  // each view traced once, for all its lights
+  const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+    return renderer->Render(light, view);  // parallel over slices, not inside one
+  };
   std::optional<StatisticalBtf> model;
-  auto eval = EvaluateStatisticalBtf(truth, options, bar.AsCallback(), &model);
+  StatusOr<BtfEvaluation> eval = Status::Error("not evaluated");
+  if (scene) {
+    eval = EvaluateSession(a, *scene, *material, options, &renderer, &model, bar.AsCallback());
+  } else {
+    TrueBtfRequest grid;
+    grid.size = a.size;
+    grid.samples_per_axis = a.samples_per_axis;
+    renderer.emplace(*material, grid);
+    eval = EvaluateStatisticalBtf(truth, options, bar.AsCallback(), &model);
+  }
   if (!eval.ok())
     return Fail("evaluate", eval.status().message(), eval.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
 
   Json j = eval->ToJson();
-  j["material"] = a.material;
+  j["material"] = material_name;
   j["size"] = a.size;
-  j["provenance"] = MakeProvenance({{"material", a.material}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
+  if (scene) j["session"] = a.session.string();
+  j["provenance"] = MakeProvenance({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
                                       {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
                                       {"far_light_falloff_deg", a.far_light_falloff_deg}});
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
@@ -111,10 +174,14 @@ int Run(const EvaluateArgs& a) {
   png.format = PixelFormat::kUint8Srgb;
   if (Status st = WriteImage(out / "sheet.png", PictureSheet(*model, truth), png); !st.ok()) return Fail("evaluate", st.message());
 
-  Report report("mesocap evaluate: " + a.material);
-  report.Paragraph(Format("Statistical BTF reconstruction (Ngan & Durand 2006) from the rig's 13 views under 81 lights, "
-                          "scored on %zu held-out pairs of the 81 x 81 Bonn grid at %d x %d texels.",
-                          eval->pairs.size(), a.size, a.size));
+  Report report("mesocap evaluate: " + material_name);
+  const std::string source =
+      scene ? Format("from the %d calibrated slices of %zu boards in %s", eval->input_slices, model->views().size(),
+                     a.session.string().c_str())
+            : std::string("from the rig's 13 views under 81 lights");
+  report.Paragraph(Format("Statistical BTF reconstruction (Ngan & Durand 2006) %s, scored on %zu held-out pairs of the "
+                          "81 x 81 Bonn grid at %d x %d texels.",
+                          source.c_str(), eval->pairs.size(), model->width(), model->height()));
   const auto rmse = eval->Median(&PairScore::rmse), wp = eval->Median(&PairScore::wasserstein_pixels),
              wb = eval->Median(&PairScore::wasserstein_bands), wc = eval->Median(&PairScore::wasserstein_chromaticity),
              saturation = eval->MedianSaturationError(), worst = eval->WorstSaturationError();
@@ -149,7 +216,11 @@ Command EvaluateCommand() {
   c.setup = [args](CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "evaluate", "Score the statistical BTF reconstruction against a virtual material's true BTF (paper's validation)");
-    sub->add_option("--material", args->material, "Virtual material")->capture_default_str();
+    CLI::Option* material = sub->add_option("--material", args->material, "Virtual material")->capture_default_str();
+    sub->add_option("--session", args->session,
+                    "A virtual session (mesocap simulate, then calibrate): reconstruct from its calibrated slices "
+                    "(SESSION/slices) and score against its material's true BTF")
+        ->excludes(material);
     sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
     sub->add_option("--size", args->size, "Texels per side of every slice (power of two)")->capture_default_str();
     sub->add_option("--pairs", args->pairs, "Score this many held-out pairs, evenly spread (-1: all)")->capture_default_str();

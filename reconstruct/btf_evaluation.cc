@@ -184,6 +184,9 @@ Json BtfEvaluation::ToJson() const {
             {"seconds_statistics", seconds_statistics},
             {"seconds_scoring", seconds_scoring},
             {"reconstruct_ms_per_slice", reconstruct_ms_per_slice}};
+  for (const LightCoverage c : {LightCoverage::kInside, LightCoverage::kNear, LightCoverage::kFar})
+    j["by_light_coverage"][LightCoverageToString(c)] = {
+        {"pairs", CountWith(c)}, {"fraction_beating_both_wasserstein_pixels", FractionBeatingBoth(&PairScore::wasserstein_pixels, c)}};
   Json list = Json::array();
   for (const PairScore& p : pairs) {
     Json e = PairJson(p.light, p.view);
@@ -201,10 +204,15 @@ Json BtfEvaluation::ToJson() const {
 
 std::string BtfEvaluation::Brief() const {
   const auto w = Median(&PairScore::wasserstein_pixels);
-  return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (subbands %.0f%%, "
-                "chromaticity %.0f%%); median W1 statistical %.5f, top view %.5f, BRDF-modulated %.5f; 95th-percentile "
+  std::string by_coverage;
+  for (const LightCoverage c : {LightCoverage::kInside, LightCoverage::kNear, LightCoverage::kFar})
+    if (CountWith(c) > 0)
+      by_coverage += Format("%s%s %.0f%% of %d", by_coverage.empty() ? "" : ", ", LightCoverageToString(c).c_str(),
+                            100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels, c), CountWith(c));
+  return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (by the pair's "
+                "light against the views' measured lights: %s; subbands %.0f%%, chromaticity %.0f%%); median W1 statistical %.5f, top view %.5f, BRDF-modulated %.5f; 95th-percentile "
                 "saturation within %.1f%% of the truth's at the median, %.1f%% at worst",
-                pairs.size(), 100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels),
+                pairs.size(), 100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels), by_coverage.c_str(),
                 100.0 * FractionBeatingBoth(&PairScore::wasserstein_bands),
                 100.0 * FractionBeatingBoth(&PairScore::wasserstein_chromaticity), w[0], w[1], w[2],
                 100.0 * MedianSaturationError()[0], 100.0 * WorstSaturationError()[0]);
@@ -216,8 +224,6 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   BtfEvaluationOptions options = options_in;
   if (options.input_views.empty()) options.input_views = RigViewDirections();
   if (options.input_lights.empty()) options.input_lights = BonnDirections();
-  if (options.target_views.empty()) options.target_views = BonnDirections();
-  if (options.target_lights.empty()) options.target_lights = BonnDirections();
   const int num_threads = options.btf.num_threads;
   BtfEvaluation eval;
 
@@ -258,10 +264,25 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   eval.seconds_statistics = Seconds(start);
 
   // 3. Held-out pairs: target views that are not input views, under every target light.
+  auto scored = ScoreHeldOutPairs(*btf, truth, options, progress);
+  if (!scored.ok()) return scored.status();
+  scored->input_slices = eval.input_slices;
+  scored->seconds_inputs = eval.seconds_inputs;
+  scored->seconds_statistics = eval.seconds_statistics;
+  if (model) *model = std::move(*btf);
+  return scored;
+}
+
+StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueSliceFn& truth,
+                                          const BtfEvaluationOptions& options, const ProgressFn& progress) {
+  std::vector<Eigen::Vector3d> input_views;
+  for (const MeasuredView& v : btf.views()) input_views.push_back(v.view);
+  const std::vector<Eigen::Vector3d> target_views = options.target_views.empty() ? BonnDirections() : options.target_views;
+  const std::vector<Eigen::Vector3d> target_lights = options.target_lights.empty() ? BonnDirections() : options.target_lights;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> held_out;
-  for (const auto& view : options.target_views)
-    if (!NearAny(view, options.input_views, options.held_out_tolerance_deg))
-      for (const auto& light : options.target_lights) held_out.push_back({light, view});
+  for (const auto& view : target_views)
+    if (!NearAny(view, input_views, options.held_out_tolerance_deg))
+      for (const auto& light : target_lights) held_out.push_back({light, view});
   if (held_out.empty()) return Status::Error("no held-out pairs: every target view is an input view");
   if (options.max_pairs > 0 && int(held_out.size()) > options.max_pairs) {
     std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> subset;
@@ -269,29 +290,30 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
     held_out = std::move(subset);
   }
 
-  start = std::chrono::steady_clock::now();
+  BtfEvaluation eval;
+  const auto start = std::chrono::steady_clock::now();
   eval.pairs.resize(held_out.size());
   std::atomic<long long> reconstruct_ns = 0;
-  done = 0;
+  std::atomic<int> done = 0;
+  std::atomic<bool> cancelled = false;
   ParallelFor(0, int(held_out.size()), [&](int k) {
     if (cancelled) return;
     const auto& [light, view] = held_out[k];
     const Image truth_slice = truth(light, view);
     const auto t0 = std::chrono::steady_clock::now();
-    const std::array<Image, kBtfMethods> result = ReconstructAllMethods(*btf, light, view, truth_slice);
+    const std::array<Image, kBtfMethods> result = ReconstructAllMethods(btf, light, view, truth_slice);
     reconstruct_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
     PairScore& score = eval.pairs[k];
     score = ScoreMethods(result, truth_slice, options.btf.statistics);
     score.light = light, score.view = view;
-    score.coverage = btf->LightCovered(light, view)                ? LightCoverage::kInside
-                     : btf->LightGapDeg(light, view) <= kNearHullDeg ? LightCoverage::kNear
-                                                                     : LightCoverage::kFar;
+    score.coverage = btf.LightCovered(light, view)                ? LightCoverage::kInside
+                     : btf.LightGapDeg(light, view) <= kNearHullDeg ? LightCoverage::kNear
+                                                                    : LightCoverage::kFar;
     if (!ReportProgress(progress, ++done, int(held_out.size()), "score held-out pairs")) cancelled = true;
-  }, num_threads);
+  }, options.btf.num_threads);
   if (cancelled) return Status::Error("cancelled");
   eval.seconds_scoring = Seconds(start);
   eval.reconstruct_ms_per_slice = 1e-6 * double(reconstruct_ns) / double(held_out.size());
-  if (model) *model = std::move(*btf);
   return eval;
 }
 

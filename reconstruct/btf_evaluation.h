@@ -87,6 +87,13 @@ std::vector<Eigen::Vector3d> RigViewDirections();
 StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options,
                                                const ProgressFn& progress = nullptr, std::optional<StatisticalBtf>* model = nullptr);
 
+// Scores a built reconstruction (from true slices above, or from a calibrated session's) on the
+// held-out pairs: options.target_views not within held_out_tolerance_deg of a view `btf`
+// measured, under every target light (at most max_pairs, evenly spread). Fills pairs and the
+// scoring times; leaves the input figures to the caller.
+StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueSliceFn& truth,
+                                          const BtfEvaluationOptions& options, const ProgressFn& progress = nullptr);
+
 // RMSE, pixel W1 and subband W1 of each method's slice against `truth`, averaged over colour
 // channels (and subbands), and the colour scores; light and view are left for the caller.
 PairScore ScoreMethods(const std::array<Image, kBtfMethods>& methods, const Image& truth,

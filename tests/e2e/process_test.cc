@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <csignal>
 #include <fstream>
 #include <map>
@@ -134,6 +135,48 @@ TEST_F(ProcessTest, RunsEveryStageOnceThenOnlyWhatAChangeAffects) {
   const Statuses forced = Process(s, " --btf-size 64 --force calibrate");
   EXPECT_EQ(forced.at("calibrate"), "ran");
   EXPECT_EQ(forced.at("resample"), "ran");
+}
+
+// Issue 12's account on a calibrated session: the reconstruction from the session's own slices,
+// scored on held-out Bonn pairs against the material's true BTF.
+TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) {
+  const fs::path s = FreshSession();
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("calibrate " + s.string() + " --camera " + (s / "truth.json").string() +
+                                    " --slice-size 32 --no-progress",
+                                &out),
+            0)
+      << out;
+  ASSERT_EQ(testing::RunMesocap("evaluate --session " + s.string() + " --out " + (s / "evaluation").string() +
+                                    " --size 16 --pairs 30 --no-progress",
+                                &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("30 held-out pairs"), std::string::npos) << out;
+  auto eval = ReadJsonFile(s / "evaluation" / "evaluation.json");
+  ASSERT_TRUE(eval.ok()) << eval.status().message();
+  EXPECT_EQ((*eval)["material"].get<std::string>(), "weave");  // simulate's default, from truth.json
+  auto index = ReadSliceIndex(s / "slices" / "index.json");
+  ASSERT_TRUE(index.ok());
+  const int used = (*eval)["input_slices"].get<int>();
+  EXPECT_GT(used, 0);
+  EXPECT_LE(used, int(index->slices.size()));
+  int by_coverage = 0;
+  for (const char* c : {"inside", "near", "far"}) by_coverage += (*eval)["by_light_coverage"][c]["pairs"].get<int>();
+  EXPECT_EQ(by_coverage, 30);
+  // Held out: no pair is seen from a board's view (the mean of its slices' views).
+  std::map<int, Eigen::Vector3d> board_views;
+  for (const auto& slice : index->slices) {
+    auto [it, added] = board_views.try_emplace(slice.board, Eigen::Vector3d::Zero());
+    it->second += slice.view;
+  }
+  for (const Json& pair : (*eval)["pairs"]) {
+    const Eigen::Vector3d view = DirectionFromAnglesDeg(pair["theta_o_deg"].get<double>(), pair["phi_o_deg"].get<double>());
+    for (const auto& [board, sum] : board_views) EXPECT_GT(AngleBetweenDeg(view, sum.normalized()), 0.5) << board;
+    for (const char* method : {"statistical", "top_view", "brdf_modulated"})
+      EXPECT_TRUE(std::isfinite(pair[method]["w_pixels"].get<double>())) << method;
+  }
+  EXPECT_TRUE(fs::exists(s / "evaluation" / "sheet.png"));
 }
 
 TEST_F(ProcessTest, AKilledRunResumesAtItsStageAndShowsNothingHalfWritten) {
