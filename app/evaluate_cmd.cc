@@ -74,11 +74,12 @@ StatusOr<RigScene> SessionTruth(const std::filesystem::path& session) {
 }
 
 // The statistical BTF of the session's slices (SESSION/slices from `mesocap calibrate`) scored
-// against the true BTF of `material` (which must outlive `renderer`) at its top board's patch.
-// `renderer` receives the truth's renderer.
+// by `truth`, once `renderer` has the true BTF of `material` (which must outlive it) at the
+// session's top board's patch.
 StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& scene, const Material& material,
                                         const BtfEvaluationOptions& options, std::optional<TrueBtfRenderer>* renderer,
-                                        std::optional<StatisticalBtf>* model, const ProgressFn& progress) {
+                                        const TrueSliceFn& truth, std::optional<StatisticalBtf>* model,
+                                        const ProgressFn& progress) {
   SliceSetOptions slices;
   slices.btf = options.btf;
   slices.size = a.size;
@@ -96,7 +97,6 @@ StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& s
   grid.patch_m = top->patch_m;
   grid.offset_m = top->material_offset_m;
   renderer->emplace(material, grid);
-  const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) { return (*renderer)->Render(light, view); };
   auto eval = ScoreHeldOutPairs(*btf, truth, options, progress);
   if (!eval.ok()) return eval.status();
   eval->input_slices = loaded.slices_used;
@@ -137,7 +137,7 @@ int Run(const EvaluateArgs& a) {
   std::optional<StatisticalBtf> model;
   StatusOr<BtfEvaluation> eval = Status::Error("not evaluated");
   if (scene) {
-    eval = EvaluateSession(a, *scene, *material, options, &renderer, &model, bar.AsCallback());
+    eval = EvaluateSession(a, *scene, *material, options, &renderer, truth, &model, bar.AsCallback());
   } else {
     TrueBtfRequest grid;
     grid.size = a.size;
