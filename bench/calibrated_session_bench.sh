@@ -8,9 +8,10 @@
 #
 #   bench/calibrated_session_bench.sh [BUILD_DIR=build] [WORK=/tmp/mesocap_calibrated_sessions]
 #                                     [SHOTS=100] [MATERIALS=weave,stones,corduroy] [SEEDS=21,22]
-#                                     [SIZE=64] [WIDTH=3000] [HEIGHT=2000]
+#                                     [SIZE=64] [WIDTH=3000] [HEIGHT=2000] [FORMAT=jpg]
 # At 3000x2000 a 60 deg board's patch spans about 115 pixels up its slope: SIZE above 64 scores
-# the camera's blur more than the reconstruction.
+# the camera's blur more than the reconstruction. FORMAT png (16-bit linear shots) shows what the
+# JPEGs' 8 bits and halved chroma resolution cost.
 set -euo pipefail
 BUILD=${1:-build}
 WORK=${2:-/tmp/mesocap_calibrated_sessions}
@@ -20,6 +21,7 @@ IFS=, read -ra SEEDS <<< "${5:-21,22}"
 SIZE=${6:-64}
 WIDTH=${7:-3000}
 HEIGHT=${8:-2000}
+FORMAT=${9:-jpg}
 MESOCAP=$BUILD/app/mesocap
 COVERAGE=$BUILD/bench/bench_session_coverage
 [[ -x $MESOCAP && -x $COVERAGE ]] || { echo "build the mesocap and bench_session_coverage targets in $BUILD first" >&2; exit 2; }
@@ -30,12 +32,13 @@ printf '%-9s %5s %4s | calibrated: beats both  all inside  near   far | pairs in
 for material in "${MATERIALS[@]}"; do
   for shots in "${SHOTS[@]}"; do
     for seed in "${SEEDS[@]}"; do
-      session=$WORK/$material-$shots-$seed-${WIDTH}x$HEIGHT
+      session=$WORK/$material-$shots-$seed-${WIDTH}x$HEIGHT-$FORMAT
       if [[ ! -f $session/slices/index.json ]]; then
         rm -rf "$session"
         "$MESOCAP" simulate --out "$session" --material "$material" --shots "$shots" --seed "$seed" \
-          --width "$WIDTH" --height "$HEIGHT" --no-progress >/dev/null
-        "$MESOCAP" calibrate "$session" --slice-size $((2 * SIZE)) --no-progress >/dev/null
+          --width "$WIDTH" --height "$HEIGHT" --format "$FORMAT" --no-progress >/dev/null
+        "$MESOCAP" calibrate "$session" --slice-size $((2 * SIZE)) --no-progress >"$WORK/calibrate.log" 2>&1 ||
+          { cat "$WORK/calibrate.log" >&2; exit 1; }
       fi
       rm -rf "$session/evaluation"
       "$MESOCAP" evaluate --session "$session" --out "$session/evaluation" --size "$SIZE" --pairs 240 --no-progress >/dev/null
