@@ -91,58 +91,45 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
   auto btf = LoadStatisticalBtf(in.session / "slices" / "index.json", options, &loaded, bar.AsCallback());
   if (!btf.ok()) return btf.status();
 
-  // An even spread of the Bonn grid's pairs, split by whether the neighbouring views measured
-  // lights around the pair's light: a tilted board never sees the flash from below its slope,
-  // so there the statistics are extrapolated from the edge of its measured lights.
-  const std::vector<Eigen::Vector3d> bonn = BonnDirections();
+  // Held-out pairs evenly spread over the Bonn grid, split by where the pair's light lies
+  // against the lights its views measured: a tilted board never sees the flash from below its
+  // slope, so there the statistics are extrapolated from the edge of its measured lights.
   constexpr int kPairs = 60;
-  struct Scored {
-    Eigen::Vector3d light, view;
-    bool covered;
-    std::array<double, kBtfMethods> w;  // pixel W1 per method
-    Image truth, statistical, top_view;  // kept for the pictures
-  };
-  std::vector<Scored> scored(kPairs);
   const TrueBtfRenderer truth = TruthRenderer(in, btf->width());
-  ParallelFor(0, kPairs, [&](int k) {
-    const size_t flat = size_t(k) * bonn.size() * bonn.size() / kPairs + 7;
-    Scored& s = scored[k];
-    s.light = bonn[flat % bonn.size()], s.view = bonn[(flat / bonn.size()) % bonn.size()];
-    s.covered = btf->LightCovered(s.light, s.view);
-    s.truth = truth.Render(s.light, s.view);
-    const std::array<Image, kBtfMethods> methods = ReconstructAllMethods(*btf, s.light, s.view, s.truth);
-    s.w = ScoreMethods(methods, s.truth).wasserstein_pixels;
-    s.statistical = methods[int(BtfMethod::kStatistical)];
-    s.top_view = methods[int(BtfMethod::kTopView)];
-  });
+  const TrueSliceFn truth_slice = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+    return truth.Render(light, view);
+  };
+  BtfEvaluationOptions scoring;
+  scoring.max_pairs = kPairs;
+  auto eval = ScoreHeldOutPairs(*btf, truth_slice, scoring);
+  if (!eval.ok()) return eval.status();
   std::vector<std::vector<std::string>> rows;
-  for (bool covered : {true, false}) {
-    int n = 0, wins = 0;
+  for (const LightCoverage coverage : {LightCoverage::kInside, LightCoverage::kNear, LightCoverage::kFar}) {
     std::array<std::vector<double>, kBtfMethods> w;
-    for (const Scored& s : scored)
-      if (s.covered == covered) {
-        ++n;
-        wins += s.w[0] < s.w[1] && s.w[0] < s.w[2];
-        for (int m = 0; m < kBtfMethods; ++m) w[m].push_back(s.w[m]);
-      }
-    if (n == 0) continue;
-    std::vector<std::string> row = {covered ? "light inside the views' measured lights" : "light extrapolated",
-                                    std::to_string(n), Format("%.0f%%", 100.0 * wins / n)};
+    for (const PairScore& p : eval->pairs)
+      if (p.coverage == coverage)
+        for (int m = 0; m < kBtfMethods; ++m) w[m].push_back(p.wasserstein_pixels[m]);
+    if (w[0].empty()) continue;
+    std::vector<std::string> row = {"light " + LightCoverageToString(coverage), std::to_string(w[0].size()),
+                                    Format("%.0f%%", 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels, coverage))};
     for (auto& v : w) row.push_back(Format("%.5f", Median(v)));
     rows.push_back(row);
   }
-  // Pictures: the first two covered and the first two extrapolated pairs.
+  // Pictures: the first two pairs with a measured light around them and the first two far ones.
   std::vector<Image> cells;
   std::vector<std::string> labels;
-  for (bool covered : {true, false}) {
+  for (const bool far : {false, true}) {
     int shown = 0;
-    for (const Scored& s : scored) {
-      if (s.covered != covered || shown == 2) continue;
+    for (const PairScore& p : eval->pairs) {
+      if ((p.coverage == LightCoverage::kFar) != far || shown == 2) continue;
       ++shown;
-      for (const Image& img : ExposeTogether({s.truth, s.statistical, s.top_view})) cells.push_back(img);
-      const Eigen::Vector2d i = AnglesDegFromDirection(s.light), o = AnglesDegFromDirection(s.view);
+      const Image t = truth.Render(p.light, p.view);
+      const std::array<Image, kBtfMethods> methods = ReconstructAllMethods(*btf, p.light, p.view, t);
+      for (const Image& img : ExposeTogether({t, methods[int(BtfMethod::kStatistical)], methods[int(BtfMethod::kTopView)]}))
+        cells.push_back(img);
+      const Eigen::Vector2d i = AnglesDegFromDirection(p.light), o = AnglesDegFromDirection(p.view);
       labels.insert(labels.end(), {Format("truth i(%.0f,%.0f) o(%.0f,%.0f)", i.x(), i.y(), o.x(), o.y()),
-                                   covered ? "statistical" : "statistical (extrapolated)", "top view only"});
+                                   far ? "statistical (far light)" : "statistical", "top view only"});
     }
   }
   if (Status st = WriteImage(in.out / "btf_reconstruction.jpg", ContactSheet(cells, labels, 3, 220),
@@ -152,8 +139,10 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
   report->Heading("Statistical BTF from the session's slices");
   report->Paragraph(Format("`mesocap reconstruct` builds the BTF of Ngan & Durand from the calibrated slices (resampled to "
                            "128 texels): %d slices in %d views, board %d's %d slices as base textures, %zu skipped. "
-                           "Scored against the true BTF on %d pairs spread over the 81 x 81 grid, by pixel W1 (lower is "
-                           "better); the last baseline is given the true average BRDF:",
+                           "Scored against the true BTF on %d held-out pairs spread over the 81 x 81 grid, by pixel W1 "
+                           "(lower is better), split by where the pair's light lies against the lights its views "
+                           "measured (inside their hull, within 15 deg of one, far outside); the last baseline is given "
+                           "the true average BRDF (`mesocap evaluate --session` scores more pairs):",
                            loaded.slices_used, loaded.views, loaded.top_board, loaded.top_lights, loaded.skipped.size(), kPairs));
   report->Table({"pairs", "count", "statistical beats both", "median W1 statistical", "top view only",
                  "top texture x true average BRDF"},
