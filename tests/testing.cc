@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 #include <iterator>
@@ -55,9 +56,10 @@ class TempDirSweeper : public ::testing::EmptyTestEventListener {
 
 std::filesystem::path MakeTempDir() {
   static int counter = 0;
+  std::string name = CurrentTestName();
+  std::replace(name.begin(), name.end(), '/', '_');  // parameterised tests: "Formats/Suite.Test/0"
   const auto dir = std::filesystem::temp_directory_path() /
-                   ("mesocap_test_" + CurrentTestName() + "_" + std::to_string(::getpid()) + "_" +
-                    std::to_string(counter++));
+                   ("mesocap_test_" + name + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   TempDirSweeper::Installed().Add(dir);
