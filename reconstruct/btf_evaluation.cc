@@ -210,8 +210,9 @@ std::string BtfEvaluation::Brief() const {
       by_coverage += Format("%s%s %.0f%% of %d", by_coverage.empty() ? "" : ", ", LightCoverageToString(c).c_str(),
                             100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels, c), CountWith(c));
   return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (by the pair's "
-                "light against the views' measured lights: %s; subbands %.0f%%, chromaticity %.0f%%); median W1 statistical %.5f, top view %.5f, BRDF-modulated %.5f; 95th-percentile "
-                "saturation within %.1f%% of the truth's at the median, %.1f%% at worst",
+                "light against the views' measured lights: %s; subbands %.0f%%, chromaticity %.0f%%); median W1 "
+                "statistical %.5f, top view %.5f, BRDF-modulated %.5f; 95th-percentile saturation within %.1f%% of the "
+                "truth's at the median, %.1f%% at worst",
                 pairs.size(), 100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels), by_coverage.c_str(),
                 100.0 * FractionBeatingBoth(&PairScore::wasserstein_bands),
                 100.0 * FractionBeatingBoth(&PairScore::wasserstein_chromaticity), w[0], w[1], w[2],
