@@ -204,6 +204,11 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   if (d.cinfo.data_precision != 8 || (d.cinfo.jpeg_color_space != JCS_GRAYSCALE && d.cinfo.jpeg_color_space != JCS_YCbCr &&
                                       d.cinfo.jpeg_color_space != JCS_RGB))
     return std::unique_ptr<JpegRowReader>();  // CMYK/YCCK or 12-bit: the image codec's reader
+  if (d.cinfo.num_components == 3) {
+    const jpeg_component_info* c = d.cinfo.comp_info;
+    for (int k = 1; k < 3; ++k)
+      reader->chroma_subsampled_ |= c[k].h_samp_factor < c[0].h_samp_factor || c[k].v_samp_factor < c[0].v_samp_factor;
+  }
   const bool grey = d.cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
   d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
   d.cinfo.dct_method = JDCT_ISLOW;  // accurate (and SIMD in libjpeg-turbo); not JDCT_IFAST

@@ -86,6 +86,9 @@ class JpegRowReader {
   int height() const { return height_; }
   int channels() const { return channels_; }
   int next_row() const { return next_row_; }
+  // True when the file keeps its colour (Cb, Cr) at a lower resolution than its brightness
+  // (4:2:0, 4:2:2 ... as cameras write JPEGs).
+  bool chroma_subsampled() const { return chroma_subsampled_; }
   // Decodes the next `count` rows into rows[0..count), each width() * channels() bytes. Corrupt
   // data (libjpeg's warnings included, as in ReadImage) is an error naming the file.
   Status ReadRows(int count, uint8_t* const* rows);
@@ -98,6 +101,7 @@ class JpegRowReader {
   std::filesystem::path path_;
   std::unique_ptr<Decoder> decoder_;
   int width_ = 0, height_ = 0, channels_ = 0, next_row_ = 0;
+  bool chroma_subsampled_ = false;
 };
 
 // For a file starting with a JPEG's SOI marker: CheckImageSize on the frame header libjpeg

@@ -155,6 +155,21 @@ TEST(ImageU8IO, JpegRowReaderDecodesBandsAsTheWholeImage) {
 
 // Decoding at 1/2, 1/4 and 1/8 of the size gives about the block averages of the full decode
 // (libjpeg's scaled IDCT keeps each 8x8 block's low frequencies).
+TEST(ImageU8IO, JpegRowReaderTellsWhetherColourIsKeptAtALowerResolution) {
+  const auto dir = testing::MakeTempDir();
+  ImageWriteOptions subsampled, full;
+  subsampled.attributes["jpeg:subsampling"] = std::string("4:2:0");
+  full.attributes["jpeg:subsampling"] = std::string("4:4:4");
+  ASSERT_TRUE(WriteImage(dir / "420.jpg", Textured(64, 48, 3, 1), subsampled).ok());
+  ASSERT_TRUE(WriteImage(dir / "444.jpg", Textured(64, 48, 3, 1), full).ok());
+  ASSERT_TRUE(WriteImage(dir / "grey.jpg", Textured(64, 48, 1, 1), subsampled).ok());
+  for (const auto& [name, expected] : {std::pair{"420.jpg", true}, {"444.jpg", false}, {"grey.jpg", false}}) {
+    auto reader = JpegRowReader::Open(dir / name);
+    ASSERT_TRUE(reader.ok() && *reader) << name;
+    EXPECT_EQ((*reader)->chroma_subsampled(), expected) << name;
+  }
+}
+
 TEST(ImageU8IO, JpegRowReaderDecodesAtAFractionOfTheSize) {
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "photo.jpg", Textured(256, 192, 3, testing::SeedFromTestName())).ok());

@@ -147,6 +147,8 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
                                 &out),
             0)
       << out;
+  // simulate writes 4:2:0 JPEGs, as cameras do: the resample stage says what that costs.
+  EXPECT_NE(out.find("JPEGs with colour at half resolution"), std::string::npos) << out;
   ASSERT_EQ(testing::RunMesocap("evaluate --session " + s.string() + " --out " + (s / "evaluation").string() +
                                     " --size 16 --pairs 30 --no-progress",
                                 &out),
