@@ -134,7 +134,16 @@ class HeaderReader {
       while (true) {
         if (!ReadName(&channel)) return false;
         if (channel.empty()) break;
-        in_.seekg(16, std::ios::cur);
+        // OpenImageIO aborts the process on a pixel type OpenEXR does not know (found by
+        // fuzz/fuzz_synth_files): 0 uint, 1 half, 2 float.
+        int32_t pixel_type = 0;
+        if (!ReadInt(&pixel_type)) return false;
+        if (pixel_type < 0 || pixel_type > 2) {
+          *error = Malformed("channel '" + channel + "' has pixel type " + std::to_string(pixel_type) +
+                             " (OpenEXR knows 0 uint, 1 half, 2 float)");
+          return false;
+        }
+        in_.seekg(12, std::ios::cur);
         length += int64_t(channel.size()) + 17;
         ++channels;
         if (length > size) break;

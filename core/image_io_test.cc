@@ -216,6 +216,25 @@ TEST(ImageIO, AnExrAttributeWhoseSizeDisagreesWithItsTypeIsRefused) {
   EXPECT_TRUE(ReadImageInfo(dir / "a.exr").ok());
 }
 
+TEST(ImageIO, AnExrChannelOfAnUnknownPixelTypeIsRefused) {
+  // Found by fuzz/fuzz_synth_files: OpenImageIO asserts (aborts the process) on pixel type 3.
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
+  std::string bytes = FileBytes(dir / "a.exr");
+  const std::string list("channels\0chlist\0", 16);
+  const size_t first_type = bytes.find(list) + list.size() + 4 + 2;  // after the size and "B\0"
+  ASSERT_EQ(bytes.substr(first_type - 2, 2), std::string("B\0", 2));
+  const int32_t unknown = 3;
+  bytes.replace(first_type, 4, reinterpret_cast<const char*>(&unknown), 4);
+  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  auto info = ReadImageInfo(dir / "b.exr");
+  ASSERT_FALSE(info.ok());
+  EXPECT_NE(info.status().message().find("b.exr: malformed OpenEXR header: channel 'B' has pixel type 3"),
+            std::string::npos) << info.status().message();
+  EXPECT_FALSE(ReadImage(dir / "b.exr").ok());
+  EXPECT_TRUE(ReadImageInfo(dir / "a.exr").ok());
+}
+
 TEST(ImageIO, AnExrWhoseOffsetTableCannotFitInTheFileIsRefused) {
   // A data window of 1 x 10 million rows is within the pixel cap, but its uncompressed offset
   // table (one 8-byte entry per row) would be 80 MB, allocated before any pixel is read.
