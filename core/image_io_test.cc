@@ -221,11 +221,11 @@ TEST(ImageIO, AnExrChannelOfAnUnknownPixelTypeIsRefused) {
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
   std::string bytes = FileBytes(dir / "a.exr");
+  // The first channel's pixel type follows the list's declared size and the channel's name "B".
   const std::string list("channels\0chlist\0", 16);
-  const size_t first_type = bytes.find(list) + list.size() + 4 + 2;  // after the size and "B\0"
-  ASSERT_EQ(bytes.substr(first_type - 2, 2), std::string("B\0", 2));
-  const int32_t unknown = 3;
-  bytes.replace(first_type, 4, reinterpret_cast<const char*>(&unknown), 4);
+  const size_t at = bytes.find(list);
+  ASSERT_NE(at, std::string::npos);
+  PatchInt32After(&bytes, bytes.substr(at, list.size() + 4) + std::string("B\0", 2), 3);
   std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
   auto info = ReadImageInfo(dir / "b.exr");
   ASSERT_FALSE(info.ok());

@@ -153,8 +153,6 @@ TEST(ImageU8IO, JpegRowReaderDecodesBandsAsTheWholeImage) {
   EXPECT_EQ(png->get(), nullptr);
 }
 
-// Decoding at 1/2, 1/4 and 1/8 of the size gives about the block averages of the full decode
-// (libjpeg's scaled IDCT keeps each 8x8 block's low frequencies).
 TEST(ImageU8IO, JpegRowReaderTellsWhetherColourIsKeptAtALowerResolution) {
   const auto dir = testing::MakeTempDir();
   ImageWriteOptions subsampled, full;
@@ -170,6 +168,8 @@ TEST(ImageU8IO, JpegRowReaderTellsWhetherColourIsKeptAtALowerResolution) {
   }
 }
 
+// Decoding at 1/2, 1/4 and 1/8 of the size gives about the block averages of the full decode
+// (libjpeg's scaled IDCT keeps each 8x8 block's low frequencies).
 TEST(ImageU8IO, JpegRowReaderDecodesAtAFractionOfTheSize) {
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "photo.jpg", Textured(256, 192, 3, testing::SeedFromTestName())).ok());

@@ -226,7 +226,6 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   if (options.input_views.empty()) options.input_views = RigViewDirections();
   if (options.input_lights.empty()) options.input_lights = BonnDirections();
   const int num_threads = options.btf.num_threads;
-  BtfEvaluation eval;
 
   // 1. The measured data: every input view under each of its lights.
   auto start = std::chrono::steady_clock::now();
@@ -247,8 +246,8 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
     if (!ReportProgress(progress, ++done, int(inputs.size()), "render inputs")) cancelled = true;
   }, num_threads);
   if (cancelled) return Status::Error("cancelled");
-  eval.input_slices = int(inputs.size());
-  eval.seconds_inputs = Seconds(start);
+  const int input_slices = int(inputs.size());
+  const double seconds_inputs = Seconds(start);
 
   // 2. Statistics of every input slice; the top view's slices are the base textures.
   start = std::chrono::steady_clock::now();
@@ -262,14 +261,14 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights_by_view[top], std::move(measured), options.btf);
   if (!btf.ok()) return btf.status();
   slices.clear();
-  eval.seconds_statistics = Seconds(start);
+  const double seconds_statistics = Seconds(start);
 
   // 3. Held-out pairs: target views that are not input views, under every target light.
   auto scored = ScoreHeldOutPairs(*btf, truth, options, progress);
   if (!scored.ok()) return scored.status();
-  scored->input_slices = eval.input_slices;
-  scored->seconds_inputs = eval.seconds_inputs;
-  scored->seconds_statistics = eval.seconds_statistics;
+  scored->input_slices = input_slices;
+  scored->seconds_inputs = seconds_inputs;
+  scored->seconds_statistics = seconds_statistics;
   if (model) *model = std::move(*btf);
   return scored;
 }
