@@ -44,7 +44,7 @@ MaterialHit TraceFromViewer(const Material& m, double x, double y, const Eigen::
 
 bool SelfShadowed(const Material& m, const Eigen::Vector3d& p, const Eigen::Vector3d& wi) {
   if (wi.z() <= 0) return true;
-  const double horizontal = std::hypot(wi.x(), wi.y());
+  const double horizontal = std::sqrt(wi.x() * wi.x() + wi.y() * wi.y());
   if (horizontal < 1e-9 || m.max_height_m() <= 0) return false;
   const double ds = m.cell_m() / horizontal;
   const double s_end = (m.max_height_m() - p.z()) / wi.z();
@@ -72,7 +72,8 @@ Eigen::Vector3f ReflectedRadiance(const Material& m, const MaterialHit& hit, con
     const double D = a2 / (std::numbers::pi * denom * denom);
     auto g1 = [&](double c) { return 2 * c / (c + std::sqrt(a2 + (1 - a2) * c * c)); };
     const double G = g1(cos_i) * g1(cos_o);
-    const double F = m.specular_f0() + (1 - m.specular_f0()) * std::pow(1 - std::clamp(wi.dot(h), 0.0, 1.0), 5);
+    const double c = 1 - std::clamp(wi.dot(h), 0.0, 1.0), c2 = c * c;  // Schlick's (1 - cos)^5
+    const double F = m.specular_f0() + (1 - m.specular_f0()) * (c2 * c2 * c);
     f += Eigen::Vector3f::Constant(float(F * D * G / (4 * cos_i * cos_o)));
   }
   return f * float(cos_i);

@@ -14,26 +14,19 @@ namespace {
 
 constexpr float kInvPi = float(1.0 / std::numbers::pi);
 
-// Ray (origin o, unit direction d) against the square |x|,|y| <= half in the frame (R, t).
-double IntersectSquare(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Matrix3d& R,
-                       const Eigen::Vector3d& t, double half_x, double half_y, double lo_x = NAN, double lo_y = NAN) {
-  const Eigen::Vector3d ol = R.transpose() * (o - t), dl = R.transpose() * d;
-  if (std::abs(dl.z()) < 1e-12) return -1;
-  const double s = -ol.z() / dl.z();
-  if (s <= 0) return -1;
-  const double x = ol.x() + s * dl.x(), y = ol.y() + s * dl.y();
-  const double x0 = std::isnan(lo_x) ? -half_x : lo_x, y0 = std::isnan(lo_y) ? -half_y : lo_y;
-  return (x >= x0 && x <= half_x && y >= y0 && y <= half_y) ? s : -1;
-}
-
-// Whether the square (R, t, half side) lies between p and the light: the segment must cross
-// its plane (a cheap reject) and hit it short of the light.
-bool SquareBlocks(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double half, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d& d, double dist, const Eigen::Vector3d& light) {
-  const Eigen::Vector3d n = R.col(2);
-  if ((n.dot(p - t) > 0) == (n.dot(light - t) > 0)) return false;
-  const double s = IntersectSquare(p, d, R, t, half, half);
-  return s > 1e-6 && s < dist;
+// The cone from `apex` that holds the sphere (centre, radius): unit axis and cosine of its half
+// angle (-1 when the apex is inside). The sphere is enlarged a little, so rounding can never cull
+// a point that the exact test would find.
+struct Cone {
+  Eigen::Vector3d axis;
+  double cos_half_angle;
+};
+Cone ConeHolding(const Eigen::Vector3d& apex, const Eigen::Vector3d& centre, double radius) {
+  radius = radius * 1.001 + 1e-6;
+  const Eigen::Vector3d to_centre = centre - apex;
+  const double distance = to_centre.norm();
+  return {to_centre / std::max(distance, 1e-12),
+          distance > radius ? std::sqrt(1 - (radius / distance) * (radius / distance)) : -1.0};
 }
 
 double IntersectSphere(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& c, double r) {
@@ -100,6 +93,15 @@ RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const 
   for (const auto& c : scene_.grey_cards)
     for (const auto& t : c.tags) max_id = std::max(max_id, t.id);
   for (int id = 0; id <= max_id; ++id) tag_bitmaps_.push_back(Tag36h11Bitmap(id));
+  auto add_square = [&](Kind kind, int index, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double size) {
+    const Cone cone = ConeHolding(Eigen::Vector3d::Zero(), t, size / 2 * std::sqrt(2.0));
+    primary_squares_.push_back({kind, index, R.transpose(), R.transpose() * (Eigen::Vector3d::Zero() - t), size / 2,
+                                cone.axis, cone.cos_half_angle});
+  };
+  for (size_t b = 0; b < scene_.boards.size(); ++b)
+    add_square(kBoard, int(b), scene_.boards[b].R, scene_.boards[b].t, scene_.boards[b].size_m);
+  for (size_t i = 0; i < scene_.grey_cards.size(); ++i)
+    add_square(kCard, int(i), scene_.grey_cards[i].R, scene_.grey_cards[i].t, scene_.grey_cards[i].size_m);
   const int W = scene_.camera.width, H = scene_.camera.height;
   ray_grid_.resize(size_t(W + 1) * (H + 1));
   ParallelFor(0, H + 1, [&](int j) {
@@ -136,6 +138,19 @@ std::vector<Eigen::Vector2d> RigRenderer::SubpixelOffsets() const {
   return offsets;
 }
 
+// Distance along the camera ray d (unit) to the square, or -1: its frame and the camera in it are
+// made once, so a ray costs one rotation, and none outside the square's cone.
+double RigRenderer::IntersectPrimary(const PrimarySquare& square, const Eigen::Vector3d& d) const {
+  if (d.dot(square.axis) < square.cos_half_angle) return -1;
+  const Eigen::Vector3d& ol = square.camera_local;
+  const Eigen::Vector3d dl = square.to_local * d;
+  if (std::abs(dl.z()) < 1e-12) return -1;
+  const double s = -ol.z() / dl.z();
+  if (s <= 0) return -1;
+  const double x = ol.x() + s * dl.x(), y = ol.y() + s * dl.y();
+  return (x >= -square.half && x <= square.half && y >= -square.half && y <= square.half) ? s : -1;
+}
+
 RigRenderer::Sample RigRenderer::TracePrimary(const Eigen::Vector3d& d) const {
   const Eigen::Vector3d o = Eigen::Vector3d::Zero();
   double best = 1e30;
@@ -149,16 +164,12 @@ RigRenderer::Sample RigRenderer::TracePrimary(const Eigen::Vector3d& d) const {
     }
   };
   consider(IntersectPlane(o, d, scene_.TableNormalInCam(), scene_.TablePointInCam()), kTable, 0);
-  for (size_t b = 0; b < scene_.boards.size(); ++b) {
-    const auto& board = scene_.boards[b];
-    consider(IntersectSquare(o, d, board.R, board.t, board.size_m / 2, board.size_m / 2), kBoard, int(b));
-  }
+  // Boards, balls, then cards: on equal distances the first found is kept, as it always was.
+  const size_t boards = scene_.boards.size();
+  for (size_t b = 0; b < boards; ++b) consider(IntersectPrimary(primary_squares_[b], d), kBoard, int(b));
   for (size_t i = 0; i < scene_.spheres.size(); ++i)
     consider(IntersectSphere(o, d, scene_.spheres[i].center_m, scene_.spheres[i].radius_m), kSphere, int(i));
-  for (size_t i = 0; i < scene_.grey_cards.size(); ++i) {
-    const auto& c = scene_.grey_cards[i];
-    consider(IntersectSquare(o, d, c.R, c.t, c.size_m / 2, c.size_m / 2), kCard, int(i));
-  }
+  for (size_t i = boards; i < primary_squares_.size(); ++i) consider(IntersectPrimary(primary_squares_[i], d), kCard, int(i - boards));
   const Eigen::Vector3d p = kind == kNone ? Eigen::Vector3d::Zero() : Eigen::Vector3d(best * d);
   return {float(p.x()), float(p.y()), float(p.z()), kind, uint8_t(index), kWhite};
 }
@@ -201,25 +212,22 @@ void RigRenderer::Prepare(const ProgressFn& progress) {
   ReportProgress(progress, 2, 2, "patch view rays");
 }
 
-// Whether object (kind, index) blocks the segment from `p` along unit `d` to the light at `dist`.
-bool RigRenderer::Blocks(Kind kind, int index, const Eigen::Vector3d& p, const Eigen::Vector3d& d, double dist,
-                         const Eigen::Vector3d& light) const {
-  switch (kind) {
-    case kSphere: {
-      const double s = IntersectSphere(p, d, scene_.spheres[index].center_m, scene_.spheres[index].radius_m);
-      return s > 0 && s < dist;
-    }
-    case kCard: {
-      const auto& c = scene_.grey_cards[index];
-      return SquareBlocks(c.R, c.t, c.size_m / 2, p, d, dist, light);
-    }
-    case kBoard: {
-      const auto& board = scene_.boards[index];
-      return SquareBlocks(board.R, board.t, board.size_m / 2, p, d, dist, light);
-    }
-    default:
-      return false;
+bool RigRenderer::Blocks(const ShadowCaster& caster, const Eigen::Vector3d& p, const Eigen::Vector3d& d,
+                         double dist) const {
+  if (caster.kind == kSphere) {
+    const RigSphere& sphere = scene_.spheres[caster.index];
+    const double s = IntersectSphere(p, d, sphere.center_m, sphere.radius_m);
+    return s > 0 && s < dist;
   }
+  // A square: p and the light on opposite sides of its plane (a cheap reject), and the segment
+  // between them crossing the plane inside the square, further than 1 um from p.
+  const Eigen::Vector3d q = caster.to_local * p - caster.origin;
+  const Eigen::Vector3d& l = caster.light_local;
+  if ((q.z() > 0) == (l.z() > 0)) return false;
+  const double u = q.z() / (q.z() - l.z());  // of the way from p to the light
+  if (!(u * dist > 1e-6)) return false;
+  const double x = q.x() + u * (l.x() - q.x()), y = q.y() + u * (l.y() - q.y());
+  return std::abs(x) <= caster.half && std::abs(y) <= caster.half;
 }
 
 // The culled test gives the same answer; without a shot to share the casters, they are made here.
@@ -230,20 +238,26 @@ bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& ligh
 
 std::vector<RigRenderer::ShadowCaster> RigRenderer::ShadowCastersFor(const Eigen::Vector3d& light) const {
   std::vector<ShadowCaster> casters;
-  auto add = [&](Kind kind, int index, const Eigen::Vector3d& centre, double radius) {
-    // Enlarged a little so rounding can never drop a caster that the exact test would hit.
-    radius = radius * 1.001 + 1e-6;
-    const Eigen::Vector3d to_centre = centre - light;
-    const double distance = to_centre.norm();
-    const double cos_half_angle = distance > radius ? std::sqrt(1 - (radius / distance) * (radius / distance)) : -1.0;
-    casters.push_back({kind, index, to_centre / std::max(distance, 1e-12), cos_half_angle});
+  auto add = [&](Kind kind, int index, const Eigen::Vector3d& centre, double radius) -> ShadowCaster& {
+    const Cone cone = ConeHolding(light, centre, radius);
+    ShadowCaster& c = casters.emplace_back();
+    c.kind = kind, c.index = index, c.axis = cone.axis, c.cos_half_angle = cone.cos_half_angle;
+    return c;
+  };
+  // A square's frame is set once per light: each test is then one rotation of p.
+  auto add_square = [&](Kind kind, int index, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double size) {
+    ShadowCaster& c = add(kind, index, t, size / 2 * std::sqrt(2.0));
+    c.to_local = R.transpose();
+    c.origin = c.to_local * t;
+    c.light_local = c.to_local * (light - t);
+    c.half = size / 2;
   };
   for (size_t i = 0; i < scene_.spheres.size(); ++i)
     add(kSphere, int(i), scene_.spheres[i].center_m, scene_.spheres[i].radius_m);
   for (size_t i = 0; i < scene_.grey_cards.size(); ++i)
-    add(kCard, int(i), scene_.grey_cards[i].t, scene_.grey_cards[i].size_m / 2 * std::sqrt(2.0));
+    add_square(kCard, int(i), scene_.grey_cards[i].R, scene_.grey_cards[i].t, scene_.grey_cards[i].size_m);
   for (size_t b = 0; b < scene_.boards.size(); ++b)
-    add(kBoard, int(b), scene_.boards[b].t, scene_.boards[b].size_m / 2 * std::sqrt(2.0));
+    add_square(kBoard, int(b), scene_.boards[b].R, scene_.boards[b].t, scene_.boards[b].size_m);
   return casters;
 }
 
@@ -268,14 +282,15 @@ std::vector<RigRenderer::ShadowCaster> RigRenderer::CastersNear(const std::vecto
 
 bool RigRenderer::Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light,
                            const std::vector<ShadowCaster>& casters, Kind self_kind, int self_index) const {
+  if (casters.empty()) return false;  // most of a shot: no caster's cone reaches the tile
   const Eigen::Vector3d to_light = light - p;
   const double dist = to_light.norm();
-  const Eigen::Vector3d d = to_light / dist;
   for (const ShadowCaster& c : casters) {
     if (c.kind == self_kind && c.index == self_index) continue;
-    // The segment from the light towards p must enter the caster's cone: -d is that direction.
-    if (-d.dot(c.axis) < c.cos_half_angle) continue;
-    if (Blocks(c.kind, c.index, p, d, dist, light)) return true;
+    // The segment from the light towards p must enter the caster's cone: -to_light / dist is
+    // that direction (compared without dividing).
+    if (-to_light.dot(c.axis) < c.cos_half_angle * dist) continue;
+    if (Blocks(c, p, to_light / dist, dist)) return true;
   }
   return false;
 }
@@ -347,11 +362,16 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
   if (s.kind == kNone) return Eigen::Vector3f::Zero();
   const Eigen::Vector3d p(s.x, s.y, s.z);
   if (Occluded(p, shot.light_m, casters, s.kind, s.index)) return Eigen::Vector3f::Zero();
-  const Eigen::Vector3d to_light = shot.light_m - p;
-  const double d2 = to_light.squaredNorm();
-  const Eigen::Vector3d wi = to_light / std::sqrt(d2);
-  const float E = float(shot.power / d2);
+  // The material patches (shaded in texture space beforehand) need no light direction here.
+  const auto light_direction = [&](float* irradiance) -> Eigen::Vector3d {
+    const Eigen::Vector3d to_light = shot.light_m - p;
+    const double d2 = to_light.squaredNorm();
+    *irradiance = float(shot.power / d2);
+    return to_light / std::sqrt(d2);
+  };
   auto lambert = [&](const Eigen::Vector3d& n, float albedo) {
+    float E = 0;
+    const Eigen::Vector3d wi = light_direction(&E);
     return Eigen::Vector3f::Constant(albedo * kInvPi * E * float(std::max(0.0, n.dot(wi))));
   };
   switch (s.kind) {
@@ -373,6 +393,8 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
       return lambert(board.R.col(2), PaintAlbedo(s));
     }
     case kSphere: {
+      float E = 0;
+      const Eigen::Vector3d wi = light_direction(&E);
       const RigSphere& sp = scene_.spheres[s.index];
       const Eigen::Vector3d n = (p - sp.center_m).normalized();
       const double cos_i = n.dot(wi);
@@ -499,14 +521,22 @@ void RigRenderer::ApplySensor(Image* image, uint64_t stream) const {
   const int values_per_row = image->width() * image->channels();
   ParallelFor(0, image->height(), [&](int y) {
     float* row = image->row(y);
-    const uint64_t first = uint64_t(y) * values_per_row;
-    uint64_t bits = 0;
+    const uint64_t first = uint64_t(y) * values_per_row, end = first + uint64_t(values_per_row);
+    // The row's unit noise first: value `index` takes slot index % 5 of hash index / 5, in runs
+    // of one hash each (the first and last runs may be partial).
+    thread_local std::vector<float> noise;
+    noise.resize(size_t(values_per_row));
+    for (uint64_t run = first / kNoiseValuesPerHash; run * kNoiseValuesPerHash < end; ++run) {
+      const uint64_t bits = SplitMix64(key ^ run);
+      const uint64_t lo = std::max(first, run * kNoiseValuesPerHash);
+      const uint64_t hi = std::min(end, (run + 1) * kNoiseValuesPerHash);
+      for (uint64_t index = lo; index < hi; ++index)
+        noise[index - first] = gaussian[(bits >> (12 * (index - run * kNoiseValuesPerHash))) & 4095];
+    }
+    // Then the values, in a loop the compiler vectorises (square roots four at a time).
     for (int i = 0; i < values_per_row; ++i) {
-      const uint64_t index = first + i;
-      if (i == 0 || index % kNoiseValuesPerHash == 0) bits = SplitMix64(key ^ (index / kNoiseValuesPerHash));
-      const float noise = gaussian[(bits >> (12 * (index % kNoiseValuesPerHash))) & 4095];
       const float v = std::max(row[i], 0.0f);
-      row[i] = std::clamp(v + std::sqrt(shot * v + read) * noise, 0.0f, 1.0f);
+      row[i] = std::clamp(v + std::sqrt(shot * v + read) * noise[size_t(i)], 0.0f, 1.0f);
     }
   }, options_.num_threads);
 }

@@ -51,6 +51,11 @@ class RigRenderer {
     int index;
     Eigen::Vector3d axis;  // unit, light -> bounding-sphere centre
     double cos_half_angle;  // -1 when the light is inside the bounding sphere
+    // Boards and cards, in the square's own frame (x, y across it, z along its normal): a point
+    // p is there to_local * p - origin, the light is `light_local`; half its side.
+    Eigen::Matrix3d to_local = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero(), light_local = Eigen::Vector3d::Zero();
+    double half = 0;
   };
   std::vector<ShadowCaster> ShadowCastersFor(const Eigen::Vector3d& light) const;
   // Of `casters`, those whose cone can hold a point within `radius` of `centre`: the same answers
@@ -84,16 +89,30 @@ class RigRenderer {
   Image RenderPatchRadiance(int board, const RigShot& shot) const;
   Eigen::Vector3f Shade(const Sample& s, const RigShot& shot, const std::vector<Image>& patches,
                         const std::vector<ShadowCaster>& casters) const;
-  bool Blocks(Kind kind, int index, const Eigen::Vector3d& p, const Eigen::Vector3d& d, double dist,
-              const Eigen::Vector3d& light) const;
+  // Whether the caster lies between p and the light (unit direction d, at distance dist).
+  bool Blocks(const ShadowCaster& caster, const Eigen::Vector3d& p, const Eigen::Vector3d& d, double dist) const;
   std::vector<Eigen::Vector2d> SubpixelOffsets() const;
   // Camera ray through continuous pixel position (x, y), interpolated in ray_grid_.
   Eigen::Vector3d RayThrough(double x, double y) const;
   // The same ray as undistorted normalised coordinates (x, y) of the direction (x, y, 1).
   Eigen::Vector2f UndistortedAt(double x, double y) const;
 
+  // A board or card as primary rays from the camera (at the origin) meet it: its frame, the
+  // camera in that frame, and the cone from the camera that holds it (rays outside miss it).
+  struct PrimarySquare {
+    Kind kind;
+    int index;
+    Eigen::Matrix3d to_local;
+    Eigen::Vector3d camera_local;
+    double half;
+    Eigen::Vector3d axis;   // unit, camera -> the square's centre
+    double cos_half_angle;  // -1 when the camera is inside its bounding sphere
+  };
+  double IntersectPrimary(const PrimarySquare& square, const Eigen::Vector3d& ray) const;
+
   RigScene scene_;
   const Material& material_;
+  std::vector<PrimarySquare> primary_squares_;  // boards, then cards
   RigRenderOptions options_;
   std::vector<TagBitmap> tag_bitmaps_;  // by tag id
   // Undistorted normalised coordinates at pixel corners ((W+1) x (H+1), node (i, j) at pixel
