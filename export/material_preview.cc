@@ -1,6 +1,9 @@
 #include "export/material_preview.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <numbers>
 
 #include <Eigen/Geometry>
@@ -59,18 +62,25 @@ Image RenderMaterialCloth(const GgxMaterialMaps& maps, const Eigen::Vector3d& li
   };
   const double tilt = 35 * std::numbers::pi / 180;  // the sheet is seen at 35 deg from above
   const Eigen::Vector3d view(0, -std::sin(tilt), std::cos(tilt)), l = light.normalized();
+  // Orthographic along -view: the sheet's point (s, t) projects to (s, t cos - z sin); a pixel
+  // sees the first t of a 401-step march whose projection reaches its row. Per column, the
+  // running maximum of the projection gives every row's first crossing by binary search.
+  constexpr int kSteps = 400;
   Image out(size, size, 3);
-  ParallelFor(0, size, [&](int row) {
-    for (int col = 0; col < size; ++col) {
-      // Orthographic along -view: the sheet's point (s, t) projects to (s, t cos - z sin);
-      // found by marching t for this column (the folds are gentle, so one crossing).
-      const double s = (col + 0.5) / size, target = 1 - (row + 0.5) / size;
-      double t_hit = -1;
-      for (int k = 0; k <= 400 && t_hit < 0; ++k) {
-        const double t = k / 400.0;
-        if (t * std::cos(tilt) + height(s, t) * std::sin(tilt) >= target * std::cos(tilt)) t_hit = t;
-      }
-      if (t_hit < 0) continue;
+  ParallelFor(0, size, [&](int col) {
+    const double s = (col + 0.5) / size;
+    std::vector<double> reached(kSteps + 1);
+    double highest = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k <= kSteps; ++k) {
+      const double t = k / double(kSteps);
+      highest = std::max(highest, t * std::cos(tilt) + height(s, t) * std::sin(tilt));
+      reached[size_t(k)] = highest;
+    }
+    for (int row = 0; row < size; ++row) {
+      const double target = 1 - (row + 0.5) / size;
+      const auto first = std::lower_bound(reached.begin(), reached.end(), target * std::cos(tilt));
+      if (first == reached.end()) continue;
+      const double t_hit = double(first - reached.begin()) / kSteps;
       const double e = 1e-4;
       const Eigen::Vector3d ds(e, 0, height(s + e, t_hit) - height(s, t_hit)), dt(0, e, height(s, t_hit + e) - height(s, t_hit));
       const Eigen::Vector3d n = ds.cross(dt).normalized();
