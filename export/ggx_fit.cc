@@ -48,18 +48,14 @@ Eigen::Matrix<T, 3, 1> NormalFromSlope(const T* slope) {
   return Eigen::Matrix<T, 3, 1>(-slope[0], -slope[1], T(1)).normalized();
 }
 
-// The least-squares base colour of one texel for given roughness, metallic and normal (the model
-// is affine in it: core/pbr_brdf.h), clamped to [0, 1], and the residuals it leaves (model minus
-// observed, per observation and channel) when `residuals` is given.
+// The least-squares base colour of one texel from the model's affine terms per observation
+// (core/pbr_brdf.h), clamped to [0, 1], and the residuals it leaves (model minus observed, per
+// observation and channel) when `residuals` is given.
 template <typename T>
-__attribute__((flatten)) Eigen::Matrix<T, 3, 1> ProjectBaseColor(const std::vector<Observation>& dirs, const float* values, const T& roughness,
-                                        const T& metallic, const Eigen::Matrix<T, 3, 1>& n, T* residuals) {
-  thread_local std::vector<PbrAffine<T>> terms;
-  terms.resize(dirs.size());
+Eigen::Matrix<T, 3, 1> ProjectBaseColorWith(const std::vector<PbrAffine<T>>& terms, const float* values, T* residuals) {
   T aa(0);
   Eigen::Matrix<T, 3, 1> ay = Eigen::Matrix<T, 3, 1>::Zero();
-  for (size_t k = 0; k < dirs.size(); ++k) {
-    terms[k] = PbrAffineTerms(roughness, metallic, n, dirs[k]);
+  for (size_t k = 0; k < terms.size(); ++k) {
     aa += terms[k].a * terms[k].a;
     for (int c = 0; c < 3; ++c) ay[c] += terms[k].a * (T(values[3 * k + c]) - terms[k].b);
   }
@@ -71,9 +67,25 @@ __attribute__((flatten)) Eigen::Matrix<T, 3, 1> ProjectBaseColor(const std::vect
       if (base[c] > T(1)) base[c] = T(1);
     }
   if (residuals)
-    for (size_t k = 0; k < dirs.size(); ++k)
+    for (size_t k = 0; k < terms.size(); ++k)
       for (int c = 0; c < 3; ++c) residuals[3 * k + c] = terms[k].a * base[c] + terms[k].b - T(values[3 * k + c]);
   return base;
+}
+
+template <typename T>
+void AffineTermsOf(const std::vector<Observation>& dirs, const T& roughness, const T& metallic,
+                   const Eigen::Matrix<T, 3, 1>& n, std::vector<PbrAffine<T>>* terms) {
+  terms->resize(dirs.size());
+  for (size_t k = 0; k < dirs.size(); ++k) (*terms)[k] = PbrAffineTerms(roughness, metallic, n, dirs[k]);
+}
+
+// The same for given roughness, metallic and normal.
+template <typename T>
+__attribute__((flatten)) Eigen::Matrix<T, 3, 1> ProjectBaseColor(const std::vector<Observation>& dirs, const float* values, const T& roughness,
+                                        const T& metallic, const Eigen::Matrix<T, 3, 1>& n, T* residuals) {
+  thread_local std::vector<PbrAffine<T>> terms;
+  AffineTermsOf(dirs, roughness, metallic, n, &terms);
+  return ProjectBaseColorWith(terms, values, residuals);
 }
 
 // Residuals of one texel over roughness, metallic and the normal's slope, the base colour
@@ -89,15 +101,45 @@ struct TexelCost {
   }
 };
 
+double SumOfSquares(const std::vector<double>& residuals) {
+  double sq = 0;
+  for (double r : residuals) sq += r * r;
+  return sq;
+}
+
 double SquaredError(const std::vector<Observation>& dirs, const float* values, double roughness, double metallic,
                     const double* slope) {
   thread_local std::vector<double> residuals;
   residuals.resize(3 * dirs.size());
   ProjectBaseColor(dirs, values, roughness, metallic, NormalFromSlope(slope), residuals.data());
-  double sq = 0;
-  for (double r : residuals) sq += r * r;
-  return sq;
+  return SumOfSquares(residuals);
 }
+
+// The starts every texel tries: a coarse grid over roughness and metallic with the patch's
+// normal. Their terms depend on the directions alone, so they are made once for all texels.
+struct StartGrid {
+  struct Point {
+    double roughness, metallic;
+    std::vector<PbrAffine<double>> terms;
+  };
+  std::vector<Point> points;
+
+  explicit StartGrid(const std::vector<Observation>& dirs) {
+    const double flat[2] = {0, 0};
+    for (double r : {0.15, 0.3, 0.5, 0.75, 1.0})
+      for (double m : {0.0, 0.5, 1.0}) {
+        Point& p = points.emplace_back(Point{r, m, {}});
+        AffineTermsOf<double>(dirs, r, m, NormalFromSlope(flat), &p.terms);
+      }
+  }
+  // SquaredError at point p, from its terms.
+  static double SquaredErrorAt(const Point& p, const float* values) {
+    thread_local std::vector<double> residuals;
+    residuals.resize(3 * p.terms.size());
+    ProjectBaseColorWith(p.terms, values, residuals.data());
+    return SumOfSquares(residuals);
+  }
+};
 
 struct TexelFit {
   Eigen::Vector3d base, normal;
@@ -108,19 +150,16 @@ struct TexelFit {
 
 // `previous`: the fit of the texel before in the row, a start that is often close.
 TexelFit FitTexel(const std::vector<Observation>& dirs, const float* values, const GgxFitOptions& options,
-                  const TexelFit* previous) {
-  // Start: the best of a coarse grid over roughness and metallic (flat normal) and the previous
-  // texel's parameters.
+                  const StartGrid& grid, const TexelFit* previous) {
+  // Start: the best of the grid and the previous texel's parameters.
   double best = 1e300;
   double roughness = 0.5, metallic = 0, slope[2] = {0, 0};
-  const auto consider = [&](double r, double m, double slope_x, double slope_y) {
-    const double s[2] = {slope_x, slope_y};
-    const double sq = SquaredError(dirs, values, r, m, s);
-    if (sq < best) best = sq, roughness = r, metallic = m, slope[0] = slope_x, slope[1] = slope_y;
-  };
-  for (double r : {0.15, 0.3, 0.5, 0.75, 1.0})
-    for (double m : {0.0, 0.5, 1.0}) consider(r, m, 0, 0);
-  if (previous) consider(previous->roughness, previous->metallic, previous->slope[0], previous->slope[1]);
+  for (const StartGrid::Point& p : grid.points) {
+    const double sq = StartGrid::SquaredErrorAt(p, values);
+    if (sq < best) best = sq, roughness = p.roughness, metallic = p.metallic;
+  }
+  if (previous && SquaredError(dirs, values, previous->roughness, previous->metallic, previous->slope) < best)
+    roughness = previous->roughness, metallic = previous->metallic, slope[0] = previous->slope[0], slope[1] = previous->slope[1];
 
   ceres::Problem problem;
   auto* cost = new ceres::AutoDiffCostFunction<TexelCost, ceres::DYNAMIC, 1, 1, 2>(new TexelCost{&dirs, values},
@@ -226,6 +265,7 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   maps.metallic = Image(width, height, 1);
   maps.normal = Image(width, height, 3);
   maps.relative_error = Image(width, height, 1);
+  const StartGrid grid(dirs);
   std::atomic<int> rows_done = 0;
   std::atomic<long> iterations = 0, evaluations = 0;
   std::atomic<bool> cancelled = false;
@@ -234,7 +274,7 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
     TexelFit fit;
     for (int x = 0; x < width; ++x) {
       const size_t t = size_t(y) * width + x;
-      fit = FitTexel(dirs, &table[t * n * 3], options, x > 0 ? &fit : nullptr);
+      fit = FitTexel(dirs, &table[t * n * 3], options, grid, x > 0 ? &fit : nullptr);
       for (int c = 0; c < 3; ++c) {
         maps.base_color.at(x, y, c) = float(fit.base[c]);
         maps.normal.at(x, y, c) = float(fit.normal[c]);
