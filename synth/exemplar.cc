@@ -1,6 +1,7 @@
 #include "synth/exemplar.h"
 
 #include <algorithm>
+#include <optional>
 #include <map>
 #include <random>
 
@@ -57,6 +58,8 @@ Eigen::MatrixXd Orthonormalize(const Eigen::MatrixXd& y) {
   return qr.householderQ() * Eigen::MatrixXd::Identity(y.rows(), y.cols());
 }
 
+constexpr double kKeptSliceBytes = 512.0 * (1 << 20);
+
 // Calls visit(k, slice) for every slice in order; slices are decoded `threads` at a time in
 // parallel, visited one by one (the sums stay independent of the thread count).
 Status ForEachSlice(int count, const std::function<StatusOr<Image>(int)>& read_slice, int num_threads,
@@ -95,13 +98,25 @@ StatusOr<SliceFeatures> GeometryMapsOfSlices(int count, const std::function<Stat
   MESOCAP_CHECK(count > 0 && components > 0, "no slices or no components");
   // Every slice weighs the same in the distances, whatever its exposure: a grazing-lit slice's
   // shadows matter as much as a head-on slice's colours.
-  const std::function<StatusOr<Image>(int)> read_slice = [&](int k) -> StatusOr<Image> {
+  const std::function<StatusOr<Image>(int)> read_normalized = [&](int k) -> StatusOr<Image> {
     auto s = read_raw(k);
     if (!s.ok() || !normalize) return s;
     return DividedByRms(std::move(*s));
   };
-  auto first = read_slice(0);
+  auto first = read_normalized(0);
   if (!first.ok()) return first.status();
+  // Every pass below reads every slice (decoding, filtering): the slices are kept from the first
+  // pass when all of them fit in kKeptSliceBytes (the demo's BTF: 57 MB, its textons' responses:
+  // 75 MB), else read again.
+  const bool keep = double(count) * double(first->size()) * sizeof(float) <= kKeptSliceBytes;
+  std::vector<std::optional<Image>> kept_slices(keep ? size_t(count) : 0);
+  if (keep) kept_slices[0] = *first;
+  const std::function<StatusOr<Image>(int)> read_slice = [&](int k) -> StatusOr<Image> {
+    if (keep && kept_slices[size_t(k)]) return *kept_slices[size_t(k)];
+    auto s = read_normalized(k);
+    if (keep && s.ok()) kept_slices[size_t(k)] = *s;
+    return s;
+  };
   const int width = first->width(), height = first->height(), channels = first->channels();
   const Eigen::Index texels = Eigen::Index(first->pixel_count());
   const int columns = count * channels;
