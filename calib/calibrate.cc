@@ -1,8 +1,11 @@
 #include "calib/calibrate.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -13,6 +16,58 @@
 
 namespace mesocap {
 namespace fs = std::filesystem;
+
+namespace {
+
+// The per-pixel maximum and sum of the flash shots, added as each shot is decoded. The sum is kept
+// in doubles, where shots of 8-bit, 16-bit or half-float values (each a multiple of 2^-40, a
+// thousand of them summing below 2^13) add exactly, so it does not depend on the order the shots
+// finish in (a float sum did, in its last bits, and so did every ball fitted to it). Bands of
+// rows have their own locks: two threads add two shots at once.
+class ShotAccumulator {
+ public:
+  static constexpr int kBands = 32;
+
+  void Add(const Image& shot) {
+    {
+      std::lock_guard<std::mutex> lock(shape_mutex_);
+      if (max_.empty()) {
+        max_ = Image(shot.width(), shot.height(), shot.channels(), -std::numeric_limits<float>::infinity());
+        sum_.assign(shot.size(), 0.0);
+      }
+      if (max_.width() != shot.width() || max_.height() != shot.height() || max_.channels() != shot.channels()) return;
+    }
+    const size_t values = shot.size(), band_values = (values + kBands - 1) / kBands;
+    const int first = int(next_band_++ % kBands);  // threads start at different bands
+    for (int k = 0; k < kBands; ++k) {
+      const int band = (first + k) % kBands;
+      const size_t begin = size_t(band) * band_values, end = std::min(values, begin + band_values);
+      std::lock_guard<std::mutex> lock(band_mutex_[band]);
+      const float* v = shot.data();
+      float* max = max_.data();
+      for (size_t i = begin; i < end; ++i) {
+        max[i] = std::max(max[i], v[i]);
+        sum_[i] += double(v[i]);
+      }
+    }
+  }
+  bool empty() const { return max_.empty(); }
+  Image TakeMax() { return std::move(max_); }
+  Image Sum() const {
+    Image sum(max_.width(), max_.height(), max_.channels());
+    for (size_t i = 0; i < sum_.size(); ++i) sum.data()[i] = float(sum_[i]);
+    return sum;
+  }
+
+ private:
+  std::mutex shape_mutex_;
+  std::array<std::mutex, kBands> band_mutex_;
+  std::atomic<unsigned> next_band_{0};
+  Image max_;
+  std::vector<double> sum_;
+};
+
+}  // namespace
 
 std::string CalibrateOptions::Check() const {
   if (session.empty()) return "a session folder is required";
@@ -152,8 +207,7 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
   // Pass 1: decode every shot once for the per-pixel maximum; detect tags on a spread subset.
   const int step = std::max(1, n / options.pose_shots);
   std::vector<std::vector<TagDetection>> detections(n);
-  Image max_image, sum_image;
-  std::mutex mutex;
+  ShotAccumulator accumulated;
   std::vector<std::string> unreadable(n);
   std::atomic<int> done{0};
   ParallelFor(0, n, [&](int s) {
@@ -165,21 +219,11 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
     if (s % step == 0) detections[s] = DetectTags(*im, options.tags);
     if (auto it = marked.find(fs::path(records[s].file).generic_string()); it != marked.end())
       detections[s].insert(detections[s].end(), it->second.begin(), it->second.end());
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (max_image.empty()) {
-        max_image = *im;
-        sum_image = *im;
-      } else if (max_image.size() == im->size()) {
-        for (size_t i = 0; i < im->size(); ++i) {
-          max_image.data()[i] = std::max(max_image.data()[i], im->data()[i]);
-          sum_image.data()[i] += im->data()[i];
-        }
-      }
-    }
+    accumulated.Add(*im);
     ReportProgress(progress, ++done, 2 * n, records[s].file);
   }, options.num_threads);
-  if (max_image.empty()) return Status::Error(options.session.string() + ": no flash shot could be read");
+  if (accumulated.empty()) return Status::Error(options.session.string() + ": no flash shot could be read");
+  const Image sum_image = accumulated.Sum(), max_image = accumulated.TakeMax();
   for (int s = 0; s < n; ++s)
     if (!unreadable[s].empty()) result.rejected.push_back(unreadable[s]);
 

@@ -18,6 +18,7 @@
 
 #include "calib/intrinsics_cost.h"
 #include "core/image_io.h"
+#include "core/image_u8_io.h"
 #include "core/parallel.h"
 #include "core/text_format.h"
 
@@ -85,9 +86,12 @@ void RefineSubPix(const cv::Mat& gray, const IntrinsicsOptions& o, std::vector<c
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
 }
 
-// Reads one image and finds the board's inner corners; fills corners_px, detector, edge_rise_px
-// or reason. `size` gets the image size when the file could be read.
-void DetectCorners(const IntrinsicsOptions& o, IntrinsicsImage* im, cv::Size* size) {
+// The photo as 8-bit grey: an 8-bit file decoded straight to grey (a JPEG's luma, without its
+// colour: a third of the decoding), anything else read whole and converted. Empty with
+// im->reason set when unreadable.
+cv::Mat ReadGray8(IntrinsicsImage* im) {
+  if (auto grey = ReadImageU8(im->file, 1); grey.ok())
+    return cv::Mat(grey->height(), grey->width(), CV_8UC1, grey->data()).clone();
   ImageInfo info;
   auto image = ReadImage(im->file, {.linearize = false, .max_channels = 4}, &info);
   if (!image.ok()) {
@@ -96,11 +100,18 @@ void DetectCorners(const IntrinsicsOptions& o, IntrinsicsImage* im, cv::Size* si
     const std::string prefix = im->file.string() + ": ";
     if (why.starts_with(prefix)) why = why.substr(prefix.size());
     im->reason = "unreadable: " + why;
-    return;
+    return {};
   }
-  *size = cv::Size(image->width(), image->height());
+  return ToGray8(*image, info.bits_per_sample > 8);
+}
+
+// Reads one image and finds the board's inner corners; fills corners_px, detector, edge_rise_px
+// or reason. `size` gets the image size when the file could be read.
+void DetectCorners(const IntrinsicsOptions& o, IntrinsicsImage* im, cv::Size* size) {
   try {
-    const cv::Mat gray = ToGray8(*image, info.bits_per_sample > 8);
+    const cv::Mat gray = ReadGray8(im);
+    if (gray.empty()) return;
+    *size = gray.size();
     const cv::Size pattern(o.cols, o.rows);
     std::vector<cv::Point2f> corners;
     bool found = false;
