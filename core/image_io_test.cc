@@ -89,6 +89,15 @@ void PatchInt32After(std::string* bytes, const std::string& key, int32_t value) 
   bytes->replace(at + key.size(), 4, reinterpret_cast<const char*>(&value), 4);
 }
 
+// A copy of `exr` beside it, named b.exr, with the int32 after `key` set to `value`.
+std::filesystem::path PatchedCopy(const std::filesystem::path& exr, const std::string& key, int32_t value) {
+  std::string bytes = FileBytes(exr);
+  PatchInt32After(&bytes, key, value);
+  const auto copy = exr.parent_path() / "b.exr";
+  std::ofstream(copy, std::ios::binary) << bytes;
+  return copy;
+}
+
 // A small valid JPEG whose frame header (SOF0) is rewritten to declare width x height.
 std::string JpegDeclaring(const std::filesystem::path& path, int width, int height) {
   EXPECT_TRUE(WriteImage(path, Ramp(16, 16, 3)).ok());
@@ -175,9 +184,7 @@ TEST(ImageIO, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrAllocatesIt) 
   // Found by fuzz/fuzz_image: OpenEXR allocated an attribute's declared size (2 GB) first.
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
-  std::string bytes = FileBytes(dir / "a.exr");
-  PatchInt32After(&bytes, std::string("channels\0chlist\0", 16), 0x7fffff00);
-  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  PatchedCopy(dir / "a.exr", std::string("channels\0chlist\0", 16), 0x7fffff00);
   auto info = ReadImageInfo(dir / "b.exr");
   ASSERT_FALSE(info.ok());
   EXPECT_NE(info.status().message().find("b.exr: malformed OpenEXR header: attribute 'channels' declares"),
@@ -190,9 +197,7 @@ TEST(ImageIO, EveryExrAttributeIsCheckedNotOnlyThoseBeforeTheDataWindow) {
   // Found by fuzz/fuzz_image: the check stopped at dataWindow; OpenEXR allocates later ones too.
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
-  std::string bytes = FileBytes(dir / "a.exr");
-  PatchInt32After(&bytes, std::string("pixelAspectRatio\0float\0", 23), 0x7fffff00);
-  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  PatchedCopy(dir / "a.exr", std::string("pixelAspectRatio\0float\0", 23), 0x7fffff00);
   auto info = ReadImageInfo(dir / "b.exr");
   ASSERT_FALSE(info.ok());
   EXPECT_NE(info.status().message().find("attribute 'pixelAspectRatio' declares"), std::string::npos)
@@ -206,9 +211,7 @@ TEST(ImageIO, AnExrAttributeWhoseSizeDisagreesWithItsTypeIsRefused) {
   ImageWriteOptions options{.format = PixelFormat::kHalf};
   options.attributes["mesocap:board"] = 3;
   ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), options).ok());
-  std::string bytes = FileBytes(dir / "a.exr");
-  PatchInt32After(&bytes, std::string("mesocap:board\0int\0", 18), 168);
-  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  PatchedCopy(dir / "a.exr", std::string("mesocap:board\0int\0", 18), 168);
   auto info = ReadImageInfo(dir / "b.exr");
   ASSERT_FALSE(info.ok());
   EXPECT_NE(info.status().message().find("attribute 'mesocap:board' of type int declares 168 bytes, not 4"),
@@ -220,13 +223,12 @@ TEST(ImageIO, AnExrChannelOfAnUnknownPixelTypeIsRefused) {
   // Found by fuzz/fuzz_synth_files: OpenImageIO asserts (aborts the process) on pixel type 3.
   const auto dir = testing::MakeTempDir();
   ASSERT_TRUE(WriteImage(dir / "a.exr", Ramp(8, 4, 3), {.format = PixelFormat::kHalf}).ok());
-  std::string bytes = FileBytes(dir / "a.exr");
+  const std::string bytes = FileBytes(dir / "a.exr");
   // The first channel's pixel type follows the list's declared size and the channel's name "B".
   const std::string list("channels\0chlist\0", 16);
   const size_t at = bytes.find(list);
   ASSERT_NE(at, std::string::npos);
-  PatchInt32After(&bytes, bytes.substr(at, list.size() + 4) + std::string("B\0", 2), 3);
-  std::ofstream(dir / "b.exr", std::ios::binary) << bytes;
+  PatchedCopy(dir / "a.exr", bytes.substr(at, list.size() + 4) + std::string("B\0", 2), 3);
   auto info = ReadImageInfo(dir / "b.exr");
   ASSERT_FALSE(info.ok());
   EXPECT_NE(info.status().message().find("b.exr: malformed OpenEXR header: channel 'B' has pixel type 3"),
