@@ -93,15 +93,12 @@ RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const 
   for (const auto& c : scene_.grey_cards)
     for (const auto& t : c.tags) max_id = std::max(max_id, t.id);
   for (int id = 0; id <= max_id; ++id) tag_bitmaps_.push_back(Tag36h11Bitmap(id));
-  auto add_square = [&](Kind kind, int index, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double size) {
+  auto add_square = [&](const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double size) {
     const Cone cone = ConeHolding(Eigen::Vector3d::Zero(), t, size / 2 * std::sqrt(2.0));
-    primary_squares_.push_back({kind, index, R.transpose(), R.transpose() * (Eigen::Vector3d::Zero() - t), size / 2,
-                                cone.axis, cone.cos_half_angle});
+    primary_squares_.push_back({SquareFrame::Of(R, t, size), cone.axis, cone.cos_half_angle});
   };
-  for (size_t b = 0; b < scene_.boards.size(); ++b)
-    add_square(kBoard, int(b), scene_.boards[b].R, scene_.boards[b].t, scene_.boards[b].size_m);
-  for (size_t i = 0; i < scene_.grey_cards.size(); ++i)
-    add_square(kCard, int(i), scene_.grey_cards[i].R, scene_.grey_cards[i].t, scene_.grey_cards[i].size_m);
+  for (const auto& board : scene_.boards) add_square(board.R, board.t, board.size_m);
+  for (const auto& card : scene_.grey_cards) add_square(card.R, card.t, card.size_m);
   const int W = scene_.camera.width, H = scene_.camera.height;
   ray_grid_.resize(size_t(W + 1) * (H + 1));
   ParallelFor(0, H + 1, [&](int j) {
@@ -138,17 +135,21 @@ std::vector<Eigen::Vector2d> RigRenderer::SubpixelOffsets() const {
   return offsets;
 }
 
-// Distance along the camera ray d (unit) to the square, or -1: its frame and the camera in it are
-// made once, so a ray costs one rotation, and none outside the square's cone.
-double RigRenderer::IntersectPrimary(const PrimarySquare& square, const Eigen::Vector3d& d) const {
-  if (d.dot(square.axis) < square.cos_half_angle) return -1;
-  const Eigen::Vector3d& ol = square.camera_local;
-  const Eigen::Vector3d dl = square.to_local * d;
+RigRenderer::SquareFrame RigRenderer::SquareFrame::Of(const Eigen::Matrix3d& R, const Eigen::Vector3d& centre,
+                                                      double size) {
+  return {R.transpose(), R.transpose() * centre, size / 2};
+}
+
+// Distance along the camera ray d (unit) to the square, or -1: none is computed outside the
+// square's cone.
+double RigRenderer::IntersectPrimary(const PrimarySquare& primary, const Eigen::Vector3d& d) const {
+  if (d.dot(primary.axis) < primary.cos_half_angle) return -1;
+  const SquareFrame& square = primary.square;
+  const Eigen::Vector3d ol = -square.origin, dl = square.to_local * d;
   if (std::abs(dl.z()) < 1e-12) return -1;
   const double s = -ol.z() / dl.z();
   if (s <= 0) return -1;
-  const double x = ol.x() + s * dl.x(), y = ol.y() + s * dl.y();
-  return (x >= -square.half && x <= square.half && y >= -square.half && y <= square.half) ? s : -1;
+  return square.Covers(ol.x() + s * dl.x(), ol.y() + s * dl.y()) ? s : -1;
 }
 
 RigRenderer::Sample RigRenderer::TracePrimary(const Eigen::Vector3d& d) const {
@@ -221,13 +222,12 @@ bool RigRenderer::Blocks(const ShadowCaster& caster, const Eigen::Vector3d& p, c
   }
   // A square: p and the light on opposite sides of its plane (a cheap reject), and the segment
   // between them crossing the plane inside the square, further than 1 um from p.
-  const Eigen::Vector3d q = caster.to_local * p - caster.origin;
+  const Eigen::Vector3d q = caster.square.Local(p);
   const Eigen::Vector3d& l = caster.light_local;
   if ((q.z() > 0) == (l.z() > 0)) return false;
   const double u = q.z() / (q.z() - l.z());  // of the way from p to the light
   if (!(u * dist > 1e-6)) return false;
-  const double x = q.x() + u * (l.x() - q.x()), y = q.y() + u * (l.y() - q.y());
-  return std::abs(x) <= caster.half && std::abs(y) <= caster.half;
+  return caster.square.Covers(q.x() + u * (l.x() - q.x()), q.y() + u * (l.y() - q.y()));
 }
 
 // The culled test gives the same answer; without a shot to share the casters, they are made here.
@@ -247,10 +247,8 @@ std::vector<RigRenderer::ShadowCaster> RigRenderer::ShadowCastersFor(const Eigen
   // A square's frame is set once per light: each test is then one rotation of p.
   auto add_square = [&](Kind kind, int index, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double size) {
     ShadowCaster& c = add(kind, index, t, size / 2 * std::sqrt(2.0));
-    c.to_local = R.transpose();
-    c.origin = c.to_local * t;
-    c.light_local = c.to_local * (light - t);
-    c.half = size / 2;
+    c.square = SquareFrame::Of(R, t, size);
+    c.light_local = c.square.to_local * (light - t);
   };
   for (size_t i = 0; i < scene_.spheres.size(); ++i)
     add(kSphere, int(i), scene_.spheres[i].center_m, scene_.spheres[i].radius_m);

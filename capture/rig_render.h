@@ -4,6 +4,7 @@
 // sample, with shadows from the balls and boards.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -44,6 +45,17 @@ class RigRenderer {
   // True when a ball or a board (other than `self`) blocks the segment from `p` to `light`.
   bool Occluded(const Eigen::Vector3d& p, const Eigen::Vector3d& light, Kind self_kind, int self_index) const;
 
+  // A board or card in its own frame (x, y across it, z along its normal), made once so that a
+  // ray or segment test costs one rotation: a point p is there Local(p).
+  struct SquareFrame {
+    Eigen::Matrix3d to_local = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // to_local * the square's centre
+    double half = 0;                                   // half its side
+    static SquareFrame Of(const Eigen::Matrix3d& R, const Eigen::Vector3d& centre, double size);
+    Eigen::Vector3d Local(const Eigen::Vector3d& p) const { return to_local * p - origin; }
+    bool Covers(double x, double y) const { return std::abs(x) <= half && std::abs(y) <= half; }
+  };
+
   // An object that may cast a shadow from one light, with the cone (apex at the light) that holds
   // its bounding sphere: a point outside every cone is lit without testing any object.
   struct ShadowCaster {
@@ -51,11 +63,8 @@ class RigRenderer {
     int index;
     Eigen::Vector3d axis;  // unit, light -> bounding-sphere centre
     double cos_half_angle;  // -1 when the light is inside the bounding sphere
-    // Boards and cards, in the square's own frame (x, y across it, z along its normal): a point
-    // p is there to_local * p - origin, the light is `light_local`; half its side.
-    Eigen::Matrix3d to_local = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero(), light_local = Eigen::Vector3d::Zero();
-    double half = 0;
+    SquareFrame square;     // boards and cards: their frame, and the light in it
+    Eigen::Vector3d light_local = Eigen::Vector3d::Zero();
   };
   std::vector<ShadowCaster> ShadowCastersFor(const Eigen::Vector3d& light) const;
   // Of `casters`, those whose cone can hold a point within `radius` of `centre`: the same answers
@@ -97,14 +106,11 @@ class RigRenderer {
   // The same ray as undistorted normalised coordinates (x, y) of the direction (x, y, 1).
   Eigen::Vector2f UndistortedAt(double x, double y) const;
 
-  // A board or card as primary rays from the camera (at the origin) meet it: its frame, the
-  // camera in that frame, and the cone from the camera that holds it (rays outside miss it).
+  // A board or card as primary rays from the camera (at the origin) meet it: its frame (the
+  // camera is at -square.origin there), and the cone from the camera that holds it (rays outside
+  // miss it).
   struct PrimarySquare {
-    Kind kind;
-    int index;
-    Eigen::Matrix3d to_local;
-    Eigen::Vector3d camera_local;
-    double half;
+    SquareFrame square;
     Eigen::Vector3d axis;   // unit, camera -> the square's centre
     double cos_half_angle;  // -1 when the camera is inside its bounding sphere
   };
