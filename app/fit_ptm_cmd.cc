@@ -133,11 +133,28 @@ bool AllowOpenFiles(int count) {
   return setrlimit(RLIMIT_NOFILE, &limit) == 0;
 }
 
-// Decodes a band of rows of every photo, fits it, and parks the fitted rows in a scratch file
+// Busy seconds of the tasks of one phase, summed over threads (atomic: tasks of both phases run at
+// once).
+class BusySeconds {
+ public:
+  template <typename Fn>
+  void Time(Fn&& fn) {
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    nanoseconds_ += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+  }
+  double seconds() const { return double(nanoseconds_.load()) * 1e-9; }
+
+ private:
+  std::atomic<int64_t> nanoseconds_{0};
+};
+
+// Decodes bands of rows of every photo, fits them, and parks the fitted rows in a scratch file
 // (beside the output: row y's coefficients, then the LRGB colours), returned as the .ptm writer
 // reads them, with their coefficient range; the normals and albedo, when asked for, are taken
-// from each fitted band. Nothing grows with the image but the maps asked for: fresh memory costs
-// page faults, the scratch file only page-cache copies.
+// from each fitted band. Band k + 1 is decoded while band k is fitted, as tasks of one parallel
+// loop, so no core waits at a barrier between decoding and fitting. Nothing grows with the image
+// but the maps asked for: fresh memory costs page faults, the scratch file only page-cache copies.
 StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& readers,
                                        const std::vector<LpEntry>& entries, const std::vector<Eigen::Vector3d>& lights,
                                        const PtmFitOptions& fit, const fs::path& scratch_folder, bool want_maps,
@@ -153,11 +170,14 @@ StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowRead
   auto created = ScratchFile::Create(scratch_folder);
   if (!created.ok()) return created.status();
   const auto scratch = std::make_shared<const ScratchFile>(std::move(*created));
-  // 16 rows (a 4:2:0 JPEG's MCU row) of 36 photos of 2000 pixels: 3.5 MB, in cache from decoding
-  // to fitting.
+  // 16 rows (a 4:2:0 JPEG's MCU row) of 36 photos of 2000 pixels: 3.5 MB a band, two bands (the
+  // one being fitted and the one being decoded) in cache.
   constexpr int kBandRows = 16;
+  const int bands = (height + kBandRows - 1) / kBandRows;
   const size_t row_bytes = size_t(width) * channels;
-  std::vector<std::vector<uint8_t>> band(size_t(n), std::vector<uint8_t>(kBandRows * row_bytes));
+  std::array<std::vector<std::vector<uint8_t>>, 2> band_buffers;
+  for (auto& buffers : band_buffers) buffers.assign(size_t(n), std::vector<uint8_t>(kBandRows * row_bytes));
+  const auto rows_of_band = [&](int band) { return std::min(kBandRows, height - band * kBandRows); };
   Ptm fitted = fitter->NewRows(std::min(kBandRows, height));
   const bool lrgb = fit.format == PtmFormat::kLrgb;
   const size_t coefficient_row_floats = size_t(width) * fitted.coefficients.channels(), rgb_row_floats = size_t(width) * 3;
@@ -165,38 +185,47 @@ StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowRead
   const auto rgb_offset = [=](int y) { return (uint64_t(height) * coefficient_row_floats + uint64_t(y) * rgb_row_floats) * sizeof(float); };
   if (want_maps) *maps = {Image::Uninitialized(width, height, 3), Image::Uninitialized(width, height, 3)};
   std::vector<CoefficientRange> row_ranges(static_cast<size_t>(height));
-  std::vector<std::string> errors(size_t(std::max(n, height)));
-  for (int y0 = 0; y0 < height; y0 += kBandRows) {
-    const int rows = std::min(kBandRows, height - y0);
-    {
-      PhaseTimer timer(&seconds->decode, &seconds->decode_cpu);
-      ParallelFor(
-          0, n,
-          [&](int i) {
-            uint8_t* row_pointers[kBandRows];
-            for (int r = 0; r < rows; ++r) row_pointers[r] = band[size_t(i)].data() + size_t(r) * row_bytes;
-            if (Status st = readers[size_t(i)]->ReadRows(rows, row_pointers); !st.ok()) errors[size_t(i)] = st.message();
-          },
-          fit.num_threads);
-    }
-    for (const std::string& error : errors)
-      if (!error.empty()) return Status::Error(error);
-    PhaseTimer timer(&seconds->fit, &seconds->fit_cpu);
-    if (fitted.height() != rows) fitted = fitter->NewRows(rows);  // the last, shorter band
-    const auto park = [&](int y) {
+  std::vector<std::string> decode_errors(static_cast<size_t>(n)), row_errors(static_cast<size_t>(height));
+  BusySeconds decode_busy, fit_busy;
+  const auto decode = [&](int band, int i) {
+    decode_busy.Time([&] {
+      uint8_t* row_pointers[kBandRows];
+      for (int r = 0; r < rows_of_band(band); ++r) row_pointers[r] = band_buffers[size_t(band % 2)][size_t(i)].data() + size_t(r) * row_bytes;
+      if (Status st = readers[size_t(i)]->ReadRows(rows_of_band(band), row_pointers); !st.ok()) decode_errors[size_t(i)] = st.message();
+    });
+  };
+  const auto fit_row = [&](int band, int y) {
+    fit_busy.Time([&] {
+      const int y0 = band * kBandRows;
+      const auto& buffers = band_buffers[size_t(band % 2)];
+      fitter->FitRow(
+          y, y0,
+          std::function<const uint8_t*(int, int)>(
+              [&](int i, int row) -> const uint8_t* { return buffers[size_t(i)].data() + size_t(row - y0) * row_bytes; }),
+          &fitted);
       const float* coefficients = fitted.coefficients.row(y - y0);
       row_ranges[size_t(y)] = RowCoefficientRange(coefficients, int(coefficient_row_floats));
       Status st = scratch->Write(coefficient_offset(y), coefficients, coefficient_row_floats * sizeof(float));
       if (st.ok() && lrgb) st = scratch->Write(rgb_offset(y), fitted.rgb.row(y - y0), rgb_row_floats * sizeof(float));
-      if (!st.ok()) errors[size_t(y)] = st.message();
-    };
-    fitter->FitRows(
-        y0, y0 + rows,
-        std::function<const uint8_t*(int, int)>(
-            [&](int i, int y) -> const uint8_t* { return band[size_t(i)].data() + size_t(y - y0) * row_bytes; }),
-        &fitted, park);
+      if (!st.ok()) row_errors[size_t(y)] = st.message();
+    });
+  };
+  const auto first_error = [](const std::vector<std::string>& errors) {
     for (const std::string& error : errors)
-      if (!error.empty()) return Status::Error(error);
+      if (!error.empty()) return error;
+    return std::string();
+  };
+  ParallelFor(0, n, [&](int i) { decode(0, i); }, fit.num_threads);
+  for (int band = 0; band < bands; ++band) {
+    if (std::string error = first_error(decode_errors); !error.empty()) return Status::Error(error);
+    const int y0 = band * kBandRows, rows = rows_of_band(band);
+    const int decodes = band + 1 < bands ? n : 0;
+    if (fitted.height() != rows) fitted = fitter->NewRows(rows);  // the last, shorter band
+    // The decoding tasks come first: the loop's halves split between the cores mix both kinds.
+    ParallelFor(
+        0, decodes + rows, [&](int task) { task < decodes ? decode(band + 1, task) : fit_row(band, y0 + task - decodes); },
+        fit.num_threads);
+    if (std::string error = first_error(row_errors); !error.empty()) return Status::Error(error);
     if (want_maps) {
       const PtmNormalsAlbedo band_maps = PtmNormalsAndAlbedo(fitted, fit.num_threads);
       for (int r = 0; r < rows; ++r) {
@@ -206,6 +235,13 @@ StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowRead
     }
     bar.Update(y0 + rows, height + 1, "rows");
   }
+  // The phases overlap: each is reported as its busy core-seconds, and as those shared over the
+  // threads (what it adds to the wall clock).
+  const double threads = EffectiveThreadCount(fit.num_threads);
+  seconds->decode += decode_busy.seconds() / threads;
+  seconds->decode_cpu += decode_busy.seconds();
+  seconds->fit += fit_busy.seconds() / threads;
+  seconds->fit_cpu += fit_busy.seconds();
   readers.clear();  // the files
   fitter->Report(report);
   PtmRowSource parked{fit.format, width, height, CoefficientRange::Empty(), {}, {}};

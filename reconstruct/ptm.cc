@@ -529,13 +529,25 @@ void PtmRowFitter::FitRowsOf(int y0, int y1, const std::function<const T*(int, i
   ParallelFor(
       y0, y1,
       [&](int y) {
-        thread_local std::vector<const T*> rows;
-        rows.resize(size_t(n_));
-        for (int i = 0; i < n_; ++i) rows[size_t(i)] = row(i, y);
-        FitRow(y, rows.data(), scale, into->coefficients.row(y - y0), into->rgb.empty() ? nullptr : into->rgb.row(y - y0));
+        FitRowOf(y, y0, row, scale, into);
         if (fitted) fitted(y);
       },
       options_.num_threads);
+}
+
+template <typename T>
+void PtmRowFitter::FitRowOf(int y, int y0, const std::function<const T*(int, int)>& row, float scale, Ptm* into) {
+  thread_local std::vector<const T*> rows;
+  rows.resize(size_t(n_));
+  for (int i = 0; i < n_; ++i) rows[size_t(i)] = row(i, y);
+  FitRow(y, rows.data(), scale, into->coefficients.row(y - y0), into->rgb.empty() ? nullptr : into->rgb.row(y - y0));
+}
+
+void PtmRowFitter::FitRow(int y, int y0, const std::function<const uint8_t*(int, int)>& row, Ptm* into) {
+  MESOCAP_CHECK(0 <= y0 && y0 <= y && y < height_, "PtmRowFitter: row out of range");
+  MESOCAP_CHECK(into && into->format == options_.format && into->width() == width_ && into->height() > y - y0,
+                "PtmRowFitter: the target Ptm does not fit the row");
+  FitRowOf<uint8_t>(y, y0, row, kU8ToUnit, into);
 }
 
 void PtmRowFitter::FitRows(int y0, int y1, const std::function<const float*(int, int)>& row, Ptm* into,

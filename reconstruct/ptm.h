@@ -147,6 +147,9 @@ class PtmRowFitter {
                const std::function<void(int y)>& fitted = {});
   void FitRows(int y0, int y1, const std::function<const uint8_t*(int image, int y)>& row, Ptm* into,
                const std::function<void(int y)>& fitted = {});
+  // Fits row y alone, on the calling thread, into row y - y0 of *into: for callers that schedule
+  // rows among other work (fit-ptm fits one band of rows while it decodes the next).
+  void FitRow(int y, int y0, const std::function<const uint8_t*(int image, int y)>& row, Ptm* into);
   // Once every row is fitted: the light-set figures, the residual over all rows and the time
   // since Create.
   void Report(PtmFitReport* report) const;
@@ -156,6 +159,8 @@ class PtmRowFitter {
   template <typename T>
   void FitRowsOf(int y0, int y1, const std::function<const T*(int, int)>& row, float scale, Ptm* into,
                  const std::function<void(int)>& fitted);
+  template <typename T>
+  void FitRowOf(int y, int y0, const std::function<const T*(int, int)>& row, float scale, Ptm* into);
   template <typename T>
   void FitRow(int y, const T* const* rows, float scale, float* coef_row, float* rgb_row);
 
