@@ -15,6 +15,8 @@
 #include <cstring>
 #include <functional>
 
+#include "core/text_format.h"
+
 namespace mesocap {
 namespace fs = std::filesystem;
 
@@ -40,11 +42,6 @@ struct Gphoto2Camera::Context {
 };
 
 namespace {
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 std::string Joined(const std::vector<std::string>& items, size_t max_items = 60) {
   std::string out;

@@ -9,10 +9,12 @@
 #include <map>
 #include <optional>
 
+#include "capture/photo_metadata.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -21,37 +23,6 @@ namespace {
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
-const std::string* StringAttr(const ImageAttributes& attrs, const std::string& name) {
-  auto it = attrs.find(name);
-  if (it == attrs.end()) return nullptr;
-  return std::get_if<std::string>(&it->second);
-}
-
-// A numeric attribute whatever type OpenImageIO gave it (small EXIF integers arrive as strings).
-std::optional<double> NumberAttr(const ImageAttributes& attrs, const std::string& name) {
-  auto it = attrs.find(name);
-  if (it == attrs.end()) return std::nullopt;
-  if (const int* i = std::get_if<int>(&it->second)) return double(*i);
-  if (const float* f = std::get_if<float>(&it->second)) return double(*f);
-  const std::string s = Trim(std::get<std::string>(it->second));
-  if (s.empty()) return std::nullopt;
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end == s.c_str() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
-  return v;
 }
 
 // Seconds since the epoch of an EXIF date-time "YYYY:MM:DD HH:MM:SS" (any single separators),
@@ -137,25 +108,6 @@ CaptureTime CaptureTimeOf(const ImageAttributes& attrs, const fs::path& file) {
     ct.epoch_s = std::chrono::duration<double>(sys.time_since_epoch()).count();
   }
   return ct;
-}
-
-// The EXIF fields the session journal keeps, with the names the virtual rig uses.
-Json ExifOf(const ImageInfo& info) {
-  Json j = Json::object();
-  const auto& a = info.attributes;
-  if (const std::string* s = StringAttr(a, "Make")) j["Make"] = Trim(*s);
-  if (const std::string* s = StringAttr(a, "Model")) j["Model"] = Trim(*s);
-  if (auto v = NumberAttr(a, "ExposureTime")) j["ExposureTime"] = *v;
-  if (auto v = NumberAttr(a, "FNumber")) j["FNumber"] = *v;
-  if (auto v = NumberAttr(a, "Exif:PhotographicSensitivity")) j["ISO"] = int(std::lround(*v));
-  if (auto v = NumberAttr(a, "Exif:Flash")) j["Flash"] = int(std::lround(*v));
-  if (auto v = NumberAttr(a, "Exif:FocalLength")) j["FocalLength"] = *v;
-  if (const std::string* s = StringAttr(a, "Exif:DateTimeOriginal")) j["DateTimeOriginal"] = Trim(*s);
-  j["format"] = info.format_name;
-  j["width"] = info.width;
-  j["height"] = info.height;
-  j["bits_per_sample"] = info.bits_per_sample;
-  return j;
 }
 
 // Extension in the session: the usual one for JPEG/PNG/TIFF, else the original's (RAW readers

@@ -18,10 +18,12 @@
 #include <set>
 #include <thread>
 
+#include "capture/photo_metadata.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -36,17 +38,6 @@ void SleepSeconds(double s) {
   if (s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(s));
 }
 
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
 bool SplitSetting(const std::string& setting, std::string* key, std::string* value) {
   const size_t eq = setting.find('=');
   if (eq == std::string::npos) return false;
@@ -56,42 +47,6 @@ bool SplitSetting(const std::string& setting, std::string* key, std::string* val
 }
 
 // The same EXIF fields, under the same names, as `mesocap import` journals (capture/import.cc).
-const std::string* StringAttr(const ImageAttributes& attrs, const std::string& name) {
-  auto it = attrs.find(name);
-  if (it == attrs.end()) return nullptr;
-  return std::get_if<std::string>(&it->second);
-}
-
-std::optional<double> NumberAttr(const ImageAttributes& attrs, const std::string& name) {
-  auto it = attrs.find(name);
-  if (it == attrs.end()) return std::nullopt;
-  if (const int* i = std::get_if<int>(&it->second)) return double(*i);
-  if (const float* f = std::get_if<float>(&it->second)) return double(*f);
-  const std::string s = Trim(std::get<std::string>(it->second));
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end == s.c_str() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-
-Json ExifOf(const ImageInfo& info) {
-  Json j = Json::object();
-  const auto& a = info.attributes;
-  if (const std::string* s = StringAttr(a, "Make")) j["Make"] = Trim(*s);
-  if (const std::string* s = StringAttr(a, "Model")) j["Model"] = Trim(*s);
-  if (auto v = NumberAttr(a, "ExposureTime")) j["ExposureTime"] = *v;
-  if (auto v = NumberAttr(a, "FNumber")) j["FNumber"] = *v;
-  if (auto v = NumberAttr(a, "Exif:PhotographicSensitivity")) j["ISO"] = int(std::lround(*v));
-  if (auto v = NumberAttr(a, "Exif:Flash")) j["Flash"] = int(std::lround(*v));
-  if (auto v = NumberAttr(a, "Exif:FocalLength")) j["FocalLength"] = *v;
-  if (const std::string* s = StringAttr(a, "Exif:DateTimeOriginal")) j["DateTimeOriginal"] = Trim(*s);
-  j["format"] = info.format_name;
-  j["width"] = info.width;
-  j["height"] = info.height;
-  j["bits_per_sample"] = info.bits_per_sample;
-  return j;
-}
-
 // Extension in the session from the name on the card: lower case, ".jpeg" -> ".jpg".
 std::string ExtensionFor(const std::string& name_on_card) {
   std::string ext = Lower(fs::path(name_on_card).extension().string());

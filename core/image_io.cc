@@ -13,6 +13,7 @@
 #include "core/exr_header_check.h"
 #include "core/image_u8_io.h"
 #include "core/image_codec.h"
+#include "core/text_format.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -54,11 +55,6 @@ uint8_t EncodeSrgb8(float linear) {
   if (!(linear > 0.0f)) return 0;
   if (linear >= 1.0f) return 255;
   return SrgbEncodeTable()[size_t(linear * 65535.0f + 0.5f)];
-}
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
 }
 
 }  // namespace

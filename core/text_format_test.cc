@@ -16,5 +16,12 @@ TEST(Format, PrintfConversionsAsBefore) {
   EXPECT_EQ(Format("%5.1f|%-4s|%03d|%.3g|%zu", 2.25, "ab", 7, 1234.5, size_t(9)), "  2.2|ab  |007|1.23e+03|9");
 }
 
+TEST(Text, LowerAndTrim) {
+  EXPECT_EQ(Lower(".JPG Canon EOS"), ".jpg canon eos");
+  EXPECT_EQ(Trim("  \tCanon EOS R5 \r\n"), "Canon EOS R5");
+  EXPECT_EQ(Trim(" \t\n"), "");
+  EXPECT_EQ(Trim(""), "");
+}
+
 }  // namespace
 }  // namespace mesocap
