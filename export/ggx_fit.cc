@@ -101,18 +101,22 @@ struct TexelCost {
   }
 };
 
-double SumOfSquares(const std::vector<double>& residuals) {
+// The squared error left with the best base colour for these terms.
+double SquaredErrorWith(const std::vector<PbrAffine<double>>& terms, const float* values) {
+  thread_local std::vector<double> residuals;
+  residuals.resize(3 * terms.size());
+  ProjectBaseColorWith(terms, values, residuals.data());
   double sq = 0;
   for (double r : residuals) sq += r * r;
   return sq;
 }
 
+// The same for given roughness, metallic and normal slope.
 double SquaredError(const std::vector<Observation>& dirs, const float* values, double roughness, double metallic,
                     const double* slope) {
-  thread_local std::vector<double> residuals;
-  residuals.resize(3 * dirs.size());
-  ProjectBaseColor(dirs, values, roughness, metallic, NormalFromSlope(slope), residuals.data());
-  return SumOfSquares(residuals);
+  thread_local std::vector<PbrAffine<double>> terms;
+  AffineTermsOf<double>(dirs, roughness, metallic, NormalFromSlope(slope), &terms);
+  return SquaredErrorWith(terms, values);
 }
 
 // The starts every texel tries: a coarse grid over roughness and metallic with the patch's
@@ -132,13 +136,6 @@ struct StartGrid {
         AffineTermsOf<double>(dirs, r, m, NormalFromSlope(flat), &p.terms);
       }
   }
-  // SquaredError at point p, from its terms.
-  static double SquaredErrorAt(const Point& p, const float* values) {
-    thread_local std::vector<double> residuals;
-    residuals.resize(3 * p.terms.size());
-    ProjectBaseColorWith(p.terms, values, residuals.data());
-    return SumOfSquares(residuals);
-  }
 };
 
 struct TexelFit {
@@ -155,7 +152,7 @@ TexelFit FitTexel(const std::vector<Observation>& dirs, const float* values, con
   double best = 1e300;
   double roughness = 0.5, metallic = 0, slope[2] = {0, 0};
   for (const StartGrid::Point& p : grid.points) {
-    const double sq = StartGrid::SquaredErrorAt(p, values);
+    const double sq = SquaredErrorWith(p.terms, values);
     if (sq < best) best = sq, roughness = p.roughness, metallic = p.metallic;
   }
   if (previous && SquaredError(dirs, values, previous->roughness, previous->metallic, previous->slope) < best)
