@@ -16,6 +16,9 @@
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
+// With --details 1: per class of pairs (inside, near, far), which baseline the losses go to; the
+// wins by the view's incidence; and how many far pairs have a light that no flash position could
+// give the board nearest their view (below its horizon or shadowed from every position).
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -107,6 +110,35 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
   return flashes;
 }
 
+// Far pairs whose light no flash position `mesocap coverage` considers (15-80 deg above the top
+// board, every azimuth, unshadowed) could give the board whose view is nearest the pair's, and how
+// many of those the reconstruction won: lights such a rig can never measure for that view.
+std::pair<int, int> UnreachableFarPairs(const RigScene& scene, const RigRenderer& renderer,
+                                        const std::vector<Eigen::Vector3d>& flashes, const BtfEvaluation& eval) {
+  std::vector<BoardLights> boards;
+  const std::vector<BoardInputs> inputs = MeasuredLights(scene, renderer, flashes);
+  for (int b = 0; b < int(inputs.size()); ++b) boards.push_back({b, scene.boards[b].R, scene.boards[b].t, inputs[b].lights});
+  CoverageOptions options;
+  options.suggestions = 0;
+  options.flash_distance_m = MedianFlashDistance(flashes, scene.boards.front().t);
+  const LitFn lit = [&](int board, const Eigen::Vector3d& flash) { return Lit(scene, renderer, board, flash); };
+  const CoverageReport coverage = AssessCoverage(boards, 0, options, lit);
+  const std::vector<Eigen::Vector3d> targets = BonnDirections();
+  int unreachable = 0, won = 0;
+  for (const PairScore& p : eval.pairs) {
+    if (p.coverage != LightCoverage::kFar) continue;
+    int nearest_board = 0, nearest_target = 0;
+    for (int b = 0; b < int(inputs.size()); ++b)
+      if (inputs[b].view.dot(p.view) > inputs[nearest_board].view.dot(p.view)) nearest_board = b;
+    for (int k = 0; k < int(targets.size()); ++k)
+      if (targets[k].dot(p.light) > targets[nearest_target].dot(p.light)) nearest_target = k;
+    if (coverage.boards[nearest_board].targets[nearest_target] != TargetState::kUnreachable) continue;
+    const auto& w = p.wasserstein_pixels;
+    ++unreachable, won += w[0] < w[1] && w[0] < w[2];
+  }
+  return {unreachable, won};
+}
+
 int Run(int argc, char** argv) {
   std::vector<std::string> shots = {"24", "50", "100", "150"}, materials = {"weave", "stones", "corduroy"},
                            seeds = {"11", "12"};
@@ -163,7 +195,9 @@ int Run(int argc, char** argv) {
         options.btf.far_light_falloff_deg = far_light_falloff;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
-        for (const BoardInputs& board : MeasuredLights(*scene, renderer, Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg))) {
+        const std::vector<Eigen::Vector3d> flashes =
+            Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg);
+        for (const BoardInputs& board : MeasuredLights(*scene, renderer, flashes)) {
           if (list_lights) {
             const Eigen::Vector2d v = AnglesDegFromDirection(board.view);
             std::printf("view (%.0f, %.0f), %zu lights:", v.x(), v.y(), board.lights.size());
@@ -202,16 +236,21 @@ int Run(int argc, char** argv) {
                     eval->CountWith(LightCoverage::kNear), eval->CountWith(LightCoverage::kFar), w[0], w[1],
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity));
         if (details) {  // which baseline the far pairs lose to, and the wins by the view's incidence
-          int lose_top = 0, lose_mod = 0, lose_both = 0, far = 0;
-          double ratio_sum = 0;
-          for (const PairScore& p : eval->pairs) {
-            if (p.coverage != LightCoverage::kFar) continue;
-            ++far;
-            const auto& w = p.wasserstein_pixels;
-            lose_top += w[0] >= w[1] && w[0] < w[2];
-            lose_mod += w[0] >= w[2] && w[0] < w[1];
-            lose_both += w[0] >= w[1] && w[0] >= w[2];
-            ratio_sum += std::log(w[0] / std::min(w[1], w[2]));
+          for (const LightCoverage coverage : {LightCoverage::kInside, LightCoverage::kNear, LightCoverage::kFar}) {
+            int lose_top = 0, lose_mod = 0, lose_both = 0, count = 0;
+            double ratio_sum = 0;
+            for (const PairScore& p : eval->pairs) {
+              if (p.coverage != coverage) continue;
+              ++count;
+              const auto& w = p.wasserstein_pixels;
+              lose_top += w[0] >= w[1] && w[0] < w[2];
+              lose_mod += w[0] >= w[2] && w[0] < w[1];
+              lose_both += w[0] >= w[1] && w[0] >= w[2];
+              ratio_sum += std::log(w[0] / std::min(w[1], w[2]));
+            }
+            std::printf("   %s %d: lose only to top %d, only to modulated %d, to both %d; geo-mean W1 ratio to best baseline %.3f\n",
+                        coverage == LightCoverage::kInside ? "inside" : coverage == LightCoverage::kNear ? "near" : "far",
+                        count, lose_top, lose_mod, lose_both, std::exp(ratio_sum / std::max(count, 1)));
           }
           for (int theta : {15, 30, 45, 60, 75}) {
             int n = 0, wins = 0, nf = 0, wf = 0;
@@ -224,8 +263,9 @@ int Run(int argc, char** argv) {
             }
             std::printf("   view theta %d: %d/%d won (far %d/%d)\n", theta, wins, n, wf, nf);
           }
-          std::printf("   far %d: lose only to top %d, only to modulated %d, to both %d; geo-mean W1 ratio to best baseline %.3f\n",
-                      far, lose_top, lose_mod, lose_both, std::exp(ratio_sum / std::max(far, 1)));
+          const auto [unreachable, won] = UnreachableFarPairs(*scene, renderer, flashes, *eval);
+          std::printf("   far pairs whose light no flash position (mesocap coverage's candidates) gives the board "
+                      "nearest their view: %d, won %d\n", unreachable, won);
         }
         if (dropped) std::printf("          (%d boards with too few lights to triangulate left out)\n", dropped);
         std::fflush(stdout);
