@@ -48,6 +48,12 @@ void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& n
                     "of moving them by the top view's change in light");
 }
 
+void AddFitLightFalloffFlag(CLI::App* command, bool* no_fit, const std::string& name) {
+  command->add_flag(name, *no_fit,
+                    "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
+                    "fitted to the top view's mean radiance against cos(theta_i)");
+}
+
 void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::string& name) {
   command
       ->add_option(name, *degrees,

@@ -38,6 +38,7 @@ struct EvaluateArgs {
   double max_view_extrapolation = 1e9;
   std::string colour_space = "chromaticity";
   bool no_top_view_prior = false;
+  bool no_fit_light_falloff = false;
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
   int threads = -1;
   bool no_progress = false;
@@ -128,6 +129,7 @@ int Run(const EvaluateArgs& a) {
   options.btf.max_view_extrapolation = a.max_view_extrapolation;
   options.btf.colour_space = *ParseColourSpace(a.colour_space);
   options.btf.top_view_prior = !a.no_top_view_prior;
+  options.btf.fit_light_falloff = !a.no_fit_light_falloff;
   options.btf.far_light_falloff_deg = a.far_light_falloff_deg;
   ProgressBar bar("evaluate", !a.no_progress);
   std::optional<TrueBtfRenderer> renderer;  // each view traced once, for all its lights
@@ -154,6 +156,7 @@ int Run(const EvaluateArgs& a) {
   if (scene) j["session"] = a.session.string();
   j["provenance"] = MakeProvenance({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
                                       {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
+                                        {"fit_light_falloff", !a.no_fit_light_falloff},
                                       {"far_light_falloff_deg", a.far_light_falloff_deg}});
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";
@@ -232,6 +235,7 @@ Command EvaluateCommand() {
         ->capture_default_str();
     AddColourSpaceOption(sub, &args->colour_space);
     AddTopViewPriorFlag(sub, &args->no_top_view_prior);
+    AddFitLightFalloffFlag(sub, &args->no_fit_light_falloff);
     AddFarLightFalloffOption(sub, &args->far_light_falloff_deg);
     sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");

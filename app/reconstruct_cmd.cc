@@ -33,6 +33,7 @@ struct ReconstructArgs {
   bool pixel_only = false;
   std::string colour_space = "chromaticity";
   bool no_top_view_prior = false;
+  bool no_fit_light_falloff = false;
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
   bool no_progress = false;
 };
@@ -85,6 +86,7 @@ int Run(ReconstructArgs& a) {
   a.options.btf.match_subbands = !a.pixel_only;
   a.options.btf.colour_space = *ParseColourSpace(a.colour_space);
   a.options.btf.top_view_prior = !a.no_top_view_prior;
+  a.options.btf.fit_light_falloff = !a.no_fit_light_falloff;
   a.options.btf.far_light_falloff_deg = a.far_light_falloff_deg;
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
 
@@ -104,6 +106,7 @@ int Run(ReconstructArgs& a) {
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, a.pixel_only, a.options.btf.num_threads, staging->path(),
                                        {{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only},
                                         {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
+                                        {"fit_light_falloff", !a.no_fit_light_falloff},
                                         {"far_light_falloff_deg", a.far_light_falloff_deg}},
                                        bar.AsCallback());
   if (!written.ok())
@@ -136,6 +139,7 @@ Command ReconstructCommand() {
     sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands)");
     AddColourSpaceOption(sub, &args->colour_space);
     AddTopViewPriorFlag(sub, &args->no_top_view_prior);
+    AddFitLightFalloffFlag(sub, &args->no_fit_light_falloff);
     AddFarLightFalloffOption(sub, &args->far_light_falloff_deg);
     sub->add_option("--threads", args->options.btf.num_threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");

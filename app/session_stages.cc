@@ -280,6 +280,7 @@ Json ReconstructStageOptions::ToJson() const {
           {"pixel_only", pixel_only},
           {"colour_space", colour_space},
           {"top_view_prior", !no_top_view_prior},
+          {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }
 
@@ -292,6 +293,7 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (!colour_space) return Status::Error("unknown BTF colour space '" + options.colour_space + "'");
   slice_options.btf.colour_space = *colour_space;
   slice_options.btf.top_view_prior = !options.no_top_view_prior;
+  slice_options.btf.fit_light_falloff = !options.no_fit_light_falloff;
   slice_options.btf.far_light_falloff_deg = options.far_light_falloff_deg;
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
   const fs::path index = session / "slices" / "index.json";

@@ -68,6 +68,7 @@ struct ReconstructStageOptions {
   bool pixel_only = false;
   std::string colour_space = "chromaticity";  // AddColourSpaceOption
   bool no_top_view_prior = false;             // AddTopViewPriorFlag
+  bool no_fit_light_falloff = false;          // AddFitLightFalloffFlag
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;  // AddFarLightFalloffOption
   // The settings the stage's outputs depend on: its cache key and its provenance.
   Json ToJson() const;

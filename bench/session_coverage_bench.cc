@@ -146,6 +146,7 @@ int Run(int argc, char** argv) {
   std::string colour_space = "chromaticity";
   bool list_lights = false, top_view_prior = true;
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
+  bool cosine = true, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
   bool details = false;
   int guided_start = 0;
   bool predict_shadows = true;
@@ -163,6 +164,8 @@ int Run(int argc, char** argv) {
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
     else if (flag == "--details") details = value == "1";
     else if (flag == "--far-light-falloff") far_light_falloff = std::stod(value);
+    else if (flag == "--cosine") cosine = value == "1";
+    else if (flag == "--fit-light-falloff") fit_falloff = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
@@ -193,6 +196,8 @@ int Run(int argc, char** argv) {
         options.btf.colour_space = ParseColourSpace(colour_space).value_or(ColourSpace::kChromaticity);
         options.btf.top_view_prior = top_view_prior;
         options.btf.far_light_falloff_deg = far_light_falloff;
+        options.btf.cosine_weighted_lights = cosine;
+        options.btf.fit_light_falloff = fit_falloff;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =

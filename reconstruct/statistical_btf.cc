@@ -1,5 +1,6 @@
 #include "reconstruct/statistical_btf.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <sstream>
@@ -65,6 +66,7 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   for (size_t v = 1; v < views.size(); ++v)
     if (views[v].view.z() > views[btf.top_view_].view.z()) btf.top_view_ = int(v);
   btf.views_ = std::move(views);
+  if (options.fit_light_falloff) btf.light_falloff_exponent_ = btf.FitLightFalloffExponent();
   btf.top_slices_ = std::move(top_slices);
   btf.top_lights_dirs_ = top_lights;
   return btf;
@@ -73,7 +75,28 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
 double StatisticalBtf::CosineRatio(const Eigen::Vector3d& target, const Eigen::Vector3d& measured) const {
   if (!options_.cosine_weighted_lights) return 1.0;
   constexpr double kMinCos = 0.1;  // about 84 deg: keeps grazing slices from being blown up
-  return std::max(target.normalized().z(), kMinCos) / std::max(measured.normalized().z(), kMinCos);
+  return std::pow(std::max(target.normalized().z(), kMinCos) / std::max(measured.normalized().z(), kMinCos),
+                  light_falloff_exponent_);
+}
+
+double StatisticalBtf::FitLightFalloffExponent() const {
+  // Least squares of log(mean) = a + p log(cos theta_i) over the top view's lights, the mean
+  // summed over the channels that scale with radiance.
+  const MeasuredView& top = views_[top_view_];
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (size_t l = 0; l < top.lights.size(); ++l) {
+    const double cosine = top.lights[l].normalized().z();
+    double mean = 0;
+    for (int c = 0; c < top.statistics[l].channels; ++c)
+      if (options_.colour.ScalesWithRadiance(c)) mean += top.statistics[l].pixels[c].Mean();
+    if (cosine < 0.1 || !(mean > 0)) continue;
+    const double x = std::log(cosine), y = std::log(mean);
+    sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
+  }
+  const double spread = sxx - sx * sx / std::max(n, 1);
+  if (n < 3 || spread < 1e-3) return 1.0;
+  return std::clamp((sxy - sx * sy / n) / spread, 0.25, 2.0);
 }
 
 Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {

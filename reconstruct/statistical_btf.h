@@ -37,6 +37,10 @@ struct StatisticalBtfOptions {
   // on a 24-shot virtual session this halves the median pixel W1 to the true BTF (0.0149 ->
   // 0.0068 at 64 texels, 60 pairs). Lights on the target's own direction are unaffected.
   bool cosine_weighted_lights = true;
+  // With cosine_weighted_lights, the ratio is raised to the exponent p of the top view's mean
+  // radiance against cos(theta_i) (fitted over its lights, clamped to [0.25, 2]): a rough or
+  // shadowed material's radiance need not fall as the cosine does. false: p = 1.
+  bool fit_light_falloff = true;
   // The colour channels histograms are matched in (reconstruct/colour.h); kRgb is the paper's.
   // `colour` is derived from it and the top view by WithColourChannels before any statistics.
   ColourSpace colour_space = ColourSpace::kChromaticity;
@@ -104,6 +108,8 @@ class StatisticalBtf {
  private:
   StatisticalBtfOptions options_;
   double CosineRatio(const Eigen::Vector3d& target, const Eigen::Vector3d& measured) const;
+  double FitLightFalloffExponent() const;
+  double light_falloff_exponent_ = 1.0;
   // Adds view v's statistics at `at` (its light weights), each scaled by `weight` and the cosine
   // ratio to the target `light`, to the blend's entries. Returns the direction they stand for (the
   // weighted mean of the lights used: on the hull's edge when `at` lies outside it).

@@ -111,6 +111,33 @@ TEST(StatisticalBtf, CosineWeightedLightsInterpolateALambertianFalloffExactly) {
   }
 }
 
+// A rough material's radiance may fall more slowly than the cosine: texture x cos(theta_i)^0.6.
+// The exponent fitted to the top view's means makes the blend exact again; plain cosine ratios
+// (fit_light_falloff = false) overshoot the fall-off between lights far apart in elevation.
+TEST(StatisticalBtf, TheFittedLightFalloffInterpolatesASlowerThanCosineFalloffExactly) {
+  SyntheticBtf texture(32, testing::SeedFromTestName());
+  std::vector<Eigen::Vector3d> lights = {Eigen::Vector3d::UnitZ()};
+  for (int k = 0; k < 5; ++k) lights.push_back(DirectionFromAnglesDeg(70, 72.0 * k));
+  for (int k = 0; k < 4; ++k) lights.push_back(DirectionFromAnglesDeg(40, 90.0 * k + 20));
+  auto slice = [&](const Eigen::Vector3d& l) {
+    Image out = texture.texture;
+    for (size_t i = 0; i < out.size(); ++i) out.data()[i] *= float(std::pow(l.z(), 0.6));
+    return out;
+  };
+  std::vector<Image> top;
+  for (const auto& l : lights) top.push_back(slice(l));
+  const Eigen::Vector3d query = DirectionFromAnglesDeg(55, 100);
+  for (const bool fit : {true, false}) {
+    StatisticalBtfOptions options;
+    options.fit_light_falloff = fit;
+    auto btf = StatisticalBtf::Create(top, lights, {MeasureView(Eigen::Vector3d::UnitZ(), lights, top, options)}, options);
+    ASSERT_TRUE(btf.ok()) << btf.status().message();
+    const double error = RelativeRms(btf->BaseTexture(query), slice(query));
+    if (fit) { EXPECT_LT(error, 1e-4); }
+    else EXPECT_GT(error, 0.02);
+  }
+}
+
 // The synthetic BTF in colour: each texel's value times a fixed tint.
 Image Tinted(const Image& grey) {
   Image out(grey.width(), grey.height(), 3);
