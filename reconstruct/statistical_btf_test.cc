@@ -85,57 +85,51 @@ TEST(StatisticalBtf, FullMatchingStaysCloseAndBaseInterpolatesTopSlices) {
   EXPECT_GT(RelativeRms(btf->BaseTexture(light), truth.Slice(light, view)), 0.15);  // the base alone is off
 }
 
-// A Lambertian-like BTF, texture x cos(theta_i), measured under a few lights far apart: blending
-// the cosine-normalised slices gives any light's slice exactly; blending values as measured
-// (the paper's) does not.
-TEST(StatisticalBtf, CosineWeightedLightsInterpolateALambertianFalloffExactly) {
-  SyntheticBtf texture(32, testing::SeedFromTestName());
-  std::vector<Eigen::Vector3d> lights = {Eigen::Vector3d::UnitZ()};
-  for (int k = 0; k < 5; ++k) lights.push_back(DirectionFromAnglesDeg(70, 72.0 * k));
+// A top view whose texture's radiance falls as cos(theta_i)^exponent, measured under `lights`:
+// the relative RMS error of the base texture at `query` against the true slice there.
+double FalloffBaseError(const std::vector<Eigen::Vector3d>& lights, double exponent, const Eigen::Vector3d& query,
+                        const StatisticalBtfOptions& options) {
+  const SyntheticBtf texture(32, testing::SeedFromTestName());
   auto slice = [&](const Eigen::Vector3d& l) {
     Image out = texture.texture;
-    for (size_t i = 0; i < out.size(); ++i) out.data()[i] *= float(l.z());
+    for (size_t i = 0; i < out.size(); ++i) out.data()[i] *= float(std::pow(l.z(), exponent));
     return out;
   };
   std::vector<Image> top;
   for (const auto& l : lights) top.push_back(slice(l));
+  auto btf = StatisticalBtf::Create(top, lights, {MeasureView(Eigen::Vector3d::UnitZ(), lights, top, options)}, options);
+  EXPECT_TRUE(btf.ok()) << btf.status().message();
+  return btf.ok() ? RelativeRms(btf->BaseTexture(query), slice(query)) : 1.0;
+}
+
+std::vector<Eigen::Vector3d> HeadOnAndRingLights() {
+  std::vector<Eigen::Vector3d> lights = {Eigen::Vector3d::UnitZ()};
+  for (int k = 0; k < 5; ++k) lights.push_back(DirectionFromAnglesDeg(70, 72.0 * k));
+  return lights;
+}
+
+// A Lambertian-like BTF, texture x cos(theta_i), measured under a few lights far apart: blending
+// the cosine-normalised slices gives any light's slice exactly; blending values as measured
+// (the paper's) does not.
+TEST(StatisticalBtf, CosineWeightedLightsInterpolateALambertianFalloffExactly) {
   const Eigen::Vector3d query = DirectionFromAnglesDeg(40, 100);
-  for (const bool cosine : {true, false}) {
-    StatisticalBtfOptions options;
-    options.cosine_weighted_lights = cosine;
-    auto btf = StatisticalBtf::Create(top, lights, {MeasureView(Eigen::Vector3d::UnitZ(), lights, top, options)}, options);
-    ASSERT_TRUE(btf.ok()) << btf.status().message();
-    const double error = RelativeRms(btf->BaseTexture(query), slice(query));
-    if (cosine) { EXPECT_LT(error, 1e-5); }
-    else EXPECT_GT(error, 0.05);
-  }
+  StatisticalBtfOptions options;
+  EXPECT_LT(FalloffBaseError(HeadOnAndRingLights(), 1.0, query, options), 1e-5);
+  options.cosine_weighted_lights = false;
+  EXPECT_GT(FalloffBaseError(HeadOnAndRingLights(), 1.0, query, options), 0.05);
 }
 
 // A rough material's radiance may fall more slowly than the cosine: texture x cos(theta_i)^0.6.
 // The exponent fitted to the top view's means makes the blend exact again; plain cosine ratios
 // (fit_light_falloff = false) overshoot the fall-off between lights far apart in elevation.
 TEST(StatisticalBtf, TheFittedLightFalloffInterpolatesASlowerThanCosineFalloffExactly) {
-  SyntheticBtf texture(32, testing::SeedFromTestName());
-  std::vector<Eigen::Vector3d> lights = {Eigen::Vector3d::UnitZ()};
-  for (int k = 0; k < 5; ++k) lights.push_back(DirectionFromAnglesDeg(70, 72.0 * k));
+  std::vector<Eigen::Vector3d> lights = HeadOnAndRingLights();
   for (int k = 0; k < 4; ++k) lights.push_back(DirectionFromAnglesDeg(40, 90.0 * k + 20));
-  auto slice = [&](const Eigen::Vector3d& l) {
-    Image out = texture.texture;
-    for (size_t i = 0; i < out.size(); ++i) out.data()[i] *= float(std::pow(l.z(), 0.6));
-    return out;
-  };
-  std::vector<Image> top;
-  for (const auto& l : lights) top.push_back(slice(l));
   const Eigen::Vector3d query = DirectionFromAnglesDeg(55, 100);
-  for (const bool fit : {true, false}) {
-    StatisticalBtfOptions options;
-    options.fit_light_falloff = fit;
-    auto btf = StatisticalBtf::Create(top, lights, {MeasureView(Eigen::Vector3d::UnitZ(), lights, top, options)}, options);
-    ASSERT_TRUE(btf.ok()) << btf.status().message();
-    const double error = RelativeRms(btf->BaseTexture(query), slice(query));
-    if (fit) { EXPECT_LT(error, 1e-4); }
-    else EXPECT_GT(error, 0.02);
-  }
+  StatisticalBtfOptions options;
+  EXPECT_LT(FalloffBaseError(lights, 0.6, query, options), 1e-4);
+  options.fit_light_falloff = false;
+  EXPECT_GT(FalloffBaseError(lights, 0.6, query, options), 0.02);
 }
 
 // The synthetic BTF in colour: each texel's value times a fixed tint.
