@@ -42,10 +42,10 @@ void AddColourSpaceOption(CLI::App* command, std::string* text, const std::strin
 // `--no-top-view-prior` (or `name`): hold a view's statistics at the edge of its measured lights
 // for lights beyond them, as the paper does (StatisticalBtfOptions::top_view_prior).
 void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& name = "--no-top-view-prior");
-// `--far-light-falloff` (or `name`): StatisticalBtfOptions::far_light_falloff_deg, in degrees.
 // `--no-fit-light-falloff` (or `name`): blend lights on cos(theta_i) ratios as they are, not raised to
 // the top view's fitted falloff exponent (StatisticalBtfOptions::fit_light_falloff).
 void AddFitLightFalloffFlag(CLI::App* command, bool* no_fit, const std::string& name = "--no-fit-light-falloff");
+// `--far-light-falloff` (or `name`): StatisticalBtfOptions::far_light_falloff_deg, in degrees.
 void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::string& name = "--far-light-falloff");
 
 struct BtfFolderReport {

@@ -156,7 +156,7 @@ int Run(const EvaluateArgs& a) {
   if (scene) j["session"] = a.session.string();
   j["provenance"] = MakeProvenance({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
                                       {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
-                                        {"fit_light_falloff", !a.no_fit_light_falloff},
+                                      {"fit_light_falloff", !a.no_fit_light_falloff},
                                       {"far_light_falloff_deg", a.far_light_falloff_deg}});
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";

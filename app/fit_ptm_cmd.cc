@@ -189,9 +189,11 @@ StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowRead
   BusySeconds decode_busy, fit_busy;
   const auto decode = [&](int band, int i) {
     decode_busy.Time([&] {
+      const int rows = rows_of_band(band);
       uint8_t* row_pointers[kBandRows];
-      for (int r = 0; r < rows_of_band(band); ++r) row_pointers[r] = band_buffers[size_t(band % 2)][size_t(i)].data() + size_t(r) * row_bytes;
-      if (Status st = readers[size_t(i)]->ReadRows(rows_of_band(band), row_pointers); !st.ok()) decode_errors[size_t(i)] = st.message();
+      uint8_t* photo_band = band_buffers[size_t(band % 2)][size_t(i)].data();
+      for (int r = 0; r < rows; ++r) row_pointers[r] = photo_band + size_t(r) * row_bytes;
+      if (Status st = readers[size_t(i)]->ReadRows(rows, row_pointers); !st.ok()) decode_errors[size_t(i)] = st.message();
     });
   };
   const auto fit_row = [&](int band, int y) {

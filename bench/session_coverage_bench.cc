@@ -14,6 +14,7 @@
 //                               [--top-view-prior 0|1] [--far-light-falloff DEG] [--details 1]
 //                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
+//                               [--cosine 0|1] [--fit-light-falloff 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: per class of pairs (inside, near, far), which baseline the losses go to; the
@@ -114,9 +115,9 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
 // board, every azimuth, unshadowed) could give the board whose view is nearest the pair's, and how
 // many of those the reconstruction won: lights such a rig can never measure for that view.
 std::pair<int, int> UnreachableFarPairs(const RigScene& scene, const RigRenderer& renderer,
-                                        const std::vector<Eigen::Vector3d>& flashes, const BtfEvaluation& eval) {
+                                        const std::vector<Eigen::Vector3d>& flashes,
+                                        const std::vector<BoardInputs>& inputs, const BtfEvaluation& eval) {
   std::vector<BoardLights> boards;
-  const std::vector<BoardInputs> inputs = MeasuredLights(scene, renderer, flashes);
   for (int b = 0; b < int(inputs.size()); ++b) boards.push_back({b, scene.boards[b].R, scene.boards[b].t, inputs[b].lights});
   CoverageOptions options;
   options.suggestions = 0;
@@ -146,7 +147,7 @@ int Run(int argc, char** argv) {
   std::string colour_space = "chromaticity";
   bool list_lights = false, top_view_prior = true;
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
-  bool cosine = true, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
+  bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
   bool details = false;
   int guided_start = 0;
   bool predict_shadows = true;
@@ -202,7 +203,8 @@ int Run(int argc, char** argv) {
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
             Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg);
-        for (const BoardInputs& board : MeasuredLights(*scene, renderer, flashes)) {
+        const std::vector<BoardInputs> measured = MeasuredLights(*scene, renderer, flashes);
+        for (const BoardInputs& board : measured) {
           if (list_lights) {
             const Eigen::Vector2d v = AnglesDegFromDirection(board.view);
             std::printf("view (%.0f, %.0f), %zu lights:", v.x(), v.y(), board.lights.size());
@@ -268,7 +270,7 @@ int Run(int argc, char** argv) {
             }
             std::printf("   view theta %d: %d/%d won (far %d/%d)\n", theta, wins, n, wf, nf);
           }
-          const auto [unreachable, won] = UnreachableFarPairs(*scene, renderer, flashes, *eval);
+          const auto [unreachable, won] = UnreachableFarPairs(*scene, renderer, flashes, measured, *eval);
           std::printf("   far pairs whose light no flash position (mesocap coverage's candidates) gives the board "
                       "nearest their view: %d, won %d\n", unreachable, won);
         }
