@@ -31,38 +31,6 @@ std::vector<Eigen::Vector3d> GridDirections(const std::string& grid) {
   return dirs;
 }
 
-void AddColourSpaceOption(CLI::App* command, std::string* text, const std::string& name) {
-  std::vector<std::string> names;
-  for (ColourSpace space : kColourSpaces) names.push_back(ColourSpaceName(space));
-  command
-      ->add_option(name, *text,
-                   "Colour channels histograms are matched in: chromaticity (brightness and r, g chromaticities: "
-                   "keeps colours true), pca (the top view's principal colour axes) or rgb (each on its own, as the paper)")
-      ->check(CLI::IsMember(names))
-      ->capture_default_str();
-}
-
-void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& name) {
-  command->add_flag(name, *no_prior,
-                    "For lights beyond a view's measured lights, hold the statistics of their edge (the paper) instead "
-                    "of moving them by the top view's change in light");
-}
-
-void AddFitLightFalloffFlag(CLI::App* command, bool* no_fit, const std::string& name) {
-  command->add_flag(name, *no_fit,
-                    "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
-                    "fitted to the top view's mean radiance against cos(theta_i)");
-}
-
-void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::string& name) {
-  command
-      ->add_option(name, *degrees,
-                   "With the top-view prior: past 15 deg from a view's nearest measured light, its own change from the top "
-                   "view fades with this scale in degrees (0: carried whole)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 180.0));
-}
-
 std::vector<DirectionPair> GridPairs(const std::string& grid) {
   const std::vector<Eigen::Vector3d> dirs = GridDirections(grid);
   std::vector<DirectionPair> pairs;

@@ -36,18 +36,6 @@ bool OnCoarseGrid(const Eigen::Vector3d& direction);
 // The slice file of a direction pair: angles to 0.1 deg, so distinct pairs may share a name.
 std::string BtfSliceName(const DirectionPair& pair);
 
-// `--colour-space` (or `name`) for the commands that reconstruct: the colour channels histograms
-// are matched in (reconstruct/colour.h), by name; ParseColourSpace reads it.
-void AddColourSpaceOption(CLI::App* command, std::string* text, const std::string& name = "--colour-space");
-// `--no-top-view-prior` (or `name`): hold a view's statistics at the edge of its measured lights
-// for lights beyond them, as the paper does (StatisticalBtfOptions::top_view_prior).
-void AddTopViewPriorFlag(CLI::App* command, bool* no_prior, const std::string& name = "--no-top-view-prior");
-// `--no-fit-light-falloff` (or `name`): blend lights on cos(theta_i) ratios as they are, not raised to
-// the top view's fitted falloff exponent (StatisticalBtfOptions::fit_light_falloff).
-void AddFitLightFalloffFlag(CLI::App* command, bool* no_fit, const std::string& name = "--no-fit-light-falloff");
-// `--far-light-falloff` (or `name`): StatisticalBtfOptions::far_light_falloff_deg, in degrees.
-void AddFarLightFalloffOption(CLI::App* command, double* degrees, const std::string& name = "--far-light-falloff");
-
 struct BtfFolderReport {
   int slices = 0;
   double seconds = 0;

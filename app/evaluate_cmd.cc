@@ -21,6 +21,7 @@
 #include "export/previews.h"
 #include "export/report.h"
 #include "app/btf_folder.h"
+#include "app/btf_method_args.h"
 #include "reconstruct/btf_evaluation.h"
 #include "reconstruct/slice_set.h"
 
@@ -36,10 +37,7 @@ struct EvaluateArgs {
   int samples_per_axis = 2;
   bool pixel_only = false;
   double max_view_extrapolation = 1e9;
-  std::string colour_space = "chromaticity";
-  bool no_top_view_prior = false;
-  bool no_fit_light_falloff = false;
-  double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
+  BtfMethodArgs method;
   int threads = -1;
   bool no_progress = false;
 };
@@ -127,10 +125,7 @@ int Run(const EvaluateArgs& a) {
   options.btf.match_subbands = !a.pixel_only;
   options.max_pairs = a.pairs;
   options.btf.max_view_extrapolation = a.max_view_extrapolation;
-  options.btf.colour_space = *ParseColourSpace(a.colour_space);
-  options.btf.top_view_prior = !a.no_top_view_prior;
-  options.btf.fit_light_falloff = !a.no_fit_light_falloff;
-  options.btf.far_light_falloff_deg = a.far_light_falloff_deg;
+  a.method.ApplyTo(&options.btf);  // the colour space was checked by CLI11
   ProgressBar bar("evaluate", !a.no_progress);
   std::optional<TrueBtfRenderer> renderer;  // each view traced once, for all its lights
   const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
@@ -154,10 +149,10 @@ int Run(const EvaluateArgs& a) {
   j["material"] = material_name;
   j["size"] = a.size;
   if (scene) j["session"] = a.session.string();
-  j["provenance"] = MakeProvenance({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs}, {"pixel_only", a.pixel_only},
-                                      {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
-                                      {"fit_light_falloff", !a.no_fit_light_falloff},
-                                      {"far_light_falloff_deg", a.far_light_falloff_deg}});
+  Json settings = a.method.ToJson();
+  settings.update({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs},
+                   {"pixel_only", a.pixel_only}});
+  j["provenance"] = MakeProvenance(settings);
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";
   for (int m = 0; m < kBtfMethods; ++m)
@@ -201,7 +196,7 @@ int Run(const EvaluateArgs& a) {
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity),
-                          a.colour_space.c_str(),
+                          a.method.colour_space.c_str(),
                           eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
   if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());
@@ -233,10 +228,7 @@ Command EvaluateCommand() {
     sub->add_option("--max-view-extrapolation", args->max_view_extrapolation,
                     "Extrapolate view statistics at most this many ring spacings beyond the outer ring")
         ->capture_default_str();
-    AddColourSpaceOption(sub, &args->colour_space);
-    AddTopViewPriorFlag(sub, &args->no_top_view_prior);
-    AddFitLightFalloffFlag(sub, &args->no_fit_light_falloff);
-    AddFarLightFalloffOption(sub, &args->far_light_falloff_deg);
+    args->method.AddTo(sub);
     sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   };

@@ -61,10 +61,7 @@ Command ProcessCommand() {
     sub->add_option("--btf-grid", args->options.reconstruct.grid, "Direction pairs of the reconstructed BTF: bonn (6561) or coarse (289)")
         ->capture_default_str();
     sub->add_flag("--btf-pixel-only", args->options.reconstruct.pixel_only, "Reconstruct from pixel histograms only (no subbands)");
-    AddColourSpaceOption(sub, &args->options.reconstruct.colour_space, "--btf-colour-space");
-    AddTopViewPriorFlag(sub, &args->options.reconstruct.no_top_view_prior, "--btf-no-top-view-prior");
-    AddFitLightFalloffFlag(sub, &args->options.reconstruct.no_fit_light_falloff, "--btf-no-fit-light-falloff");
-    AddFarLightFalloffOption(sub, &args->options.reconstruct.far_light_falloff_deg, "--btf-far-light-falloff");
+    args->options.reconstruct.method.AddTo(sub, "--btf-");
     sub->add_option("--synth", args->options.synth.method,
                     "Also enlarge the reconstructed BTF: roller, quilt, ptm-block or texton (SESSION/synth/; export adds gltf_synth/)");
     sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "app/btf_folder.h"
+#include "app/btf_method_args.h"
 #include "app/commands.h"
 #include "core/atomic_file.h"
 #include "core/directions.h"
@@ -31,10 +32,7 @@ struct ReconstructArgs {
   std::vector<std::string> pairs;  // "theta_i,phi_i,theta_o,phi_o"
   std::string grid = "bonn";
   bool pixel_only = false;
-  std::string colour_space = "chromaticity";
-  bool no_top_view_prior = false;
-  bool no_fit_light_falloff = false;
-  double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
+  BtfMethodArgs method;
   bool no_progress = false;
 };
 
@@ -84,10 +82,7 @@ int Run(ReconstructArgs& a) {
   if (pairs.empty()) return Fail("reconstruct", "--grid must be bonn or coarse, not '" + a.grid + "'", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("reconstruct", a.out.string() + ": exists and is not empty", kExitUsage);
   a.options.btf.match_subbands = !a.pixel_only;
-  a.options.btf.colour_space = *ParseColourSpace(a.colour_space);
-  a.options.btf.top_view_prior = !a.no_top_view_prior;
-  a.options.btf.fit_light_falloff = !a.no_fit_light_falloff;
-  a.options.btf.far_light_falloff_deg = a.far_light_falloff_deg;
+  a.method.ApplyTo(&a.options.btf);  // the colour space was checked by CLI11
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
 
   SliceSetReport loaded;
@@ -103,12 +98,10 @@ int Run(ReconstructArgs& a) {
   if (!staging.ok()) return Fail("reconstruct", staging.status().message());
   const auto fail = [](const std::string& message, int code = kExitFailure) { return Fail("reconstruct", message, code); };
   ProgressBar bar("reconstruct", !a.no_progress);
+  Json provenance = a.method.ToJson();
+  provenance.update({{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}});
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, a.pixel_only, a.options.btf.num_threads, staging->path(),
-                                       {{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only},
-                                        {"colour_space", a.colour_space}, {"top_view_prior", !a.no_top_view_prior},
-                                        {"fit_light_falloff", !a.no_fit_light_falloff},
-                                        {"far_light_falloff_deg", a.far_light_falloff_deg}},
-                                       bar.AsCallback());
+                                       provenance, bar.AsCallback());
   if (!written.ok())
     return fail(written.status().message(), written.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
   const double seconds = written->seconds;
@@ -137,10 +130,7 @@ Command ReconstructCommand() {
     sub->add_option("--size", args->options.size, "Resample slices to this many texels a side (power of two; 0 keeps theirs)")
         ->capture_default_str();
     sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands)");
-    AddColourSpaceOption(sub, &args->colour_space);
-    AddTopViewPriorFlag(sub, &args->no_top_view_prior);
-    AddFitLightFalloffFlag(sub, &args->no_fit_light_falloff);
-    AddFarLightFalloffOption(sub, &args->far_light_falloff_deg);
+    args->method.AddTo(sub);
     sub->add_option("--threads", args->options.btf.num_threads, "Threads (-1: all cores)")->capture_default_str();
     sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   };

@@ -275,13 +275,9 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
 }
 
 Json ReconstructStageOptions::ToJson() const {
-  return {{"size", slices.size},
-          {"grid", grid},
-          {"pixel_only", pixel_only},
-          {"colour_space", colour_space},
-          {"top_view_prior", !no_top_view_prior},
-          {"fit_light_falloff", !no_fit_light_falloff},
-          {"far_light_falloff_deg", far_light_falloff_deg}};
+  Json settings = method.ToJson();
+  settings.update({{"size", slices.size}, {"grid", grid}, {"pixel_only", pixel_only}});
+  return settings;
 }
 
 StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const ReconstructStageOptions& options, bool progress) {
@@ -289,12 +285,8 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (pairs.empty()) return Status::Error("the BTF grid must be bonn or coarse, not '" + options.grid + "'");
   SliceSetOptions slice_options = options.slices;
   slice_options.btf.match_subbands = !options.pixel_only;
-  const std::optional<ColourSpace> colour_space = ParseColourSpace(options.colour_space);
-  if (!colour_space) return Status::Error("unknown BTF colour space '" + options.colour_space + "'");
-  slice_options.btf.colour_space = *colour_space;
-  slice_options.btf.top_view_prior = !options.no_top_view_prior;
-  slice_options.btf.fit_light_falloff = !options.no_fit_light_falloff;
-  slice_options.btf.far_light_falloff_deg = options.far_light_falloff_deg;
+  if (!options.method.ApplyTo(&slice_options.btf))
+    return Status::Error("unknown BTF colour space '" + options.method.colour_space + "'");
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
   const fs::path index = session / "slices" / "index.json";
   if (!fs::exists(index))

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/btf_method_args.h"
 #include "calib/calibrate.h"
 #include "calib/resample.h"
 #include "core/json.h"
@@ -66,10 +67,7 @@ struct ReconstructStageOptions {
   SliceSetOptions slices;     // size: texels a side of the reconstructed slices
   std::string grid = "bonn";  // GridPairs()
   bool pixel_only = false;
-  std::string colour_space = "chromaticity";  // AddColourSpaceOption
-  bool no_top_view_prior = false;             // AddTopViewPriorFlag
-  bool no_fit_light_falloff = false;          // AddFitLightFalloffFlag
-  double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;  // AddFarLightFalloffOption
+  BtfMethodArgs method;
   // The settings the stage's outputs depend on: its cache key and its provenance.
   Json ToJson() const;
 };

@@ -14,7 +14,7 @@
 //                               [--top-view-prior 0|1] [--far-light-falloff DEG] [--details 1]
 //                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
-//                               [--cosine 0|1] [--fit-light-falloff 0|1]
+//                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: per class of pairs (inside, near, far), which baseline the losses go to; the
@@ -148,6 +148,7 @@ int Run(int argc, char** argv) {
   bool list_lights = false, top_view_prior = true;
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
+  bool change_from_top = StatisticalBtfOptions().blend_change_from_top;
   bool details = false;
   int guided_start = 0;
   bool predict_shadows = true;
@@ -167,6 +168,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--far-light-falloff") far_light_falloff = std::stod(value);
     else if (flag == "--cosine") cosine = value == "1";
     else if (flag == "--fit-light-falloff") fit_falloff = value == "1";
+    else if (flag == "--change-from-top") change_from_top = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
@@ -199,6 +201,7 @@ int Run(int argc, char** argv) {
         options.btf.far_light_falloff_deg = far_light_falloff;
         options.btf.cosine_weighted_lights = cosine;
         options.btf.fit_light_falloff = fit_falloff;
+        options.btf.blend_change_from_top = change_from_top;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =

@@ -115,7 +115,12 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
   std::vector<const SliceStatistics*> stats;
   std::vector<std::vector<double>> weights(top_slices_.front().channels());
   for (const WeightedIndex& v : view_rings_.Weights(view)) {
-    const bool outside = options_.top_view_prior && v.index != top_view_ && !view_lights_[v.index].Contains(light);
+    const bool inside = v.index == top_view_ || view_lights_[v.index].Contains(light);
+    if (inside && v.index != top_view_ && options_.blend_change_from_top) {
+      AddViewChangeFromTop(v.index, light, v.weight, &stats, &weights);
+      continue;
+    }
+    const bool outside = options_.top_view_prior && !inside;
     const double trust = outside ? ViewChangeTrust(v.index, light) : 1.0;
     const Eigen::Vector3d edge = AddViewStatistics(v.index, light, light, trust * v.weight, &stats, &weights);
     if (!outside) continue;
@@ -125,6 +130,15 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
     AddViewStatistics(top_view_, edge.normalized(), light, -trust * v.weight, &stats, &weights);
   }
   return BlendSliceStatistics(stats, weights);
+}
+
+void StatisticalBtf::AddViewChangeFromTop(int v, const Eigen::Vector3d& light, double weight,
+                                          std::vector<const SliceStatistics*>* stats,
+                                          std::vector<std::vector<double>>* weights) const {
+  AddViewStatistics(v, light, light, weight, stats, weights);
+  for (const WeightedIndex& l : view_lights_[v].Weights(light))
+    AddViewStatistics(top_view_, views_[v].lights[l.index], light, -weight * l.weight, stats, weights, true);
+  AddViewStatistics(top_view_, light, light, weight, stats, weights, true);
 }
 
 double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) const {
@@ -140,15 +154,17 @@ double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& lig
 
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
                                                   double weight, std::vector<const SliceStatistics*>* stats,
-                                                  std::vector<std::vector<double>>* weights) const {
+                                                  std::vector<std::vector<double>>* weights, bool radiance_only) const {
   Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
     stats->push_back(&views_[v].statistics[l.index]);
     const double cosine = CosineRatio(light, views_[v].lights[l.index]);
     // A chromaticity does not scale with the light's fall-off.
-    for (int c = 0; c < int(weights->size()); ++c)
-      (*weights)[c].push_back(weight * l.weight * (options_.colour.ScalesWithRadiance(c) ? cosine : 1.0));
+    for (int c = 0; c < int(weights->size()); ++c) {
+      const bool radiance = options_.colour.ScalesWithRadiance(c);
+      (*weights)[c].push_back(radiance ? weight * l.weight * cosine : radiance_only ? 0.0 : weight * l.weight);
+    }
   }
   return stands_for;
 }

@@ -57,6 +57,13 @@ struct StatisticalBtfOptions {
   // sessions this raises the pairs beating both baselines (bench_session_coverage
   // --far-light-falloff). 0 transfers the edge's change whole, however far.
   double far_light_falloff_deg = 10.0;
+  // Inside a view's hull, blend the view's change from the top view (each measured light's
+  // statistics minus the top view's there) and add it to the top view's statistics at the target
+  // light: the light dependence comes from the top view, which measured the most lights, and only
+  // the view's smoother difference is interpolated. Chromaticity channels blend as measured.
+  // On 100-shot virtual sessions (held-out seeds 14-20) this wins 3.8 (weave), 4.1 (stones) and
+  // 0.4 (corduroy) more points of pairs beating both baselines. false: the paper's blend.
+  bool blend_change_from_top = true;
   int num_threads = -1;
   bool Check() const;
 };
@@ -113,9 +120,14 @@ class StatisticalBtf {
   // Adds view v's statistics at `at` (its light weights), each scaled by `weight` and the cosine
   // ratio to the target `light`, to the blend's entries. Returns the direction they stand for (the
   // weighted mean of the lights used: on the hull's edge when `at` lies outside it).
+  // With `radiance_only`, the channels that do not scale with radiance get no weight.
   Eigen::Vector3d AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light, double weight,
-                                    std::vector<const SliceStatistics*>* stats,
-                                    std::vector<std::vector<double>>* weights) const;
+                                    std::vector<const SliceStatistics*>* stats, std::vector<std::vector<double>>* weights,
+                                    bool radiance_only = false) const;
+  // Adds view v's statistics at `light` (inside its hull) as its change from the top view, plus
+  // the top view's at `light` (StatisticalBtfOptions::blend_change_from_top).
+  void AddViewChangeFromTop(int v, const Eigen::Vector3d& light, double weight,
+                            std::vector<const SliceStatistics*>* stats, std::vector<std::vector<double>>* weights) const;
   // How much of view v's change from the top view is carried to `light`, outside its measured
   // lights (StatisticalBtfOptions::far_light_falloff_deg).
   double ViewChangeTrust(int v, const Eigen::Vector3d& light) const;

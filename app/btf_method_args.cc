@@ -1,0 +1,54 @@
+#include "app/btf_method_args.h"
+
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace mesocap::app {
+
+void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
+  std::vector<std::string> names;
+  for (ColourSpace space : kColourSpaces) names.push_back(ColourSpaceName(space));
+  command
+      ->add_option(prefix + "colour-space", colour_space,
+                   "Colour channels histograms are matched in: chromaticity (brightness and r, g chromaticities: "
+                   "keeps colours true), pca (the top view's principal colour axes) or rgb (each on its own, as the paper)")
+      ->check(CLI::IsMember(names))
+      ->capture_default_str();
+  command->add_flag(prefix + "no-top-view-prior", no_top_view_prior,
+                    "For lights beyond a view's measured lights, hold the statistics of their edge (the paper) instead "
+                    "of moving them by the top view's change in light");
+  command->add_flag(prefix + "no-change-from-top", no_change_from_top,
+                    "Inside a view's measured lights, blend its statistics as measured (the paper) instead of blending "
+                    "its change from the top view and adding the top view's statistics at the light");
+  command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
+                    "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
+                    "fitted to the top view's mean radiance against cos(theta_i)");
+  command
+      ->add_option(prefix + "far-light-falloff", far_light_falloff_deg,
+                   "With the top-view prior: past 15 deg from a view's nearest measured light, its own change from the top "
+                   "view fades with this scale in degrees (0: carried whole)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
+}
+
+bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
+  const std::optional<ColourSpace> space = ParseColourSpace(colour_space);
+  if (!space) return false;
+  btf->colour_space = *space;
+  btf->top_view_prior = !no_top_view_prior;
+  btf->fit_light_falloff = !no_fit_light_falloff;
+  btf->blend_change_from_top = !no_change_from_top;
+  btf->far_light_falloff_deg = far_light_falloff_deg;
+  return true;
+}
+
+Json BtfMethodArgs::ToJson() const {
+  return {{"colour_space", colour_space},
+          {"top_view_prior", !no_top_view_prior},
+          {"change_from_top", !no_change_from_top},
+          {"fit_light_falloff", !no_fit_light_falloff},
+          {"far_light_falloff_deg", far_light_falloff_deg}};
+}
+
+}  // namespace mesocap::app

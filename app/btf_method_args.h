@@ -1,0 +1,32 @@
+// The statistical BTF's method choices, as the commands that reconstruct take them (reconstruct
+// and evaluate as --colour-space, --no-top-view-prior...; process as --btf-colour-space...): one
+// set of flags, one way to apply them and one provenance record.
+#pragma once
+
+#include <string>
+
+#include "core/json.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace CLI {
+class App;
+}
+
+namespace mesocap::app {
+
+struct BtfMethodArgs {
+  std::string colour_space = "chromaticity";  // reconstruct/colour.h, by name
+  bool no_top_view_prior = false;             // StatisticalBtfOptions::top_view_prior
+  bool no_fit_light_falloff = false;          // StatisticalBtfOptions::fit_light_falloff
+  bool no_change_from_top = false;            // StatisticalBtfOptions::blend_change_from_top
+  double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
+
+  // Adds the flags to `command`, each named `prefix` + its name ("--" or "--btf-").
+  void AddTo(CLI::App* command, const std::string& prefix = "--");
+  // Sets them on `btf`; false on an unknown colour space.
+  bool ApplyTo(StatisticalBtfOptions* btf) const;
+  // For provenance and stage cache keys.
+  Json ToJson() const;
+};
+
+}  // namespace mesocap::app
