@@ -18,9 +18,9 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
   command->add_flag(prefix + "no-top-view-prior", no_top_view_prior,
                     "For lights beyond a view's measured lights, hold the statistics of their edge (the paper) instead "
                     "of moving them by the top view's change in light");
-  command->add_flag(prefix + "no-change-from-top", no_change_from_top,
-                    "Inside a view's measured lights, blend its statistics as measured (the paper) instead of blending "
-                    "its change from the top view and adding the top view's statistics at the light");
+  command->add_flag(prefix + "change-from-top", change_from_top,
+                    "Inside a view's measured lights, blend its change from the top view and add the top view's "
+                    "statistics at the light, instead of blending its statistics as measured (the paper)");
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
                     "fitted to the top view's mean radiance against cos(theta_i)");
@@ -38,7 +38,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->colour_space = *space;
   btf->top_view_prior = !no_top_view_prior;
   btf->fit_light_falloff = !no_fit_light_falloff;
-  btf->blend_change_from_top = !no_change_from_top;
+  btf->blend_change_from_top = change_from_top;
   btf->far_light_falloff_deg = far_light_falloff_deg;
   return true;
 }
@@ -46,7 +46,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
 Json BtfMethodArgs::ToJson() const {
   return {{"colour_space", colour_space},
           {"top_view_prior", !no_top_view_prior},
-          {"change_from_top", !no_change_from_top},
+          {"change_from_top", change_from_top},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

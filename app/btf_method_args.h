@@ -18,7 +18,7 @@ struct BtfMethodArgs {
   std::string colour_space = "chromaticity";  // reconstruct/colour.h, by name
   bool no_top_view_prior = false;             // StatisticalBtfOptions::top_view_prior
   bool no_fit_light_falloff = false;          // StatisticalBtfOptions::fit_light_falloff
-  bool no_change_from_top = false;            // StatisticalBtfOptions::blend_change_from_top
+  bool change_from_top = false;               // StatisticalBtfOptions::blend_change_from_top
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
 
   // Adds the flags to `command`, each named `prefix` + its name ("--" or "--btf-").
