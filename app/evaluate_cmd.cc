@@ -20,7 +20,6 @@
 #include "core/session.h"
 #include "export/previews.h"
 #include "export/report.h"
-#include "app/btf_folder.h"
 #include "app/btf_method_args.h"
 #include "reconstruct/btf_evaluation.h"
 #include "reconstruct/slice_set.h"

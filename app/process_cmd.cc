@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <memory>
 
-#include "app/btf_folder.h"
 #include "app/commands.h"
 #include "app/process.h"
 #include "app/synth_output.h"
