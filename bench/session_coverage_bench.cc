@@ -15,11 +15,15 @@
 //                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 //                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
+//                               [--true-mean 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
-// With --details 1: per class of pairs (inside, near, far), which baseline the losses go to; the
-// wins by the view's incidence; and how many far pairs have a light that no flash position could
-// give the board nearest their view (below its horizon or shadowed from every position).
+// With --details 1: the colour saturation error (median and worst pair, and which pair); per class
+// of pairs (inside, near, far), which baseline the losses go to; the wins by the view's incidence;
+// and how many far pairs have a light that no flash position could give the board nearest their
+// view (below its horizon or shadowed from every position).
+// With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
+// before it is scored, so the figures tell how much a known mean radiance would win.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -149,7 +153,7 @@ int Run(int argc, char** argv) {
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
   bool change_from_top = StatisticalBtfOptions().blend_change_from_top;
-  bool details = false;
+  bool details = false, true_mean = false;
   int guided_start = 0;
   bool predict_shadows = true;
   CoverageObjective objective = CoverageObjective::kSpread;
@@ -165,6 +169,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--list-lights") list_lights = value == "1";
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
     else if (flag == "--details") details = value == "1";
+    else if (flag == "--true-mean") true_mean = value == "1";
     else if (flag == "--far-light-falloff") far_light_falloff = std::stod(value);
     else if (flag == "--cosine") cosine = value == "1";
     else if (flag == "--fit-light-falloff") fit_falloff = value == "1";
@@ -196,6 +201,7 @@ int Run(int argc, char** argv) {
         }
         BtfEvaluationOptions options;
         options.max_pairs = pairs;
+        options.statistical_at_true_mean = true_mean;
         options.btf.colour_space = ParseColourSpace(colour_space).value_or(ColourSpace::kChromaticity);
         options.btf.top_view_prior = top_view_prior;
         options.btf.far_light_falloff_deg = far_light_falloff;
@@ -245,6 +251,19 @@ int Run(int argc, char** argv) {
                     wins(LightCoverage::kNear), wins(LightCoverage::kFar), eval->CountWith(LightCoverage::kInside),
                     eval->CountWith(LightCoverage::kNear), eval->CountWith(LightCoverage::kFar), w[0], w[1],
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity));
+        if (details) {  // colour: the saturation error (median and worst pair) per method
+          const auto median = eval->MedianSaturationError(), worst = eval->WorstSaturationError();
+          std::printf("   saturation error, median / worst pair: statistical %.3f / %.3f, top view %.3f / %.3f, "
+                      "modulated %.3f / %.3f\n", median[0], worst[0], median[1], worst[1], median[2], worst[2]);
+          const PairScore* worst_pair = nullptr;
+          for (const PairScore& p : eval->pairs)
+            if (!worst_pair || std::abs(p.saturation_ratio[0] - 1) > std::abs(worst_pair->saturation_ratio[0] - 1)) worst_pair = &p;
+          if (worst_pair) {
+            const Eigen::Vector2d l = AnglesDegFromDirection(worst_pair->light), v = AnglesDegFromDirection(worst_pair->view);
+            std::printf("   worst saturation pair: light (%.0f, %.0f), view (%.0f, %.0f), ratio %.3f, %s\n", l.x(), l.y(), v.x(),
+                        v.y(), worst_pair->saturation_ratio[0], LightCoverageToString(worst_pair->coverage).c_str());
+          }
+        }
         if (details) {  // which baseline the far pairs lose to, and the wins by the view's incidence
           for (const LightCoverage coverage : {LightCoverage::kInside, LightCoverage::kNear, LightCoverage::kFar}) {
             int lose_top = 0, lose_mod = 0, lose_both = 0, count = 0;

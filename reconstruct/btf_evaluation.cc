@@ -41,6 +41,15 @@ Json PairJson(const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
   return {{"theta_i_deg", i.x()}, {"phi_i_deg", i.y()}, {"theta_o_deg", o.x()}, {"phi_o_deg", o.y()}};
 }
 
+// `image` with each channel scaled to the mean of that channel in `reference`.
+Image ScaledToMeansOf(Image image, const Image& reference) {
+  const std::vector<double> want = ChannelMeans(reference), have = ChannelMeans(image);
+  for (size_t i = 0; i < image.pixel_count(); ++i)
+    for (int c = 0; c < image.channels(); ++c)
+      image.data()[i * image.channels() + c] *= have[c] > 0 ? float(want[c] / have[c]) : 0.0f;
+  return image;
+}
+
 }  // namespace
 
 std::string BtfMethodToString(BtfMethod method) {
@@ -67,12 +76,7 @@ std::array<Image, kBtfMethods> ReconstructAllMethods(const StatisticalBtf& btf, 
   out[int(BtfMethod::kStatistical)] = btf.Reconstruct(light, view);
   out[int(BtfMethod::kTopView)] = btf.BaseTexture(light);
   // One texture (top view, top light) scaled per channel to the pair's true average BRDF.
-  Image modulated = btf.BaseTexture(Eigen::Vector3d::UnitZ());
-  const std::vector<double> want = ChannelMeans(truth), have = ChannelMeans(modulated);
-  for (size_t i = 0; i < modulated.pixel_count(); ++i)
-    for (int c = 0; c < modulated.channels(); ++c)
-      modulated.data()[i * modulated.channels() + c] *= have[c] > 0 ? float(want[c] / have[c]) : 0.0f;
-  out[int(BtfMethod::kBrdfModulated)] = std::move(modulated);
+  out[int(BtfMethod::kBrdfModulated)] = ScaledToMeansOf(btf.BaseTexture(Eigen::Vector3d::UnitZ()), truth);
   return out;
 }
 
@@ -301,7 +305,8 @@ StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueS
     const auto& [light, view] = held_out[k];
     const Image truth_slice = truth(light, view);
     const auto t0 = std::chrono::steady_clock::now();
-    const std::array<Image, kBtfMethods> result = ReconstructAllMethods(btf, light, view, truth_slice);
+    std::array<Image, kBtfMethods> result = ReconstructAllMethods(btf, light, view, truth_slice);
+    if (options.statistical_at_true_mean) result[0] = ScaledToMeansOf(std::move(result[0]), truth_slice);
     reconstruct_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
     PairScore& score = eval.pairs[k];
     score = ScoreMethods(result, truth_slice, options.btf.statistics);

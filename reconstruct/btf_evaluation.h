@@ -40,6 +40,10 @@ struct BtfEvaluationOptions {
   double held_out_tolerance_deg = 0.5;
   // Score at most this many held-out pairs, evenly spread over the list (-1: all).
   int max_pairs = -1;
+  // A diagnostic, not a method: the statistical slice is scaled per channel to the truth's mean
+  // before it is scored (the oracle the BRDF-modulated baseline has), to tell how much of its
+  // error is in the mean radiance rather than in the shape of its distributions.
+  bool statistical_at_true_mean = false;
   bool Check() const;
 };
 
