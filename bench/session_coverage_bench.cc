@@ -7,7 +7,9 @@
 // lights its views measured (inside their hull, within 15 deg of one, far outside).
 //
 // It measures coverage, not calibration: the slices are true directional-light slices, and every
-// board sees the material at the top board's place (the statistics are alignment-insensitive).
+// board sees the material at the top board's place (the statistics are alignment-insensitive);
+// with --regions 1, each board sees its own part of the material, as on the rig (its
+// material_offset_m), while the top board and the held-out truth keep the top board's.
 //
 // Usage: bench_session_coverage [--shots 24,50,100,150] [--materials weave,stones,corduroy]
 //                               [--seeds 11,12] [--size 64] [--pairs 240] [--colour-space NAME]
@@ -15,7 +17,7 @@
 //                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 //                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
-//                               [--true-mean 0|1]
+//                               [--true-mean 0|1] [--regions 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: the colour saturation error (median and worst pair, and which pair); per class
@@ -27,6 +29,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -153,7 +156,7 @@ int Run(int argc, char** argv) {
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
   bool change_from_top = StatisticalBtfOptions().blend_change_from_top;
-  bool details = false, true_mean = false;
+  bool details = false, true_mean = false, own_regions = false;
   int guided_start = 0;
   bool predict_shadows = true;
   CoverageObjective objective = CoverageObjective::kSpread;
@@ -170,6 +173,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--top-view-prior") top_view_prior = value == "1";
     else if (flag == "--details") details = value == "1";
     else if (flag == "--true-mean") true_mean = value == "1";
+    else if (flag == "--regions") own_regions = value == "1";
     else if (flag == "--far-light-falloff") far_light_falloff = std::stod(value);
     else if (flag == "--cosine") cosine = value == "1";
     else if (flag == "--fit-light-falloff") fit_falloff = value == "1";
@@ -234,7 +238,18 @@ int Run(int argc, char** argv) {
         grid.size = size;
         grid.samples_per_axis = 2;
         const TrueBtfRenderer true_btf(*material, grid);
+        // With --regions 1, each tilted board's input slices show its own part of the material,
+        // as on the rig; the top board's and the held-out truth show the top board's part.
+        std::vector<std::unique_ptr<TrueBtfRenderer>> regions;
+        if (own_regions)
+          for (const RigBoard& board : scene->boards) {
+            TrueBtfRequest region = grid;
+            region.offset_m = board.material_offset_m - scene->boards.front().material_offset_m;
+            regions.push_back(std::make_unique<TrueBtfRenderer>(*material, region));
+          }
         const TrueSliceFn truth = [&](const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+          for (size_t b = 1; b < regions.size(); ++b)  // board 0 is the top
+            if (AngleBetweenDeg(view, measured[b].view) < 0.25) return regions[b]->Render(light, view);
           return true_btf.Render(light, view);
         };
         auto eval = EvaluateStatisticalBtf(truth, options);
