@@ -19,6 +19,7 @@ struct BtfMethodArgs {
   bool no_top_view_prior = false;             // StatisticalBtfOptions::top_view_prior
   bool no_fit_light_falloff = false;          // StatisticalBtfOptions::fit_light_falloff
   bool change_from_top = false;               // StatisticalBtfOptions::blend_change_from_top
+  bool chroma_from_top = false;               // StatisticalBtfOptions::chromaticity_from_top_view
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
 
   // Adds the flags to `command`, each named `prefix` + its name ("--" or "--btf-").

@@ -17,7 +17,7 @@
 //                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 //                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
-//                               [--true-mean 0|1] [--regions 0|1]
+//                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: the colour saturation error (median and worst pair, and which pair); per class
@@ -156,6 +156,7 @@ int Run(int argc, char** argv) {
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
   bool change_from_top = StatisticalBtfOptions().blend_change_from_top;
+  bool chroma_from_top = StatisticalBtfOptions().chromaticity_from_top_view;
   bool details = false, true_mean = false, own_regions = false;
   int guided_start = 0;
   bool predict_shadows = true;
@@ -178,6 +179,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--cosine") cosine = value == "1";
     else if (flag == "--fit-light-falloff") fit_falloff = value == "1";
     else if (flag == "--change-from-top") change_from_top = value == "1";
+    else if (flag == "--chroma-from-top") chroma_from_top = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
@@ -212,6 +214,7 @@ int Run(int argc, char** argv) {
         options.btf.cosine_weighted_lights = cosine;
         options.btf.fit_light_falloff = fit_falloff;
         options.btf.blend_change_from_top = change_from_top;
+        options.btf.chromaticity_from_top_view = chroma_from_top;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =

@@ -129,6 +129,11 @@ SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, c
     AddViewStatistics(top_view_, light, light, v.weight, &stats, &weights);
     AddViewStatistics(top_view_, edge.normalized(), light, -trust * v.weight, &stats, &weights);
   }
+  if (options_.chromaticity_from_top_view) {
+    for (int c = 0; c < int(weights.size()); ++c)
+      if (!options_.colour.ScalesWithRadiance(c)) std::fill(weights[c].begin(), weights[c].end(), 0.0);
+    AddViewStatistics(top_view_, light, light, 1.0, &stats, &weights, ChannelSet::kChromaticity);
+  }
   return BlendSliceStatistics(stats, weights);
 }
 
@@ -137,8 +142,8 @@ void StatisticalBtf::AddViewChangeFromTop(int v, const Eigen::Vector3d& light, d
                                           std::vector<std::vector<double>>* weights) const {
   AddViewStatistics(v, light, light, weight, stats, weights);
   for (const WeightedIndex& l : view_lights_[v].Weights(light))
-    AddViewStatistics(top_view_, views_[v].lights[l.index], light, -weight * l.weight, stats, weights, true);
-  AddViewStatistics(top_view_, light, light, weight, stats, weights, true);
+    AddViewStatistics(top_view_, views_[v].lights[l.index], light, -weight * l.weight, stats, weights, ChannelSet::kRadiance);
+  AddViewStatistics(top_view_, light, light, weight, stats, weights, ChannelSet::kRadiance);
 }
 
 double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) const {
@@ -154,7 +159,7 @@ double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& lig
 
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
                                                   double weight, std::vector<const SliceStatistics*>* stats,
-                                                  std::vector<std::vector<double>>* weights, bool radiance_only) const {
+                                                  std::vector<std::vector<double>>* weights, ChannelSet channels) const {
   Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
@@ -163,7 +168,8 @@ Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& 
     // A chromaticity does not scale with the light's fall-off.
     for (int c = 0; c < int(weights->size()); ++c) {
       const bool radiance = options_.colour.ScalesWithRadiance(c);
-      (*weights)[c].push_back(radiance ? weight * l.weight * cosine : radiance_only ? 0.0 : weight * l.weight);
+      const bool weighed = channels == ChannelSet::kAll || radiance == (channels == ChannelSet::kRadiance);
+      (*weights)[c].push_back(!weighed ? 0.0 : radiance ? weight * l.weight * cosine : weight * l.weight);
     }
   }
   return stands_for;

@@ -173,6 +173,48 @@ TEST(StatisticalBtf, ColourSlicesStayFiniteAndNonNegativeWhereStatisticsExtrapol
   }
 }
 
+// The tilted views are measured with another colour than the top view (as a JPEG's half-resolution
+// chroma gives the boards whose patches span the fewest pixels): with chromaticity_from_top_view,
+// a tilted view's slice keeps the top view's colour and its own brightness.
+TEST(StatisticalBtf, ChromaticityFromTheTopViewKeepsTheTopViewsColour) {
+  SyntheticBtf truth(32, testing::SeedFromTestName());
+  const std::vector<Eigen::Vector3d> lights = BonnDirections();
+  const std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ(), DirectionFromAnglesDeg(30, 0),
+                                              DirectionFromAnglesDeg(30, 120), DirectionFromAnglesDeg(30, 240)};
+  const auto coloured = [](const Image& grey, const float (&tint)[3]) {
+    Image out(grey.width(), grey.height(), 3);
+    for (size_t i = 0; i < grey.pixel_count(); ++i)
+      for (int c = 0; c < 3; ++c) out.data()[3 * i + c] = grey.data()[i] * tint[c];
+    return out;
+  };
+  const float top_tint[3] = {1.0f, 0.6f, 0.3f}, tilted_tint[3] = {0.6f, 0.6f, 0.9f};
+  const auto red_share = [](const Image& image) {
+    double red = 0, sum = 0;
+    for (size_t i = 0; i < image.pixel_count(); ++i)
+      red += image.data()[3 * i], sum += image.data()[3 * i] + image.data()[3 * i + 1] + image.data()[3 * i + 2];
+    return red / sum;
+  };
+  for (const bool from_top : {false, true}) {
+    StatisticalBtfOptions options;
+    options.chromaticity_from_top_view = from_top;
+    std::vector<std::vector<Image>> slices(views.size());
+    for (size_t v = 0; v < views.size(); ++v)
+      for (const auto& light : lights) slices[v].push_back(coloured(truth.Slice(light, views[v]), v == 0 ? top_tint : tilted_tint));
+    options = WithColourChannels(options, slices[0]);
+    std::vector<MeasuredView> measured;
+    for (size_t v = 0; v < views.size(); ++v) measured.push_back(MeasureView(views[v], lights, slices[v], options));
+    auto btf = StatisticalBtf::Create(slices[0], lights, std::move(measured), options);
+    ASSERT_TRUE(btf.ok()) << btf.status().message();
+    const Image slice = btf->Reconstruct(lights[23], views[1]);
+    EXPECT_NEAR(red_share(slice), from_top ? 1.0 / 1.9 : 0.6 / 2.1, 0.02) << from_top;
+    double mean = 0, want = 0;
+    const Image truth_slice = truth.Slice(lights[23], views[1]);
+    for (size_t i = 0; i < slice.pixel_count(); ++i)
+      mean += slice.data()[3 * i] + slice.data()[3 * i + 1] + slice.data()[3 * i + 2], want += 2.1 * truth_slice.data()[i];
+    EXPECT_NEAR(mean / want, 1.0, 0.05) << "the brightness stays the view's";
+  }
+}
+
 // A BTF whose views differ from the top view by an offset, slice(l, v) = top(l) + c(v), where the
 // top view changes with the light in a way no single light's slice predicts, measured from the
 // top under every Bonn light and from a view tilted 45 deg under the lights with x < 0 only.
