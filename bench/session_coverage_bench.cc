@@ -269,7 +269,8 @@ int Run(int argc, char** argv) {
                     wins(LightCoverage::kNear), wins(LightCoverage::kFar), eval->CountWith(LightCoverage::kInside),
                     eval->CountWith(LightCoverage::kNear), eval->CountWith(LightCoverage::kFar), w[0], w[1],
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity));
-        if (details) {  // colour: the saturation error (median and worst pair) per method
+        if (details) {
+          // Colour: the saturation error (median and worst pair) per method.
           const auto median = eval->MedianSaturationError(), worst = eval->WorstSaturationError();
           std::printf("   saturation error, median / worst pair: statistical %.3f / %.3f, top view %.3f / %.3f, "
                       "modulated %.3f / %.3f\n", median[0], worst[0], median[1], worst[1], median[2], worst[2]);
@@ -281,8 +282,7 @@ int Run(int argc, char** argv) {
             std::printf("   worst saturation pair: light (%.0f, %.0f), view (%.0f, %.0f), ratio %.3f, %s\n", l.x(), l.y(), v.x(),
                         v.y(), worst_pair->saturation_ratio[0], LightCoverageToString(worst_pair->coverage).c_str());
           }
-        }
-        if (details) {  // which baseline the far pairs lose to, and the wins by the view's incidence
+          // Which baseline the far pairs lose to, and the wins by the view's incidence.
           for (const LightCoverage coverage : {LightCoverage::kInside, LightCoverage::kNear, LightCoverage::kFar}) {
             int lose_top = 0, lose_mod = 0, lose_both = 0, count = 0;
             double ratio_sum = 0;

@@ -132,10 +132,10 @@ TEST(StatisticalBtf, TheFittedLightFalloffInterpolatesASlowerThanCosineFalloffEx
   EXPECT_GT(FalloffBaseError(lights, 0.6, query, options), 0.02);
 }
 
-// The synthetic BTF in colour: each texel's value times a fixed tint.
-Image Tinted(const Image& grey) {
+// The synthetic BTF in colour: each texel's value times a tint (orange unless given).
+constexpr float kOrange[3] = {1.0f, 0.6f, 0.3f};
+Image Tinted(const Image& grey, const float (&tint)[3] = kOrange) {
   Image out(grey.width(), grey.height(), 3);
-  const float tint[3] = {1.0f, 0.6f, 0.3f};
   for (size_t i = 0; i < grey.pixel_count(); ++i)
     for (int c = 0; c < 3; ++c) out.data()[3 * i + c] = grey.data()[i] * tint[c];
   return out;
@@ -181,13 +181,7 @@ TEST(StatisticalBtf, ChromaticityFromTheTopViewKeepsTheTopViewsColour) {
   const std::vector<Eigen::Vector3d> lights = BonnDirections();
   const std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ(), DirectionFromAnglesDeg(30, 0),
                                               DirectionFromAnglesDeg(30, 120), DirectionFromAnglesDeg(30, 240)};
-  const auto coloured = [](const Image& grey, const float (&tint)[3]) {
-    Image out(grey.width(), grey.height(), 3);
-    for (size_t i = 0; i < grey.pixel_count(); ++i)
-      for (int c = 0; c < 3; ++c) out.data()[3 * i + c] = grey.data()[i] * tint[c];
-    return out;
-  };
-  const float top_tint[3] = {1.0f, 0.6f, 0.3f}, tilted_tint[3] = {0.6f, 0.6f, 0.9f};
+  const float tilted_tint[3] = {0.6f, 0.6f, 0.9f};
   const auto red_share = [](const Image& image) {
     double red = 0, sum = 0;
     for (size_t i = 0; i < image.pixel_count(); ++i)
@@ -199,7 +193,7 @@ TEST(StatisticalBtf, ChromaticityFromTheTopViewKeepsTheTopViewsColour) {
     options.chromaticity_from_top_view = from_top;
     std::vector<std::vector<Image>> slices(views.size());
     for (size_t v = 0; v < views.size(); ++v)
-      for (const auto& light : lights) slices[v].push_back(coloured(truth.Slice(light, views[v]), v == 0 ? top_tint : tilted_tint));
+      for (const auto& light : lights) slices[v].push_back(Tinted(truth.Slice(light, views[v]), v == 0 ? kOrange : tilted_tint));
     options = WithColourChannels(options, slices[0]);
     std::vector<MeasuredView> measured;
     for (size_t v = 0; v < views.size(); ++v) measured.push_back(MeasureView(views[v], lights, slices[v], options));
