@@ -21,10 +21,15 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
   command->add_flag(prefix + "change-from-top", change_from_top,
                     "Inside a view's measured lights, blend its change from the top view and add the top view's "
                     "statistics at the light, instead of blending its statistics as measured (the paper)");
-  command->add_flag(prefix + "chroma-from-top", chroma_from_top,
-                    "Take the chromaticity's statistics from the top view at the light instead of blending the views' "
-                    "(for JPEG shots, whose chroma is at half resolution: the tilted boards' patches span the fewest "
-                    "pixels)");
+  CLI::Option* from_top = command->add_flag(
+      prefix + "chroma-from-top", chroma_from_top,
+      "Take the chromaticity's statistics from the top view at the light instead of blending the views' (default for "
+      "slices of JPEG shots, whose colour is at half resolution: the tilted boards' patches span the fewest pixels)");
+  command
+      ->add_flag(prefix + "chroma-from-views", chroma_from_views,
+                 "Blend the views' own chromaticity statistics (the paper; default for slices of RAW, PNG or TIFF shots "
+                 "and for true slices)")
+      ->excludes(from_top);
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
                     "fitted to the top view's mean radiance against cos(theta_i)");
@@ -48,11 +53,16 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   return true;
 }
 
+bool BtfMethodArgs::ApplyTo(SliceSetOptions* slices) const {
+  if (chroma_from_top || chroma_from_views) slices->chroma_from_top = chroma_from_top;
+  return ApplyTo(&slices->btf);
+}
+
 Json BtfMethodArgs::ToJson() const {
   return {{"colour_space", colour_space},
           {"top_view_prior", !no_top_view_prior},
           {"change_from_top", change_from_top},
-          {"chroma_from_top", chroma_from_top},
+          {"chroma_from_top", chroma_from_top ? "on" : chroma_from_views ? "off" : "by the shots"},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/json.h"
+#include "reconstruct/slice_set.h"
 #include "reconstruct/statistical_btf.h"
 
 namespace CLI {
@@ -19,13 +20,17 @@ struct BtfMethodArgs {
   bool no_top_view_prior = false;             // StatisticalBtfOptions::top_view_prior
   bool no_fit_light_falloff = false;          // StatisticalBtfOptions::fit_light_falloff
   bool change_from_top = false;               // StatisticalBtfOptions::blend_change_from_top
-  bool chroma_from_top = false;               // StatisticalBtfOptions::chromaticity_from_top_view
+  // StatisticalBtfOptions::chromaticity_from_top_view: forced on, forced off, or (neither) decided by
+  // the slices' shots (SliceSetOptions::chroma_from_top; off for true slices).
+  bool chroma_from_top = false, chroma_from_views = false;
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
 
   // Adds the flags to `command`, each named `prefix` + its name ("--" or "--btf-").
   void AddTo(CLI::App* command, const std::string& prefix = "--");
   // Sets them on `btf`; false on an unknown colour space.
   bool ApplyTo(StatisticalBtfOptions* btf) const;
+  // The same, for a session's slices: also sets SliceSetOptions::chroma_from_top.
+  bool ApplyTo(SliceSetOptions* slices) const;
   // For provenance and stage cache keys.
   Json ToJson() const;
 };

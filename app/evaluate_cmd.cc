@@ -81,6 +81,7 @@ StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& s
   SliceSetOptions slices;
   slices.btf = options.btf;
   slices.size = a.size;
+  a.method.ApplyTo(&slices);  // the slices' shots decide where the chromaticity comes from, unless forced
   SliceSetReport loaded;
   const std::filesystem::path index = a.session / "slices" / "index.json";
   if (!std::filesystem::exists(index)) return Status::Error(index.string() + " not found: run `mesocap calibrate` first");
@@ -148,6 +149,7 @@ int Run(const EvaluateArgs& a) {
   j["material"] = material_name;
   j["size"] = a.size;
   if (scene) j["session"] = a.session.string();
+  j["chroma_from_top"] = model->options().chromaticity_from_top_view;
   Json settings = a.method.ToJson();
   settings.update({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs},
                    {"pixel_only", a.pixel_only}});
@@ -190,12 +192,14 @@ int Run(const EvaluateArgs& a) {
                 "saturation p95 off by (median / worst)"},
                rows);
   report.Paragraph(Format("The statistical reconstruction beats both baselines on pixel W1 in %.1f%% of pairs, on "
-                          "subband W1 in %.1f%% and on chromaticity W1 in %.1f%%. Histograms matched in %s. "
+                          "subband W1 in %.1f%% and on chromaticity W1 in %.1f%%. Histograms matched in %s; the "
+                          "chromaticity's statistics taken from %s. "
                           "Reconstruction %.1f ms per slice (thread time, all three methods).",
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity),
                           a.method.colour_space.c_str(),
+                          model->options().chromaticity_from_top_view ? "the top view" : "every view",
                           eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
   if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());

@@ -82,7 +82,7 @@ int Run(ReconstructArgs& a) {
   if (pairs.empty()) return Fail("reconstruct", "--grid must be bonn or coarse, not '" + a.grid + "'", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("reconstruct", a.out.string() + ": exists and is not empty", kExitUsage);
   a.options.btf.match_subbands = !a.pixel_only;
-  a.method.ApplyTo(&a.options.btf);  // the colour space was checked by CLI11
+  a.method.ApplyTo(&a.options);  // the colour space was checked by CLI11
   if (!a.options.Check()) return Fail("reconstruct", "--size must be a power of two", kExitUsage);
 
   SliceSetReport loaded;
@@ -106,9 +106,10 @@ int Run(ReconstructArgs& a) {
     return fail(written.status().message(), written.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
   const double seconds = written->seconds;
   if (Status st = staging->Publish(); !st.ok()) return fail(st.message());
-  std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views: statistics %.1f s, reconstruction "
+  std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views%s: statistics %.1f s, reconstruction "
               "%.1f s (%.1f ms per slice, written) -> %s\n",
-              pairs.size(), btf->width(), btf->height(), loaded.slices_used, loaded.views, loaded.seconds, seconds,
+              pairs.size(), btf->width(), btf->height(), loaded.slices_used, loaded.views,
+              loaded.chroma_from_top ? " (colour from the top view)" : "", loaded.seconds, seconds,
               1000 * seconds / pairs.size(), staging->out().string().c_str());
   return kExitOk;
 }

@@ -14,7 +14,6 @@
 #include "core/atomic_file.h"
 #include "core/directions.h"
 #include "core/image_io.h"
-#include "core/image_u8_io.h"
 #include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
@@ -133,14 +132,12 @@ namespace {
 // colour detail finer than two pixels, which the statistical BTF's colour needs (on a virtual
 // weave session, 100 shots: chromaticity won on 31% of held-out pairs from JPEG shots, 83% from
 // 16-bit PNG; bench/calibrated_session_bench.sh), most on the tilted boards, whose patches span
-// the fewest pixels: taking the colour from the top view (--chroma-from-top) then wins 77-78% of
-// pairs instead of 56-63%. Empty otherwise, or when `shot` is unreadable.
-std::string ColourResolutionNote(const fs::path& shot) {
-  auto jpeg = JpegRowReader::Open(shot);
-  if (!jpeg.ok() || !*jpeg || !(*jpeg)->chroma_subsampled()) return "";
-  return "the shots are JPEGs with colour at half resolution (" + shot.filename().string() +
-         "): the slices lose colour detail finer than 2 pixels; shoot RAW or 16-bit TIFF where the material's colour matters, "
-         "or reconstruct with --chroma-from-top (the top board's colour)";
+// the fewest pixels. reconstruct therefore takes their colour from the top view.
+std::string ColourResolutionNote(const ResampleReport& slices) {
+  if (!slices.chroma_subsampled_shots) return "";
+  return "the shots are JPEGs with colour at half resolution (" + fs::path(slices.slices.front().shot).filename().string() +
+         "): the slices lose colour detail finer than 2 pixels, so reconstruct takes the colour from the top board "
+         "(--chroma-from-views overrides); shoot RAW or 16-bit TIFF where the material's colour matters";
 }
 
 }  // namespace
@@ -171,10 +168,7 @@ StatusOr<StageSummary> RunResampleStage(const fs::path& session, const fs::path&
     ++skipped_by_reason[s.reason.substr(0, std::min(s.reason.find(" ("), s.reason.find(" by ")))];
   for (const auto& [reason, count] : skipped_by_reason)
     summary.warnings.push_back(Format("skipped %d: %s", count, reason.c_str()));
-  if (!slices->slices.empty()) {
-    if (std::string note = ColourResolutionNote(session / slices->slices.front().shot); !note.empty())
-      summary.warnings.push_back(note);
-  }
+  if (std::string note = ColourResolutionNote(*slices); !note.empty()) summary.warnings.push_back(note);
   summary.report = {{"slices", slices->slices.size()}, {"skipped", slices->skipped.size()},
                     {"slice_size", slices->slice_size}};
   return summary;
@@ -288,7 +282,7 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (pairs.empty()) return Status::Error("the BTF grid must be bonn or coarse, not '" + options.grid + "'");
   SliceSetOptions slice_options = options.slices;
   slice_options.btf.match_subbands = !options.pixel_only;
-  if (!options.method.ApplyTo(&slice_options.btf))
+  if (!options.method.ApplyTo(&slice_options))
     return Status::Error("unknown BTF colour space '" + options.method.colour_space + "'");
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
   const fs::path index = session / "slices" / "index.json";
@@ -308,13 +302,13 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   StageSummary summary;
-  summary.brief = Format("%d slices (%dx%d, grid %s) from %d measured slices in %d views, %.1f ms per slice",
+  summary.brief = Format("%d slices (%dx%d, grid %s) from %d measured slices in %d views, %.1f ms per slice%s",
                          written->slices, btf->width(), btf->height(), options.grid.c_str(), loaded.slices_used,
-                         loaded.views, written->ms_per_slice);
+                         loaded.views, written->ms_per_slice, loaded.chroma_from_top ? ", colour from the top view" : "");
   for (const std::string& s : loaded.skipped) summary.warnings.push_back("skipped " + s);
   summary.warnings.insert(summary.warnings.end(), loaded.warnings.begin(), loaded.warnings.end());
   summary.report = {{"slices", written->slices}, {"size", btf->width()}, {"views", loaded.views},
-                    {"ms_per_slice", written->ms_per_slice}};
+                    {"ms_per_slice", written->ms_per_slice}, {"chroma_from_top", loaded.chroma_from_top}};
   return summary;
 }
 

@@ -22,7 +22,7 @@
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: the colour saturation error (median and worst pair, and which pair); per class
 // of pairs (inside, near, far), which baseline the losses go to; the wins by the view's incidence;
-// and how many far pairs have a light that no flash position could give the board nearest their
+// the wins by the light's angle to the view's mirror direction; and how many far pairs have a light that no flash position could give the board nearest their
 // view (below its horizon or shadowed from every position).
 // With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
 // before it is scored, so the figures tell how much a known mean radiance would win.
@@ -309,6 +309,19 @@ int Run(int argc, char** argv) {
               if (p.coverage == LightCoverage::kFar) ++nf, wf += win;
             }
             std::printf("   view theta %d: %d/%d won (far %d/%d)\n", theta, wins, n, wf, nf);
+          }
+          // Wins by the light's angle to the view's mirror direction: the white specular lobe seen
+          // forward, which no view measured (each board sees the flash from the camera's side).
+          for (int from = 0; from < 180; from += 30) {
+            int n = 0, wins = 0;
+            for (const PairScore& p : eval->pairs) {
+              const Eigen::Vector3d mirror(-p.view.x(), -p.view.y(), p.view.z());
+              const double angle = AngleBetweenDeg(p.light, mirror);
+              if (angle < from || angle >= from + 30) continue;
+              const auto& w = p.wasserstein_pixels;
+              ++n, wins += w[0] < w[1] && w[0] < w[2];
+            }
+            if (n) std::printf("   light %d-%d deg from the view's mirror direction: %d/%d won\n", from, from + 30, wins, n);
           }
           const auto [unreachable, won] = UnreachableFarPairs(*scene, renderer, flashes, measured, *eval);
           std::printf("   far pairs whose light no flash position (mesocap coverage's candidates) gives the board "

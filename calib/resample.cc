@@ -13,6 +13,7 @@
 #include "core/directions.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/image_u8_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
 #include "core/session.h"
@@ -65,7 +66,8 @@ Json ResampleReport::IndexJson() const {
             {"frame", "patch: z = board normal, x right, y up; texel (i, j) centre at x = -P/2 + (i+0.5)P/N, y = P/2 - (j+0.5)P/N"},
             {"supersample", supersample}, {"seconds_total", seconds_total}, {"seconds_read", seconds_read},
             {"seconds_sample", seconds_sample}, {"seconds_write", seconds_write},
-            {"scale_min", scale_min}, {"scale_max", scale_max}, {"scale_rms_deviation", scale_rms_deviation}};
+            {"scale_min", scale_min}, {"scale_max", scale_max}, {"scale_rms_deviation", scale_rms_deviation},
+            {"chroma_subsampled_shots", chroma_subsampled_shots}};
   j["slices"] = Json::array();
   for (const auto& s : slices) j["slices"].push_back(s.ToJson());
   j["skipped"] = Json::array();
@@ -443,6 +445,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
       sq += (r.scale - 1) * (r.scale - 1);
     }
     report.scale_rms_deviation = std::sqrt(sq / report.slices.size());
+    report.chroma_subsampled_shots = IsChromaSubsampledJpeg(session / report.slices.front().shot);
   }
 
   report.seconds_read = 1e-9 * double(ns_read);

@@ -69,6 +69,9 @@ struct ResampleReport {
   std::vector<SliceRecord> slices;
   std::vector<SkippedSlice> skipped;
   double scale_min = 1, scale_max = 1, scale_rms_deviation = 0;  // over all slices: sqrt(mean (s-1)^2)
+  // The shots are JPEGs that keep colour at half resolution (judged by the first slice's shot):
+  // the slices' colour is blurred over two pixels (StatisticalBtfOptions::chromaticity_from_top_view).
+  bool chroma_subsampled_shots = false;
   double seconds_total = 0;
   // Summed over threads: decoding photos, sampling and normalising, encoding and writing slices.
   double seconds_read = 0, seconds_sample = 0, seconds_write = 0;

@@ -104,6 +104,10 @@ class JpegRowReader {
   bool chroma_subsampled_ = false;
 };
 
+// True when `path` is a JPEG that keeps its colour at a lower resolution than its brightness
+// (JpegRowReader::chroma_subsampled); false for any other file, or one that cannot be read.
+bool IsChromaSubsampledJpeg(const std::filesystem::path& path);
+
 // For a file starting with a JPEG's SOI marker: CheckImageSize on the frame header libjpeg
 // finds, before any decoder opens it (libjpeg inside OpenImageIO allocates a progressive JPEG's
 // whole coefficient buffer while opening, and tolerates junk after the marker). Ok otherwise.

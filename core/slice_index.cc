@@ -44,6 +44,8 @@ StatusOr<SliceIndex> ReadSliceIndex(const std::filesystem::path& index_json) {
   try {
     const bool bare = json->is_array();
     if (!bare) index.format = json->is_object() && json->contains("format") ? JsonString((*json)["format"], "format") : "";
+    if (!bare && json->is_object() && json->contains("chroma_subsampled_shots"))
+      index.chroma_subsampled_shots = JsonBool((*json)["chroma_subsampled_shots"], "chroma_subsampled_shots");
     const std::string list_at = bare ? "the list" : "slices";
     const Json& list = JsonArray(bare ? *json : JsonField(*json, "", "slices"), list_at, 1, kMaxSlices);
     for (size_t k = 0; k < list.size(); ++k)

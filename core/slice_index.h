@@ -25,6 +25,9 @@ struct SliceIndexEntry {
 struct SliceIndex {
   std::string format;  // "mesocap-slices", "mesocap-btf", or "" for a bare list
   std::vector<SliceIndexEntry> slices;
+  // mesocap-slices: the shots were JPEGs keeping colour at half resolution ("chroma_subsampled_shots";
+  // false when the index does not say).
+  bool chroma_subsampled_shots = false;
 };
 
 // Reads and validates `index_json`: an object with a "slices" list (or a bare list). Errors name the

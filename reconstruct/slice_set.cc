@@ -112,7 +112,9 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   };
   ParallelFor(0, top_count, [&](int k) { images[k] = read(k); }, options.btf.num_threads);
   // (An unreadable slice is an empty image, which the basis skips.)
-  const StatisticalBtfOptions btf_options = WithColourChannels(options.btf, std::span(images.data(), top_count));
+  StatisticalBtfOptions btf_options = WithColourChannels(options.btf, std::span(images.data(), top_count));
+  btf_options.chromaticity_from_top_view = options.chroma_from_top.value_or(index->chroma_subsampled_shots);
+  rep.chroma_from_top = btf_options.chromaticity_from_top_view;
   ParallelFor(0, int(all.size()), [&](int k) {
     if (cancelled) return;
     const Image slice = k < top_count ? Image() : read(k);

@@ -26,6 +26,11 @@ struct SliceSetOptions {
   // The top view (the base textures) is the most head-on board with at least 3 slices; further
   // from head-on than this and the report warns that the session has no top view.
   double max_top_view_deg = 20;
+  // Whether the chromaticities come from the top view (StatisticalBtfOptions::
+  // chromaticity_from_top_view, which this overrides). Unset: when the index says its shots were
+  // JPEGs keeping colour at half resolution, where that wins (calibrated weave, 100 shots: 77-78%
+  // of held-out pairs instead of 56-63%) and with full-resolution colour it loses.
+  std::optional<bool> chroma_from_top;
   bool Check() const;
 };
 
@@ -35,6 +40,7 @@ inline constexpr int kMinSlicesPerView = 3;
 struct SliceSetReport {
   int slices_used = 0, views = 0, top_lights = 0;
   int top_board = -1;
+  bool chroma_from_top = false;  // as decided (SliceSetOptions::chroma_from_top)
   std::vector<std::string> skipped;   // "file: reason"
   std::vector<std::string> warnings;  // e.g. no head-on view among the boards
   double seconds = 0;

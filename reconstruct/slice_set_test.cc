@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <random>
 
 #include "core/image_io.h"
@@ -22,7 +23,7 @@ struct Board {
 };
 
 // A mesocap-slices index of noisy 16x16 slices: per board, `lights` lights on a ring.
-fs::path WriteSlices(const fs::path& dir, const std::vector<Board>& boards) {
+fs::path WriteSlices(const fs::path& dir, const std::vector<Board>& boards, std::optional<bool> chroma_subsampled = {}) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0.2f, 0.8f);
   Json slices = Json::array();
@@ -35,7 +36,9 @@ fs::path WriteSlices(const fs::path& dir, const std::vector<Board>& boards) {
       slices.push_back({{"file", file}, {"board", b.id}, {"theta_i_deg", 40}, {"phi_i_deg", 360.0 * k / b.lights},
                         {"theta_o_deg", b.theta_o_deg}, {"phi_o_deg", 90}});
     }
-  EXPECT_TRUE(WriteJsonFile(dir / "index.json", {{"format", "mesocap-slices"}, {"slices", slices}}).ok());
+  Json index = {{"format", "mesocap-slices"}, {"slices", slices}};
+  if (chroma_subsampled) index["chroma_subsampled_shots"] = *chroma_subsampled;
+  EXPECT_TRUE(WriteJsonFile(dir / "index.json", index).ok());
   return dir / "index.json";
 }
 
@@ -78,6 +81,35 @@ TEST(SliceSet, NoBoardWithThreeLightsIsAnError) {
   ASSERT_FALSE(btf.ok());
   EXPECT_NE(btf.status().message().find("index.json: no board has 3 or more slices"), std::string::npos)
       << btf.status().message();
+}
+
+TEST(SliceSet, ShotsWithColourAtHalfResolutionTakeTheColourFromTheTopView) {
+  for (const std::optional<bool> subsampled : {std::optional<bool>(), std::optional(false), std::optional(true)}) {
+    const fs::path index = WriteSlices(testing::MakeTempDir(), {{1, 5, 4}, {2, 35, 5}}, subsampled);
+    for (const std::optional<bool> forced : {std::optional<bool>(), std::optional(false), std::optional(true)}) {
+      SliceSetOptions options = Options();
+      options.btf.chromaticity_from_top_view = !subsampled.value_or(false);  // overridden by the index or `forced`
+      options.chroma_from_top = forced;
+      SliceSetReport report;
+      auto btf = LoadStatisticalBtf(index, options, &report);
+      ASSERT_TRUE(btf.ok()) << btf.status().message();
+      const bool want = forced.value_or(subsampled.value_or(false));
+      EXPECT_EQ(report.chroma_from_top, want);
+      EXPECT_EQ(btf->options().chromaticity_from_top_view, want);
+    }
+  }
+}
+
+TEST(SliceSet, ANonBooleanChromaSubsampledFieldIsAnErrorNamingIt) {
+  const fs::path dir = testing::MakeTempDir();
+  const fs::path index = WriteSlices(dir, {{1, 5, 4}});
+  auto json = ReadJsonFile(index);
+  ASSERT_TRUE(json.ok());
+  (*json)["chroma_subsampled_shots"] = "yes";
+  ASSERT_TRUE(WriteJsonFile(index, *json).ok());
+  auto btf = LoadStatisticalBtf(index, Options(), nullptr);
+  ASSERT_FALSE(btf.ok());
+  EXPECT_NE(btf.status().message().find("chroma_subsampled_shots"), std::string::npos) << btf.status().message();
 }
 
 }  // namespace

@@ -123,6 +123,7 @@ class StatisticalBtf {
   int width() const { return top_slices_.front().width(); }
   int height() const { return top_slices_.front().height(); }
   const std::vector<MeasuredView>& views() const { return views_; }
+  const StatisticalBtfOptions& options() const { return options_; }
 
  private:
   StatisticalBtfOptions options_;

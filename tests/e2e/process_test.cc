@@ -149,6 +149,9 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
       << out;
   // simulate writes 4:2:0 JPEGs, as cameras do: the resample stage says what that costs.
   EXPECT_NE(out.find("JPEGs with colour at half resolution"), std::string::npos) << out;
+  auto index = ReadSliceIndex(s / "slices" / "index.json");
+  ASSERT_TRUE(index.ok());
+  EXPECT_TRUE(index->chroma_subsampled_shots);
   ASSERT_EQ(testing::RunMesocap("evaluate --session " + s.string() + " --out " + (s / "evaluation").string() +
                                     " --size 16 --pairs 30 --no-progress",
                                 &out),
@@ -158,8 +161,7 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
   auto eval = ReadJsonFile(s / "evaluation" / "evaluation.json");
   ASSERT_TRUE(eval.ok()) << eval.status().message();
   EXPECT_EQ((*eval)["material"].get<std::string>(), "weave");  // simulate's default, from truth.json
-  auto index = ReadSliceIndex(s / "slices" / "index.json");
-  ASSERT_TRUE(index.ok());
+  EXPECT_TRUE((*eval)["chroma_from_top"].get<bool>());  // chosen because the shots are 4:2:0 JPEGs
   const int used = (*eval)["input_slices"].get<int>();
   EXPECT_GT(used, 0);
   EXPECT_LE(used, int(index->slices.size()));
@@ -179,6 +181,21 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
       EXPECT_TRUE(std::isfinite(pair[method]["w_pixels"].get<double>())) << method;
   }
   EXPECT_TRUE(fs::exists(s / "evaluation" / "sheet.png"));
+
+  // --chroma-from-views overrides the shots' choice.
+  ASSERT_EQ(testing::RunMesocap("evaluate --session " + s.string() + " --out " + (s / "evaluation_views").string() +
+                                    " --size 16 --pairs 30 --no-progress --chroma-from-views",
+                                &out),
+            0)
+      << out;
+  auto views = ReadJsonFile(s / "evaluation_views" / "evaluation.json");
+  ASSERT_TRUE(views.ok()) << views.status().message();
+  EXPECT_FALSE((*views)["chroma_from_top"].get<bool>());
+  EXPECT_NE(testing::RunMesocap("evaluate --session " + s.string() + " --out " + (s / "evaluation_both").string() +
+                                    " --chroma-from-views --chroma-from-top",
+                                &out),
+            0);
+  EXPECT_NE(out.find("excludes"), std::string::npos) << out;
 }
 
 TEST_F(ProcessTest, AKilledRunResumesAtItsStageAndShowsNothingHalfWritten) {
