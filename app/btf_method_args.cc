@@ -30,6 +30,9 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
                  "Blend the views' own chromaticity statistics (the paper; default for slices of RAW, PNG or TIFF shots "
                  "and for true slices)")
       ->excludes(from_top);
+  command->add_flag(prefix + "no-white-specular", no_white_specular,
+                    "Keep the blended statistics' colour instead of moving it toward white by a white specular lobe "
+                    "fitted to the measured slices' mean colours (the whitening near a view's mirror direction)");
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
                     "fitted to the top view's mean radiance against cos(theta_i)");
@@ -49,6 +52,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->fit_light_falloff = !no_fit_light_falloff;
   btf->blend_change_from_top = change_from_top;
   btf->chromaticity_from_top_view = chroma_from_top;
+  btf->white_specular_colour = !no_white_specular;
   btf->far_light_falloff_deg = far_light_falloff_deg;
   return true;
 }
@@ -63,6 +67,7 @@ Json BtfMethodArgs::ToJson() const {
           {"top_view_prior", !no_top_view_prior},
           {"change_from_top", change_from_top},
           {"chroma_from_top", chroma_from_top ? "on" : chroma_from_views ? "off" : "by the shots"},
+          {"white_specular_colour", !no_white_specular},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

@@ -18,15 +18,18 @@
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 //                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
 //                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
+//                               [--white-specular 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
-// With --details 1: the colour saturation error (median and worst pair, and which pair); per class
+// With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour saturation error (median and worst pair, and which pair); per class
 // of pairs (inside, near, far), which baseline the losses go to; the wins by the view's incidence;
 // the wins by the light's angle to the view's mirror direction; and how many far pairs have a light that no flash position could give the board nearest their
 // view (below its horizon or shadowed from every position).
 // With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
 // before it is scored, so the figures tell how much a known mean radiance would win.
 #include <cmath>
+#include <cstdlib>
+#include <optional>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -158,6 +161,7 @@ int Run(int argc, char** argv) {
   bool change_from_top = StatisticalBtfOptions().blend_change_from_top;
   bool chroma_from_top = StatisticalBtfOptions().chromaticity_from_top_view;
   bool details = false, true_mean = false, own_regions = false;
+  bool white_specular = StatisticalBtfOptions().white_specular_colour;
   int guided_start = 0;
   bool predict_shadows = true;
   CoverageObjective objective = CoverageObjective::kSpread;
@@ -180,6 +184,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--fit-light-falloff") fit_falloff = value == "1";
     else if (flag == "--change-from-top") change_from_top = value == "1";
     else if (flag == "--chroma-from-top") chroma_from_top = value == "1";
+    else if (flag == "--white-specular") white_specular = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
@@ -215,6 +220,7 @@ int Run(int argc, char** argv) {
         options.btf.fit_light_falloff = fit_falloff;
         options.btf.blend_change_from_top = change_from_top;
         options.btf.chromaticity_from_top_view = chroma_from_top;
+        options.btf.white_specular_colour = white_specular;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
@@ -255,7 +261,8 @@ int Run(int argc, char** argv) {
             if (AngleBetweenDeg(view, measured[b].view) < 0.25) return regions[b]->Render(light, view);
           return true_btf.Render(light, view);
         };
-        auto eval = EvaluateStatisticalBtf(truth, options);
+        std::optional<StatisticalBtf> model;
+        auto eval = EvaluateStatisticalBtf(truth, options, nullptr, &model);
         if (!eval.ok()) {
           std::printf("%-9s %5s %4s: %s\n", material_name.c_str(), shot_count.c_str(), seed.c_str(),
                       eval.status().message().c_str());
@@ -269,6 +276,24 @@ int Run(int argc, char** argv) {
                     wins(LightCoverage::kNear), wins(LightCoverage::kFar), eval->CountWith(LightCoverage::kInside),
                     eval->CountWith(LightCoverage::kNear), eval->CountWith(LightCoverage::kFar), w[0], w[1],
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity));
+        if (details && white_specular && model)
+          std::printf("   white lobe: strength %.4g, alpha %.3f, body chromaticity (%.3f, %.3f, %.3f)\n",
+                      model->white_lobe().strength(), model->white_lobe().alpha(), model->white_lobe().body_chromaticity().x(),
+                      model->white_lobe().body_chromaticity().y(), model->white_lobe().body_chromaticity().z());
+        if (std::getenv("MESOCAP_MEAN_DUMP") && model) {
+          FILE* f = std::fopen((std::string(std::getenv("MESOCAP_MEAN_DUMP")) + "_" + material_name + "_" + seed + ".txt").c_str(), "w");
+          for (const PairScore& p : eval->pairs) {
+            const Image t = truth(p.light, p.view), r = model->Reconstruct(p.light, p.view), b = model->BaseTexture(p.light);
+            const Eigen::Vector3d mt = MeanRgb(t), mr = MeanRgb(r), mb = MeanRgb(b);
+            const Eigen::Vector3d mirror(-p.view.x(), -p.view.y(), p.view.z());
+            const Eigen::Vector2d l = AnglesDegFromDirection(p.light), v = AnglesDegFromDirection(p.view);
+            const auto& w = p.wasserstein_pixels;
+            std::fprintf(f, "%.0f %.0f %.0f %.0f %s %.0f %d %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.5f %.5f %.5f %.1f\n", l.x(), l.y(), v.x(), v.y(),
+                         LightCoverageToString(p.coverage).c_str(), AngleBetweenDeg(p.light, mirror), int(w[0] < w[1] && w[0] < w[2]),
+                         mt.x(), mt.y(), mt.z(), mr.x(), mr.y(), mr.z(), mb.x(), mb.y(), mb.z(), w[0], w[1], w[2], model->LightGapDeg(p.light, p.view));
+          }
+          std::fclose(f);
+        }
         if (details) {
           // Colour: the saturation error (median and worst pair) per method.
           const auto median = eval->MedianSaturationError(), worst = eval->WorstSaturationError();

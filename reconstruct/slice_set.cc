@@ -92,6 +92,7 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     if (int(b) != top)
       for (const auto& s : boards[board_ids[b]]) all.push_back(&s), view_of.push_back(int(b));
   std::vector<SliceStatistics> stats(all.size());
+  std::vector<Eigen::Vector3d> mean_rgb(all.size(), Eigen::Vector3d::Zero());
   std::vector<Image> images(all.size());
   std::vector<std::string> errors(all.size());
   std::atomic<int> done = 0;
@@ -119,8 +120,10 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     if (cancelled) return;
     const Image slice = k < top_count ? Image() : read(k);
     const Image& measured = k < top_count ? images[k] : slice;
-    if (errors[k].empty())
+    if (errors[k].empty()) {
       stats[k] = ComputeSliceStatistics(btf_options.colour.Forward(measured), btf_options.statistics);
+      if (measured.channels() == 3) mean_rgb[k] = MeanRgb(measured);  // else unused (no colour)
+    }
     if (!ReportProgress(progress, ++done, int(all.size()), "slice statistics")) cancelled = true;
   }, options.btf.num_threads);
   if (cancelled) return Status::Error("cancelled");
@@ -137,6 +140,7 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     v.view = views[view_of[k]];
     v.lights.push_back(all[k]->light);
     v.statistics.push_back(std::move(stats[k]));
+    v.mean_rgb.push_back(mean_rgb[k]);
     if (view_of[k] == top) top_slices.push_back(std::move(images[k])), top_lights.push_back(all[k]->light);
     ++rep.slices_used;
   }

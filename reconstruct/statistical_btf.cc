@@ -10,6 +10,13 @@
 
 namespace mesocap {
 
+Eigen::Vector3d MeanRgb(const Image& image) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < image.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) sum[c] += image.data()[i * image.channels() + c];
+  return image.pixel_count() ? Eigen::Vector3d(sum / double(image.pixel_count())) : sum;
+}
+
 bool StatisticalBtfOptions::Check() const {
   return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0 && far_light_falloff_deg >= 0;
 }
@@ -23,10 +30,12 @@ MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::V
                          const std::vector<Image>& slices, const StatisticalBtfOptions& options,
                          const ProgressFn& progress) {
   MESOCAP_CHECK(lights.size() == slices.size(), "one light per slice");
-  MeasuredView measured{view.normalized(), lights, std::vector<SliceStatistics>(slices.size())};
+  MeasuredView measured{view.normalized(), lights, std::vector<SliceStatistics>(slices.size()), {}};
+  if (!slices.empty() && slices.front().channels() == 3) measured.mean_rgb.resize(slices.size());
   std::atomic<int> done = 0;
   ParallelFor(0, int(slices.size()), [&](int k) {
     measured.statistics[k] = ComputeSliceStatistics(options.colour.Forward(slices[k]), options.statistics);
+    if (!measured.mean_rgb.empty()) measured.mean_rgb[k] = MeanRgb(slices[k]);
     ReportProgress(progress, ++done, int(slices.size()), "statistics");
   }, options.num_threads);
   return measured;
@@ -67,6 +76,7 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
     if (views[v].view.z() > views[btf.top_view_].view.z()) btf.top_view_ = int(v);
   btf.views_ = std::move(views);
   if (options.fit_light_falloff) btf.light_falloff_exponent_ = btf.FitLightFalloffExponent();
+  if (options.white_specular_colour && top_slices.front().channels() == 3) btf.white_lobe_ = btf.FitWhiteLobe();
   btf.top_slices_ = std::move(top_slices);
   btf.top_lights_dirs_ = top_lights;
   return btf;
@@ -99,6 +109,14 @@ double StatisticalBtf::FitLightFalloffExponent() const {
   return std::clamp((sxy - sx * sy / n) / spread, 0.25, 2.0);
 }
 
+WhiteLobe StatisticalBtf::FitWhiteLobe() const {
+  std::vector<MeanColourSample> samples;
+  for (const MeasuredView& v : views_)
+    if (v.mean_rgb.size() == v.lights.size())  // else the view's mean colours are unknown
+      for (size_t l = 0; l < v.lights.size(); ++l) samples.push_back({v.lights[l].normalized(), v.view, v.mean_rgb[l]});
+  return WhiteLobe::Fit(samples);
+}
+
 Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
   const Image& first = top_slices_.front();
   Image base(first.width(), first.height(), first.channels());
@@ -112,38 +130,41 @@ Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
 }
 
 SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
-  std::vector<const SliceStatistics*> stats;
-  std::vector<std::vector<double>> weights(top_slices_.front().channels());
+  const Blend blend = BlendFor(light, view);
+  return BlendSliceStatistics(blend.stats, blend.weights);
+}
+
+StatisticalBtf::Blend StatisticalBtf::BlendFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
+  Blend blend;
+  blend.weights.resize(top_slices_.front().channels());
   for (const WeightedIndex& v : view_rings_.Weights(view)) {
     const bool inside = v.index == top_view_ || view_lights_[v.index].Contains(light);
     if (inside && v.index != top_view_ && options_.blend_change_from_top) {
-      AddViewChangeFromTop(v.index, light, v.weight, &stats, &weights);
+      AddViewChangeFromTop(v.index, light, v.weight, &blend);
       continue;
     }
     const bool outside = options_.top_view_prior && !inside;
     const double trust = outside ? ViewChangeTrust(v.index, light) : 1.0;
-    const Eigen::Vector3d edge = AddViewStatistics(v.index, light, light, trust * v.weight, &stats, &weights);
+    const Eigen::Vector3d edge = AddViewStatistics(v.index, light, light, trust * v.weight, &blend);
     if (!outside) continue;
     // Outside the view's hull: plus the top view at the light, minus the top view at the hull
     // edge's light the view's own statistics stand for.
-    AddViewStatistics(top_view_, light, light, v.weight, &stats, &weights);
-    AddViewStatistics(top_view_, edge.normalized(), light, -trust * v.weight, &stats, &weights);
+    AddViewStatistics(top_view_, light, light, v.weight, &blend);
+    AddViewStatistics(top_view_, edge.normalized(), light, -trust * v.weight, &blend);
   }
   if (options_.chromaticity_from_top_view) {
-    for (int c = 0; c < int(weights.size()); ++c)
-      if (!options_.colour.ScalesWithRadiance(c)) std::fill(weights[c].begin(), weights[c].end(), 0.0);
-    AddViewStatistics(top_view_, light, light, 1.0, &stats, &weights, ChannelSet::kChromaticity);
+    for (int c = 0; c < int(blend.weights.size()); ++c)
+      if (!options_.colour.ScalesWithRadiance(c)) std::fill(blend.weights[c].begin(), blend.weights[c].end(), 0.0);
+    AddViewStatistics(top_view_, light, light, 1.0, &blend, ChannelSet::kChromaticity);
   }
-  return BlendSliceStatistics(stats, weights);
+  return blend;
 }
 
-void StatisticalBtf::AddViewChangeFromTop(int v, const Eigen::Vector3d& light, double weight,
-                                          std::vector<const SliceStatistics*>* stats,
-                                          std::vector<std::vector<double>>* weights) const {
-  AddViewStatistics(v, light, light, weight, stats, weights);
+void StatisticalBtf::AddViewChangeFromTop(int v, const Eigen::Vector3d& light, double weight, Blend* blend) const {
+  AddViewStatistics(v, light, light, weight, blend);
   for (const WeightedIndex& l : view_lights_[v].Weights(light))
-    AddViewStatistics(top_view_, views_[v].lights[l.index], light, -weight * l.weight, stats, weights, ChannelSet::kRadiance);
-  AddViewStatistics(top_view_, light, light, weight, stats, weights, ChannelSet::kRadiance);
+    AddViewStatistics(top_view_, views_[v].lights[l.index], light, -weight * l.weight, blend, ChannelSet::kRadiance);
+  AddViewStatistics(top_view_, light, light, weight, blend, ChannelSet::kRadiance);
 }
 
 double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) const {
@@ -158,18 +179,18 @@ double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& lig
 }
 
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
-                                                  double weight, std::vector<const SliceStatistics*>* stats,
-                                                  std::vector<std::vector<double>>* weights, ChannelSet channels) const {
+                                                  double weight, Blend* blend, ChannelSet channels) const {
   Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
-    stats->push_back(&views_[v].statistics[l.index]);
+    blend->stats.push_back(&views_[v].statistics[l.index]);
+    blend->measured_at.push_back({v, l.index});
     const double cosine = CosineRatio(light, views_[v].lights[l.index]);
     // A chromaticity does not scale with the light's fall-off.
-    for (int c = 0; c < int(weights->size()); ++c) {
+    for (int c = 0; c < int(blend->weights.size()); ++c) {
       const bool radiance = options_.colour.ScalesWithRadiance(c);
       const bool weighed = channels == ChannelSet::kAll || radiance == (channels == ChannelSet::kRadiance);
-      (*weights)[c].push_back(!weighed ? 0.0 : radiance ? weight * l.weight * cosine : weight * l.weight);
+      blend->weights[c].push_back(!weighed ? 0.0 : radiance ? weight * l.weight * cosine : weight * l.weight);
     }
   }
   return stands_for;
@@ -189,7 +210,8 @@ double StatisticalBtf::LightGapDeg(const Eigen::Vector3d& light, const Eigen::Ve
 
 Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   const Image base = options_.colour.Forward(BaseTexture(light));
-  const SliceStatistics target = TargetStatistics(light, view);
+  const Blend blend = BlendFor(light, view);
+  const SliceStatistics target = BlendSliceStatistics(blend.stats, blend.weights);
   Image matched;
   if (options_.match_subbands) {
     matched = MatchSliceStatistics(base, target, options_.statistics);
@@ -203,7 +225,33 @@ Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vec
   }
   // Statistics extrapolated beyond the outer view ring, and the way back to RGB, can leave
   // values below zero: Inverse clamps them.
-  return options_.colour.Inverse(matched);
+  Image slice = options_.colour.Inverse(matched);
+  if (white_lobe_.strength() > 0) MoveColourByWhiteLobe(&slice, light, view, blend);
+  return slice;
+}
+
+void StatisticalBtf::MoveColourByWhiteLobe(Image* slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view,
+                                           const Blend& blend) const {
+  // The white lobe at the pairs the statistics were measured at, weighted as their brightness is
+  // blended (the first channel scales with radiance in every colour space).
+  double blended = 0;
+  for (size_t k = 0; k < blend.stats.size(); ++k) {
+    const auto [v, l] = blend.measured_at[k];
+    blended += blend.weights[0][k] * white_lobe_.Radiance(views_[v].lights[l], views_[v].view);
+  }
+  // Each channel's mean moves by the lobe's change, by scaling the channel, then all are scaled
+  // back to the mean brightness: the colour moves toward white (or away from it), the brightness
+  // stays. (Adding the change to every texel alike instead, as a uniform white reflection would,
+  // loses pixel W1 on the virtual rig: stones 74.0 -> 64.6%, corduroy 67.6 -> 63.4% of pairs.)
+  const double change = white_lobe_.Radiance(light, view) - blended;
+  const Eigen::Vector3d mean = MeanRgb(*slice);
+  const double total = mean.sum();
+  if (!(total > 0)) return;
+  const double keep = total / std::max(total + 3 * change, 0.25 * total);
+  float scale[3];
+  for (int c = 0; c < 3; ++c) scale[c] = mean[c] > 0 ? float(keep * std::max(mean[c] + change, 0.25 * mean[c]) / mean[c]) : 1.0f;
+  for (size_t i = 0; i < slice->pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) slice->data()[i * 3 + c] *= scale[c];
 }
 
 std::vector<Eigen::Vector3d> BonnDirections() {
