@@ -104,6 +104,15 @@ StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& s
   return eval;
 }
 
+// How the colour was moved toward white (StatisticalBtfOptions::white_specular_colour).
+std::string WhiteLobeSentence(const WhiteLobe& lobe) {
+  if (!(lobe.strength() > 0)) return ", no white specular lobe fitted";
+  const Eigen::Vector3d& b = lobe.body_chromaticity();
+  return Format(", moved toward white by a white specular lobe fitted to the measured mean colours (strength %.2f, "
+                "roughness %.2f, body chromaticity %.3f, %.3f, %.3f)",
+                lobe.strength(), lobe.alpha(), b.x(), b.y(), b.z());
+}
+
 int Run(const EvaluateArgs& a) {
   std::optional<RigScene> scene;
   if (!a.session.empty()) {
@@ -150,6 +159,7 @@ int Run(const EvaluateArgs& a) {
   j["size"] = a.size;
   if (scene) j["session"] = a.session.string();
   j["chroma_from_top"] = model->options().chromaticity_from_top_view;
+  j["white_lobe"] = model->white_lobe().ToJson();
   Json settings = a.method.ToJson();
   settings.update({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs},
                    {"pixel_only", a.pixel_only}});
@@ -193,13 +203,14 @@ int Run(const EvaluateArgs& a) {
                rows);
   report.Paragraph(Format("The statistical reconstruction beats both baselines on pixel W1 in %.1f%% of pairs, on "
                           "subband W1 in %.1f%% and on chromaticity W1 in %.1f%%. Histograms matched in %s; the "
-                          "chromaticity's statistics taken from %s. "
+                          "chromaticity's statistics taken from %s%s. "
                           "Reconstruction %.1f ms per slice (thread time, all three methods).",
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity),
                           a.method.colour_space.c_str(),
                           model->options().chromaticity_from_top_view ? "the top view" : "every view",
+                          WhiteLobeSentence(model->white_lobe()).c_str(),
                           eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
   if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());

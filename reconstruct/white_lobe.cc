@@ -57,6 +57,10 @@ double WhiteLobe::Shape(const Eigen::Vector3d& light, const Eigen::Vector3d& vie
   return d * f * SmithG1(cos_i, a2) * SmithG1(cos_o, a2) / (4 * std::max(cos_o, kMinCos));
 }
 
+Json WhiteLobe::ToJson() const {
+  return {{"strength", strength_}, {"alpha", alpha_}, {"body_chromaticity", {body_.x(), body_.y(), body_.z()}}};
+}
+
 double WhiteLobe::Radiance(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   return strength_ > 0 ? strength_ * Shape(light.normalized(), view.normalized(), alpha_) : 0.0;
 }

@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "core/json.h"
+
 namespace mesocap {
 
 struct MeanColourSample {
@@ -39,6 +41,8 @@ class WhiteLobe {
   double strength() const { return strength_; }
   double alpha() const { return alpha_; }
   const Eigen::Vector3d& body_chromaticity() const { return body_; }
+  // {"strength", "alpha", "body_chromaticity": [r, g, b]} for reports (strength 0: no lobe).
+  Json ToJson() const;
 
  private:
   // The roughness and strength of the lobe fitted to the white parts of `samples` under body_.

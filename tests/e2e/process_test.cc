@@ -23,6 +23,7 @@
 #include "export/lp_file.h"
 #include "export/ptm_file.h"
 #include "reconstruct/slice_set.h"
+#include "reconstruct/white_lobe.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -162,6 +163,8 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
   ASSERT_TRUE(eval.ok()) << eval.status().message();
   EXPECT_EQ((*eval)["material"].get<std::string>(), "weave");  // simulate's default, from truth.json
   EXPECT_TRUE((*eval)["chroma_from_top"].get<bool>());  // chosen because the shots are 4:2:0 JPEGs
+  const double lobe = (*eval)["white_lobe"]["strength"].get<double>();
+  EXPECT_TRUE(lobe >= 0 && lobe <= WhiteLobe::kMaxStrength) << lobe;
   const int used = (*eval)["input_slices"].get<int>();
   EXPECT_GT(used, 0);
   EXPECT_LE(used, int(index->slices.size()));
