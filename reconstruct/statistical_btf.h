@@ -73,6 +73,7 @@ struct StatisticalBtfOptions {
   // part of their slices (their patches span the fewest pixels of a chroma plane kept at half
   // resolution): with the option, calibrated weave wins 77-78% of pairs instead of 56-63%.
   // With true slices the view's own chromaticity is right, and the option costs chromaticity wins.
+  // A session's slices set it from their shots (SliceSetOptions::chroma_from_top).
   bool chromaticity_from_top_view = false;
   // Move each reconstructed RGB slice's mean colour (not its brightness) toward white by the change
   // of a white specular lobe (reconstruct/white_lobe.h) fitted to every measured slice's mean
