@@ -90,7 +90,8 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
   report.ms_per_slice = pairs.empty() ? 0 : 1000 * report.seconds / pairs.size();
   Json j = {{"format", "mesocap-btf"}, {"width", btf.width()}, {"height", btf.height()},
             {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
-            {"slices_used", loaded.slices_used}, {"chroma_from_top", loaded.chroma_from_top}, {"white_lobe", btf.white_lobe().ToJson()}, {"skipped", loaded.skipped}, {"warnings", loaded.warnings},
+            {"slices_used", loaded.slices_used}, {"chroma_from_top", loaded.chroma_from_top},
+            {"white_lobe", btf.white_lobe().ToJson()}, {"skipped", loaded.skipped}, {"warnings", loaded.warnings},
             {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", report.seconds},
             {"ms_per_slice", report.ms_per_slice}, {"slices", entries}};
   j["provenance"] = MakeProvenance(provenance_options);

@@ -21,18 +21,18 @@
 //                               [--white-specular 0|1]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
-// With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour saturation error (median and worst pair, and which pair); per class
-// of pairs (inside, near, far), which baseline the losses go to; the wins by the view's incidence;
-// the wins by the light's angle to the view's mirror direction; and how many far pairs have a light that no flash position could give the board nearest their
-// view (below its horizon or shadowed from every position).
+// With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour
+// saturation error (median and worst pair, and which pair); per class of pairs (inside, near,
+// far), which baseline the losses go to; the wins by the view's incidence and by the light's angle
+// to the view's mirror direction; and how many far pairs have a light that no flash position could
+// give the board nearest their view (below its horizon or shadowed from every position).
 // With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
 // before it is scored, so the figures tell how much a known mean radiance would win.
 #include <cmath>
-#include <cstdlib>
-#include <optional>
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -280,20 +280,6 @@ int Run(int argc, char** argv) {
           std::printf("   white lobe: strength %.4g, alpha %.3f, body chromaticity (%.3f, %.3f, %.3f)\n",
                       model->white_lobe().strength(), model->white_lobe().alpha(), model->white_lobe().body_chromaticity().x(),
                       model->white_lobe().body_chromaticity().y(), model->white_lobe().body_chromaticity().z());
-        if (std::getenv("MESOCAP_MEAN_DUMP") && model) {
-          FILE* f = std::fopen((std::string(std::getenv("MESOCAP_MEAN_DUMP")) + "_" + material_name + "_" + seed + ".txt").c_str(), "w");
-          for (const PairScore& p : eval->pairs) {
-            const Image t = truth(p.light, p.view), r = model->Reconstruct(p.light, p.view), b = model->BaseTexture(p.light);
-            const Eigen::Vector3d mt = MeanRgb(t), mr = MeanRgb(r), mb = MeanRgb(b);
-            const Eigen::Vector3d mirror(-p.view.x(), -p.view.y(), p.view.z());
-            const Eigen::Vector2d l = AnglesDegFromDirection(p.light), v = AnglesDegFromDirection(p.view);
-            const auto& w = p.wasserstein_pixels;
-            std::fprintf(f, "%.0f %.0f %.0f %.0f %s %.0f %d %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.5f %.5f %.5f %.1f\n", l.x(), l.y(), v.x(), v.y(),
-                         LightCoverageToString(p.coverage).c_str(), AngleBetweenDeg(p.light, mirror), int(w[0] < w[1] && w[0] < w[2]),
-                         mt.x(), mt.y(), mt.z(), mr.x(), mr.y(), mr.z(), mb.x(), mb.y(), mb.z(), w[0], w[1], w[2], model->LightGapDeg(p.light, p.view));
-          }
-          std::fclose(f);
-        }
         if (details) {
           // Colour: the saturation error (median and worst pair) per method.
           const auto median = eval->MedianSaturationError(), worst = eval->WorstSaturationError();

@@ -64,4 +64,13 @@ Image Luminance(const Image& image) {
   return out;
 }
 
+std::vector<double> ChannelMeans(const Image& image) {
+  std::vector<double> mean(image.channels(), 0.0);
+  for (size_t i = 0; i < image.pixel_count(); ++i)
+    for (int c = 0; c < image.channels(); ++c) mean[c] += image.data()[i * image.channels() + c];
+  if (image.pixel_count() > 0)
+    for (double& m : mean) m /= double(image.pixel_count());
+  return mean;
+}
+
 }  // namespace mesocap

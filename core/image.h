@@ -83,4 +83,7 @@ class Image {
 // gives its first channel.
 Image Luminance(const Image& image);
 
+// The mean of each channel over all pixels (zeros for an empty image).
+std::vector<double> ChannelMeans(const Image& image);
+
 }  // namespace mesocap

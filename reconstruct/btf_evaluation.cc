@@ -24,14 +24,6 @@ double RmsDifference(const Image& a, const Image& b) {
   return std::sqrt(sum / double(a.size()));
 }
 
-std::vector<double> ChannelMeans(const Image& image) {
-  std::vector<double> mean(image.channels(), 0.0);
-  for (size_t i = 0; i < image.pixel_count(); ++i)
-    for (int c = 0; c < image.channels(); ++c) mean[c] += image.data()[i * image.channels() + c];
-  for (double& m : mean) m /= double(image.pixel_count());
-  return mean;
-}
-
 bool NearAny(const Eigen::Vector3d& d, const std::vector<Eigen::Vector3d>& set, double tol_deg) {
   return std::any_of(set.begin(), set.end(), [&](const Eigen::Vector3d& s) { return AngleBetweenDeg(d, s) < tol_deg; });
 }

@@ -11,10 +11,9 @@
 namespace mesocap {
 
 Eigen::Vector3d MeanRgb(const Image& image) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < image.pixel_count(); ++i)
-    for (int c = 0; c < 3; ++c) sum[c] += image.data()[i * image.channels() + c];
-  return image.pixel_count() ? Eigen::Vector3d(sum / double(image.pixel_count())) : sum;
+  MESOCAP_CHECK(image.channels() == 3, "MeanRgb needs an RGB image");
+  const std::vector<double> mean = ChannelMeans(image);
+  return {mean[0], mean[1], mean[2]};
 }
 
 bool StatisticalBtfOptions::Check() const {

@@ -101,7 +101,7 @@ struct MeasuredView {
   std::vector<Eigen::Vector3d> mean_rgb;  // per slice, of 3-channel slices (empty: unknown)
 };
 
-// The mean of a 3-channel image's channels.
+// The channel means of an RGB image (core/image.h's ChannelMeans as a vector).
 Eigen::Vector3d MeanRgb(const Image& image);
 
 // Statistics of every slice of a view, computed on all cores.
