@@ -269,22 +269,44 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   return scored;
 }
 
+std::vector<std::pair<int, int>> SpreadPairSample(int views, int lights, int max_pairs) {
+  std::vector<std::pair<int, int>> pairs;
+  if (max_pairs < 0 || int64_t(views) * lights <= max_pairs) {
+    for (int v = 0; v < views; ++v)
+      for (int l = 0; l < lights; ++l) pairs.push_back({v, l});
+    return pairs;
+  }
+  // Views in order, each as often as the count allows; lights by the golden-ratio sequence, whose
+  // terms fill the lights evenly and independently of the views (a light a view already has moves
+  // on to the next free one). A stride through the view-major list instead aliases with the light
+  // count: 80 views x 81 lights in 240 steps of 27 lights gave every view the same 3 lights.
+  constexpr double kGoldenFraction = 0.6180339887498949;
+  std::vector<char> taken(size_t(lights), 0);
+  for (int k = 0; k < max_pairs; ++k) {
+    const int view = int(int64_t(k) * views / max_pairs);
+    if (k > 0 && view != pairs.back().first) std::fill(taken.begin(), taken.end(), 0);
+    int light = std::min(lights - 1, int(std::fmod(0.5 + k * kGoldenFraction, 1.0) * lights));
+    while (taken[size_t(light)]) light = (light + 1) % lights;
+    taken[size_t(light)] = 1;
+    pairs.push_back({view, light});
+  }
+  return pairs;
+}
+
 StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueSliceFn& truth,
                                           const BtfEvaluationOptions& options, const ProgressFn& progress) {
   std::vector<Eigen::Vector3d> input_views;
   for (const MeasuredView& v : btf.views()) input_views.push_back(v.view);
   const std::vector<Eigen::Vector3d> target_views = options.target_views.empty() ? BonnDirections() : options.target_views;
   const std::vector<Eigen::Vector3d> target_lights = options.target_lights.empty() ? BonnDirections() : options.target_lights;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> held_out;
+  std::vector<Eigen::Vector3d> held_out_views;
   for (const auto& view : target_views)
-    if (!NearAny(view, input_views, options.held_out_tolerance_deg))
-      for (const auto& light : target_lights) held_out.push_back({light, view});
-  if (held_out.empty()) return Status::Error("no held-out pairs: every target view is an input view");
-  if (options.max_pairs > 0 && int(held_out.size()) > options.max_pairs) {
-    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> subset;
-    for (int k = 0; k < options.max_pairs; ++k) subset.push_back(held_out[size_t(k) * held_out.size() / options.max_pairs]);
-    held_out = std::move(subset);
-  }
+    if (!NearAny(view, input_views, options.held_out_tolerance_deg)) held_out_views.push_back(view);
+  if (held_out_views.empty() || target_lights.empty())
+    return Status::Error("no held-out pairs: every target view is an input view");
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> held_out;  // (light, view)
+  for (const auto& [v, l] : SpreadPairSample(int(held_out_views.size()), int(target_lights.size()), options.max_pairs))
+    held_out.push_back({target_lights[size_t(l)], held_out_views[size_t(v)]});
 
   BtfEvaluation eval;
   const auto start = std::chrono::steady_clock::now();

@@ -38,7 +38,7 @@ struct BtfEvaluationOptions {
   std::vector<Eigen::Vector3d> target_lights;  // empty: BonnDirections()
   // A target view within this angle of an input view is not held out.
   double held_out_tolerance_deg = 0.5;
-  // Score at most this many held-out pairs, evenly spread over the list (-1: all).
+  // Score at most this many held-out pairs, spread over views and lights (SpreadPairSample; -1: all).
   int max_pairs = -1;
   // A diagnostic, not a method: the statistical slice is scaled per channel to the truth's mean
   // before it is scored (the oracle the BRDF-modulated baseline has), to tell how much of its
@@ -91,9 +91,14 @@ std::vector<Eigen::Vector3d> RigViewDirections();
 StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const BtfEvaluationOptions& options,
                                                const ProgressFn& progress = nullptr, std::optional<StatisticalBtf>* model = nullptr);
 
+// Which (view, light) index pairs of `views` x `lights` to score: all of them when max_pairs is
+// -1 or not fewer; else max_pairs distinct pairs, the views evenly represented (in order) and the
+// lights spread evenly over the list, independently of the views.
+std::vector<std::pair<int, int>> SpreadPairSample(int views, int lights, int max_pairs);
+
 // Scores a built reconstruction (from true slices above, or from a calibrated session's) on the
 // held-out pairs: options.target_views not within held_out_tolerance_deg of a view `btf`
-// measured, under every target light (at most max_pairs, evenly spread). Fills pairs and the
+// measured, under every target light (at most max_pairs, by SpreadPairSample). Fills pairs and the
 // scoring times; leaves the input figures to the caller.
 StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueSliceFn& truth,
                                           const BtfEvaluationOptions& options, const ProgressFn& progress = nullptr);
