@@ -241,7 +241,8 @@ void StatisticalBtf::MoveColourByWhiteLobe(Image* slice, const Eigen::Vector3d& 
   // Each channel's mean moves by the lobe's change, by scaling the channel, then all are scaled
   // back to the mean brightness: the colour moves toward white (or away from it), the brightness
   // stays. (Adding the change to every texel alike instead, as a uniform white reflection would,
-  // loses pixel W1 on the virtual rig: stones 74.0 -> 64.6%, corduroy 67.6 -> 63.4% of pairs.)
+  // lost pixel W1 on the virtual rig: stones 74.0 -> 64.6%, corduroy 67.6 -> 63.4% of pairs, on
+  // the pair sample used before SpreadPairSample.)
   const double change = white_lobe_.Radiance(light, view) - blended;
   const Eigen::Vector3d mean = MeanRgb(*slice);
   const double total = mean.sum();
