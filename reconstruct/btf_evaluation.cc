@@ -171,6 +171,7 @@ Json BtfEvaluation::ToJson() const {
                      {"worst_saturation_error", WorstSaturationError()[m]}};
   }
   Json j = {{"held_out_pairs", pairs.size()},
+            {"held_out_pairs_total", held_out_total},
             {"input_slices", input_slices},
             {"fraction_beating_both_wasserstein_pixels", FractionBeatingBoth(&PairScore::wasserstein_pixels)},
             {"fraction_beating_both_wasserstein_bands", FractionBeatingBoth(&PairScore::wasserstein_bands)},
@@ -205,11 +206,15 @@ std::string BtfEvaluation::Brief() const {
     if (CountWith(c) > 0)
       by_coverage += Format("%s%s %.0f%% of %d", by_coverage.empty() ? "" : ", ", LightCoverageToString(c).c_str(),
                             100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels, c), CountWith(c));
-  return Format("%zu held-out pairs; statistical beats both baselines on pixel Wasserstein in %.0f%% (by the pair's "
+  const bool sampled = int(pairs.size()) < held_out_total;
+  const std::string scored = sampled ? Format("%zu of %d held-out pairs (spread over views and lights)", pairs.size(),
+                                              held_out_total)
+                                     : Format("%zu held-out pairs", pairs.size());
+  return Format("%s; statistical beats both baselines on pixel Wasserstein in %.0f%% (by the pair's "
                 "light against the views' measured lights: %s; subbands %.0f%%, chromaticity %.0f%%); median W1 "
                 "statistical %.5f, top view %.5f, BRDF-modulated %.5f; 95th-percentile saturation within %.1f%% of the "
                 "truth's at the median, %.1f%% at worst",
-                pairs.size(), 100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels), by_coverage.c_str(),
+                scored.c_str(), 100.0 * FractionBeatingBoth(&PairScore::wasserstein_pixels), by_coverage.c_str(),
                 100.0 * FractionBeatingBoth(&PairScore::wasserstein_bands),
                 100.0 * FractionBeatingBoth(&PairScore::wasserstein_chromaticity), w[0], w[1], w[2],
                 100.0 * MedianSaturationError()[0], 100.0 * WorstSaturationError()[0]);
@@ -309,6 +314,7 @@ StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueS
     held_out.push_back({target_lights[size_t(l)], held_out_views[size_t(v)]});
 
   BtfEvaluation eval;
+  eval.held_out_total = int(held_out_views.size() * target_lights.size());
   const auto start = std::chrono::steady_clock::now();
   eval.pairs.resize(held_out.size());
   std::atomic<long long> reconstruct_ns = 0;

@@ -65,6 +65,7 @@ using MethodScores = std::array<double, kBtfMethods> PairScore::*;
 
 struct BtfEvaluation {
   std::vector<PairScore> pairs;
+  int held_out_total = 0;  // held-out pairs before sampling (max_pairs): pairs is all of them or a spread sample
   int input_slices = 0;
   double seconds_inputs = 0, seconds_statistics = 0, seconds_scoring = 0;
   double reconstruct_ms_per_slice = 0;  // thread time per reconstructed slice
