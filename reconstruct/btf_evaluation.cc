@@ -307,8 +307,7 @@ StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueS
   std::vector<Eigen::Vector3d> held_out_views;
   for (const auto& view : target_views)
     if (!NearAny(view, input_views, options.held_out_tolerance_deg)) held_out_views.push_back(view);
-  if (held_out_views.empty() || target_lights.empty())
-    return Status::Error("no held-out pairs: every target view is an input view");
+  if (held_out_views.empty()) return Status::Error("no held-out pairs: every target view is an input view");
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> held_out;  // (light, view)
   for (const auto& [v, l] : SpreadPairSample(int(held_out_views.size()), int(target_lights.size()), options.max_pairs))
     held_out.push_back({target_lights[size_t(l)], held_out_views[size_t(v)]});
