@@ -225,7 +225,7 @@ Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vec
   // Statistics extrapolated beyond the outer view ring, and the way back to RGB, can leave
   // values below zero: Inverse clamps them.
   Image slice = options_.colour.Inverse(matched);
-  if (white_lobe_.strength() > 0) MoveColourByWhiteLobe(&slice, light, view, blend);
+  if (white_lobe_.strength() > 0 && slice.channels() == 3) MoveColourByWhiteLobe(&slice, light, view, blend);
   return slice;
 }
 
