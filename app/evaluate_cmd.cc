@@ -124,6 +124,7 @@ int Run(const EvaluateArgs& a) {
   auto material = Material::Create(material_name);
   if (!material.ok()) return Fail("evaluate", material.status().message(), kExitUsage);
   if (a.size < 16 || (a.size & (a.size - 1)) != 0) return Fail("evaluate", "--size must be a power of two >= 16", kExitUsage);
+  if (a.pairs == 0 || a.pairs < -1) return Fail("evaluate", "--pairs must be a positive count, or -1 for all", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("evaluate", a.out.string() + ": exists and is not empty", kExitUsage);
   auto staging = StagingFolder::Begin(a.out);  // the folder appears whole, at the end
   if (!staging.ok()) return Fail("evaluate", staging.status().message());

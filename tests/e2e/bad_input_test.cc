@@ -146,6 +146,7 @@ const Case kCases[] = {
      "both name slices/ti45.0_pi010.0_to60.0_po000.0.exr"},
     {"evaluate --out {d}/full --no-progress", 2, "full"},
     {"evaluate --out {d}/eval --colour-space hsv --no-progress", 2, "hsv"},
+    {"evaluate --out {d}/eval --pairs 0 --no-progress", 2, "--pairs must be a positive count"},
     {"evaluate --session {d}/nope --out {d}/eval --no-progress", 2, "nope/truth.json not found"},
     {"evaluate --session {d}/nope --material stones --out {d}/eval --no-progress", 2, "--material excludes --session"},
     {"coverage {d}/nope", 1, "nope/calibration/rig.json"},
