@@ -33,6 +33,10 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
   command->add_flag(prefix + "no-white-specular", no_white_specular,
                     "Keep the blended statistics' colour instead of moving it toward white by a white specular lobe "
                     "fitted to the measured slices' mean colours (the whitening near a view's mirror direction)");
+  command->add_flag(prefix + "no-mean-model", no_mean_model,
+                    "Keep the blended statistics' mean brightness where a light lies beyond the measured lights, instead of "
+                    "scaling to a model of the mean fitted to every measured slice (used only if it predicts each tilted "
+                    "view's slices, fitted without them, better than the top view does)");
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
                     "fitted to the top view's mean radiance against cos(theta_i)");
@@ -53,6 +57,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->blend_change_from_top = change_from_top;
   btf->chromaticity_from_top_view = chroma_from_top;
   btf->white_specular_colour = !no_white_specular;
+  btf->mean_model = !no_mean_model;
   btf->far_light_falloff_deg = far_light_falloff_deg;
   return true;
 }
@@ -68,6 +73,7 @@ Json BtfMethodArgs::ToJson() const {
           {"change_from_top", change_from_top},
           {"chroma_from_top", chroma_from_top ? "on" : chroma_from_views ? "off" : "by the shots"},
           {"white_specular_colour", !no_white_specular},
+          {"mean_model", !no_mean_model},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

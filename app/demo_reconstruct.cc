@@ -10,6 +10,7 @@
 #include "capture/btf_render.h"
 #include "capture/true_btf_renderer.h"
 #include "core/directions.h"
+#include "core/median.h"
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/parallel.h"
@@ -28,11 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The upper median (the element at size / 2 in order), as the tables have always shown.
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // The top patch's true slices on a grid of `size` texels, each view traced once.
 TrueBtfRenderer TruthRenderer(const DemoReconstructionInputs& in, int size, int samples_per_axis = 2) {
@@ -112,7 +108,7 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
     if (w[0].empty()) continue;
     std::vector<std::string> row = {"light " + LightCoverageToString(coverage), std::to_string(w[0].size()),
                                     Format("%.0f%%", 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels, coverage))};
-    for (auto& v : w) row.push_back(Format("%.5f", Median(v)));
+    for (auto& v : w) row.push_back(Format("%.5f", UpperMedian(v)));
     rows.push_back(row);
   }
   // Pictures: the first two pairs with a measured light around them and the first two far ones.
@@ -210,12 +206,12 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
                            "Relit at %d pairs of the reconstructed grid and compared with the true BTF (relative RMS): "
                            "median %.1f%% for the glTF material and %.1f%% for the reconstructed BTF it was fitted to.",
                            (*fit)["slices_used"].get<int>(), (*fit)["seconds"].get<double>(),
-                           100 * (*fit)["median_relative_error"].get<double>(), kPairs, 100 * Median(gltf_errors),
-                           100 * Median(btf_errors)));
+                           100 * (*fit)["median_relative_error"].get<double>(), kPairs, 100 * UpperMedian(gltf_errors),
+                           100 * UpperMedian(btf_errors)));
   report->Picture("gltf_material.jpg", "True BTF | reconstructed BTF | the glTF material relit, one exposure per row");
   report->Picture("session/export/gltf/fit_error.png", "The fit's relative error per texel (black 0, white 50% or more)");
   std::printf("demo: glTF material: fit error %.1f%%, relit error to the true BTF %.1f%% (reconstruction %.1f%%)\n",
-              100 * (*fit)["median_relative_error"].get<double>(), 100 * Median(gltf_errors), 100 * Median(btf_errors));
+              100 * (*fit)["median_relative_error"].get<double>(), 100 * UpperMedian(gltf_errors), 100 * UpperMedian(btf_errors));
   return Status::Ok();
 }
 

@@ -113,6 +113,18 @@ std::string WhiteLobeSentence(const WhiteLobe& lobe) {
                 lobe.strength(), lobe.alpha(), b.x(), b.y(), b.z());
 }
 
+// Whether the mean brightness model was used (StatisticalBtfOptions::mean_model).
+std::string MeanModelSentence(const StatisticalBtf& btf) {
+  if (!btf.options().mean_model) return " The mean brightness model is off.";
+  const MeanModelCheck& check = btf.mean_model_check();
+  if (check.slices == 0) return " Too few slices to fit the mean brightness model.";
+  return Format(" Beyond the measured lights, slices take the mean brightness of a model fitted to every measured "
+                "slice%s: it predicts each tilted view's slices, fitted without them, to %.1f%% (median), the top view "
+                "to %.1f%%.",
+                check.used ? "" : " (not used: no nearer than the top view)", 100 * check.model_error,
+                100 * check.top_view_error);
+}
+
 int Run(const EvaluateArgs& a) {
   std::optional<RigScene> scene;
   if (!a.session.empty()) {
@@ -161,6 +173,7 @@ int Run(const EvaluateArgs& a) {
   if (scene) j["session"] = a.session.string();
   j["chroma_from_top"] = model->options().chromaticity_from_top_view;
   j["white_lobe"] = model->white_lobe().ToJson();
+  j["mean_model"] = model->mean_model_check().ToJson();
   Json settings = a.method.ToJson();
   settings.update({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs},
                    {"pixel_only", a.pixel_only}});
@@ -204,14 +217,14 @@ int Run(const EvaluateArgs& a) {
                rows);
   report.Paragraph(Format("The statistical reconstruction beats both baselines on pixel W1 in %.1f%% of pairs, on "
                           "subband W1 in %.1f%% and on chromaticity W1 in %.1f%%. Histograms matched in %s; the "
-                          "chromaticity's statistics taken from %s%s. "
+                          "chromaticity's statistics taken from %s%s.%s "
                           "Reconstruction %.1f ms per slice (thread time, all three methods).",
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity),
                           a.method.colour_space.c_str(),
                           model->options().chromaticity_from_top_view ? "the top view" : "every view",
-                          WhiteLobeSentence(model->white_lobe()).c_str(),
+                          WhiteLobeSentence(model->white_lobe()).c_str(), MeanModelSentence(*model).c_str(),
                           eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
   if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());

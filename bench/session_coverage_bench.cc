@@ -150,11 +150,39 @@ std::pair<int, int> UnreachableFarPairs(const RigScene& scene, const RigRenderer
   return {unreachable, won};
 }
 
+// A diagnostic (--dump-means FILE): appends every measured slice's mean (M lines) and, per scored
+// pair, the truth's mean and the reconstruction's (T lines), as CSV, to study models of the mean.
+void DumpMeans(const std::string& path, const std::string& material, const std::string& seed, const StatisticalBtf& btf,
+               const BtfEvaluation& eval, const TrueSliceFn& truth) {
+  std::FILE* out = std::fopen(path.c_str(), "a");
+  if (!out) return;
+  const auto vec = [](const Eigen::Vector3d& v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f", v.x(), v.y(), v.z());
+    return std::string(text);
+  };
+  for (const MeasuredView& view : btf.views())
+    for (size_t i = 0; i < view.lights.size() && i < view.mean_rgb.size(); ++i)
+      std::fprintf(out, "M,%s,%s,%s,%s,%s\n", material.c_str(), seed.c_str(), vec(view.view).c_str(),
+                   vec(view.lights[i]).c_str(), vec(view.mean_rgb[i]).c_str());
+  for (const PairScore& p : eval.pairs) {
+    const Eigen::Vector3d true_mean = MeanRgb(truth(p.light, p.view));
+    const Eigen::Vector3d mean = MeanRgb(btf.Reconstruct(p.light, p.view));
+    const auto& w = p.wasserstein_pixels;
+    std::fprintf(out, "T,%s,%s,%s,%s,%s,%s,%s,%d\n", material.c_str(), seed.c_str(), vec(p.view).c_str(), vec(p.light).c_str(),
+                 vec(true_mean).c_str(), vec(mean).c_str(), LightCoverageToString(p.coverage).c_str(),
+                 int(w[0] < w[1] && w[0] < w[2]));
+  }
+  std::fclose(out);
+}
+
 int Run(int argc, char** argv) {
   std::vector<std::string> shots = {"24", "50", "100", "150"}, materials = {"weave", "stones", "corduroy"},
                            seeds = {"11", "12"};
   int size = 64, pairs = 240;
-  std::string colour_space = "chromaticity";
+  std::string colour_space = "chromaticity", dump_means;
+  bool mean_model = StatisticalBtfOptions().mean_model;
+  double mean_onset = StatisticalBtfOptions().mean_model_onset_deg;
   bool list_lights = false, top_view_prior = true;
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
@@ -186,6 +214,9 @@ int Run(int argc, char** argv) {
     else if (flag == "--chroma-from-top") chroma_from_top = value == "1";
     else if (flag == "--white-specular") white_specular = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
+    else if (flag == "--dump-means") dump_means = value;
+    else if (flag == "--mean-model") mean_model = value == "1";
+    else if (flag == "--mean-onset") mean_onset = std::stod(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
     else if (flag == "--objective") objective = value == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
@@ -221,6 +252,8 @@ int Run(int argc, char** argv) {
         options.btf.blend_change_from_top = change_from_top;
         options.btf.chromaticity_from_top_view = chroma_from_top;
         options.btf.white_specular_colour = white_specular;
+        options.btf.mean_model = mean_model;
+        options.btf.mean_model_onset_deg = mean_onset;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
@@ -276,6 +309,10 @@ int Run(int argc, char** argv) {
                     wins(LightCoverage::kNear), wins(LightCoverage::kFar), eval->CountWith(LightCoverage::kInside),
                     eval->CountWith(LightCoverage::kNear), eval->CountWith(LightCoverage::kFar), w[0], w[1],
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_chromaticity));
+        if (details && model)
+          std::printf("   mean model: %s; leave-one-view-out median log error %.4f, top view's %.4f (%d slices)\n",
+                      model->mean_model_check().used ? "used" : "not used", model->mean_model_check().model_error,
+                      model->mean_model_check().top_view_error, model->mean_model_check().slices);
         if (details && white_specular && model)
           std::printf("   white lobe: strength %.4g, alpha %.3f, body chromaticity (%.3f, %.3f, %.3f)\n",
                       model->white_lobe().strength(), model->white_lobe().alpha(), model->white_lobe().body_chromaticity().x(),
@@ -338,6 +375,7 @@ int Run(int argc, char** argv) {
           std::printf("   far pairs whose light no flash position (mesocap coverage's candidates) gives the board "
                       "nearest their view: %d, won %d\n", unreachable, won);
         }
+        if (!dump_means.empty() && model) DumpMeans(dump_means, material_name, seed, *model, *eval, truth);
         if (dropped) std::printf("          (%d boards with too few lights to triangulate left out)\n", dropped);
         std::fflush(stdout);
       }

@@ -5,15 +5,11 @@
 #include <cstdio>
 
 #include "core/directions.h"
+#include "core/median.h"
 
 namespace mesocap {
 namespace {
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 }  // namespace
 
@@ -84,10 +80,10 @@ CalibrationScore ScoreAgainstTruth(const CalibrationResult& r, const Json& truth
       power.push_back(100 * std::abs(sc.power - truth_rel) / truth_rel);
     }
   }
-  s.light_direction_median_deg = Median(dir);
+  s.light_direction_median_deg = UpperMedian(dir);
   s.light_direction_max_deg = dir.empty() ? 0 : *std::max_element(dir.begin(), dir.end());
-  s.light_distance_median_pct = Median(dist);
-  s.power_median_pct = Median(power);
+  s.light_distance_median_pct = UpperMedian(dist);
+  s.power_median_pct = UpperMedian(power);
   s.power_shots = int(power.size());
   return s;
 }

@@ -1,5 +1,7 @@
 #include "reconstruct/btf_evaluation.h"
 
+#include "core/median.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -120,11 +122,6 @@ int BtfEvaluation::CountWith(LightCoverage coverage) const {
 
 namespace {
 
-double MedianOf(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 std::vector<double> SaturationErrors(const std::vector<PairScore>& pairs, int method) {
   std::vector<double> v;
@@ -139,14 +136,14 @@ std::array<double, kBtfMethods> BtfEvaluation::Median(MethodScores score) const 
   for (int m = 0; m < kBtfMethods; ++m) {
     std::vector<double> v;
     for (const PairScore& p : pairs) v.push_back((p.*score)[m]);
-    median[m] = MedianOf(std::move(v));
+    median[m] = UpperMedian(std::move(v));
   }
   return median;
 }
 
 std::array<double, kBtfMethods> BtfEvaluation::MedianSaturationError() const {
   std::array<double, kBtfMethods> out{};
-  for (int m = 0; m < kBtfMethods; ++m) out[m] = MedianOf(SaturationErrors(pairs, m));
+  for (int m = 0; m < kBtfMethods; ++m) out[m] = UpperMedian(SaturationErrors(pairs, m));
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/directions.h"
+#include "core/median.h"
 #include "core/parallel.h"
 
 namespace mesocap {
@@ -17,7 +18,8 @@ Eigen::Vector3d MeanRgb(const Image& image) {
 }
 
 bool StatisticalBtfOptions::Check() const {
-  return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0 && far_light_falloff_deg >= 0;
+  return statistics.Check() && ring_gap_deg > 0 && min_light_separation_deg >= 0 && far_light_falloff_deg >= 0 &&
+         mean_model_onset_deg > 0;
 }
 
 StatisticalBtfOptions WithColourChannels(StatisticalBtfOptions options, std::span<const Image> top_slices) {
@@ -76,6 +78,7 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   btf.views_ = std::move(views);
   if (options.fit_light_falloff) btf.light_falloff_exponent_ = btf.FitLightFalloffExponent();
   if (options.white_specular_colour && top_slices.front().channels() == 3) btf.white_lobe_ = btf.FitWhiteLobe();
+  if (options.mean_model) btf.mean_model_ = btf.FitMeanModel();
   btf.top_slices_ = std::move(top_slices);
   btf.top_lights_dirs_ = top_lights;
   return btf;
@@ -96,9 +99,7 @@ double StatisticalBtf::FitLightFalloffExponent() const {
   int n = 0;
   for (size_t l = 0; l < top.lights.size(); ++l) {
     const double cosine = top.lights[l].normalized().z();
-    double mean = 0;
-    for (int c = 0; c < top.statistics[l].channels; ++c)
-      if (options_.colour.ScalesWithRadiance(c)) mean += top.statistics[l].pixels[c].Mean();
+    const double mean = Brightness(top.statistics[l]);
     if (cosine < 0.1 || !(mean > 0)) continue;
     const double x = std::log(cosine), y = std::log(mean);
     sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
@@ -106,6 +107,67 @@ double StatisticalBtf::FitLightFalloffExponent() const {
   const double spread = sxx - sx * sx / std::max(n, 1);
   if (n < 3 || spread < 1e-3) return 1.0;
   return std::clamp((sxy - sx * sy / n) / spread, 0.25, 2.0);
+}
+
+double StatisticalBtf::Brightness(const SliceStatistics& statistics) const {
+  double mean = 0;
+  for (int c = 0; c < statistics.channels; ++c)
+    if (options_.colour.ScalesWithRadiance(c)) mean += statistics.pixels[c].Mean();
+  return mean;
+}
+
+MeanBrightnessModel StatisticalBtf::FitMeanModel() {
+  std::vector<std::vector<MeanBrightnessSample>> by_view(views_.size());
+  std::vector<MeanBrightnessSample> all;
+  for (size_t v = 0; v < views_.size(); ++v)
+    for (size_t l = 0; l < views_[v].lights.size(); ++l) {
+      by_view[v].push_back({views_[v].lights[l], views_[v].view, Brightness(views_[v].statistics[l])});
+      all.push_back(by_view[v].back());
+    }
+  MeanBrightnessModel model = MeanBrightnessModel::Fit(all);
+  if (!model.fitted()) return model;
+  // Trusted only where it earns it: each tilted view's slices, predicted by the model fitted to the
+  // other views, must come nearer their mean (by median log error) than the top view's at the same
+  // lights, which is what far lights fall back on without it.
+  std::vector<double> model_errors, top_errors;
+  for (size_t v = 0; v < views_.size(); ++v) {
+    if (int(v) == top_view_) continue;
+    std::vector<MeanBrightnessSample> others;
+    for (size_t w = 0; w < views_.size(); ++w)
+      if (w != v) others.insert(others.end(), by_view[w].begin(), by_view[w].end());
+    const MeanBrightnessModel without = MeanBrightnessModel::Fit(others);
+    if (!without.fitted()) continue;
+    for (const MeanBrightnessSample& s : by_view[v]) {
+      const double predicted = without.Predict(s.light, s.view), top = TopViewBrightness(s.light);
+      if (!(predicted > 0 && top > 0 && s.brightness > 0)) continue;
+      model_errors.push_back(std::abs(std::log(predicted / s.brightness)));
+      top_errors.push_back(std::abs(std::log(top / s.brightness)));
+    }
+  }
+  mean_model_check_ = {UpperMedian(model_errors), UpperMedian(top_errors), int(model_errors.size()), false};
+  mean_model_check_.used = !model_errors.empty() && mean_model_check_.model_error < mean_model_check_.top_view_error;
+  return mean_model_check_.used ? model : MeanBrightnessModel();
+}
+
+double StatisticalBtf::TopViewBrightness(const Eigen::Vector3d& light) const {
+  double brightness = 0;
+  for (const WeightedIndex& w : view_lights_[top_view_].Weights(light))
+    brightness += w.weight * CosineRatio(light, views_[top_view_].lights[w.index]) * Brightness(views_[top_view_].statistics[w.index]);
+  return brightness;
+}
+
+double StatisticalBtf::MeanModelScale(const SliceStatistics& target, const Eigen::Vector3d& light,
+                                      const Eigen::Vector3d& view) const {
+  if (!mean_model_.fitted()) return 1.0;
+  const double weight = 1 - std::exp(-LightGapDeg(light, view) / options_.mean_model_onset_deg);
+  const double predicted = mean_model_.Predict(light, view), blended = Brightness(target);
+  if (!(weight > 0 && predicted > 0 && blended > 0)) return 1.0;
+  return std::exp(weight * std::log(predicted / blended));
+}
+
+Json MeanModelCheck::ToJson() const {
+  return {{"used", used}, {"slices", slices}, {"model_median_log_error", model_error},
+          {"top_view_median_log_error", top_view_error}};
 }
 
 WhiteLobe StatisticalBtf::FitWhiteLobe() const {
@@ -225,6 +287,8 @@ Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vec
   // Statistics extrapolated beyond the outer view ring, and the way back to RGB, can leave
   // values below zero: Inverse clamps them.
   Image slice = options_.colour.Inverse(matched);
+  if (const float scale = float(MeanModelScale(target, light, view)); scale != 1.0f)
+    for (size_t i = 0; i < slice.size(); ++i) slice.data()[i] *= scale;
   if (white_lobe_.strength() > 0 && slice.channels() == 3) MoveColourByWhiteLobe(&slice, light, view, blend);
   return slice;
 }

@@ -11,10 +11,12 @@
 #include <Eigen/Core>
 
 #include "core/image.h"
+#include "core/json.h"
 #include "core/progress.h"
 #include "core/status.h"
 #include "reconstruct/colour.h"
 #include "reconstruct/direction_interpolation.h"
+#include "reconstruct/mean_brightness_model.h"
 #include "reconstruct/slice_statistics.h"
 #include "reconstruct/white_lobe.h"
 
@@ -84,6 +86,12 @@ struct StatisticalBtfOptions {
   // 102% (stones) and 121% instead of 169% (corduroy); pixel W1 is unchanged. Weave's body colour
   // is too near grey to split off a plausible lobe: unchanged.
   bool white_specular_colour = true;
+  // Scale each reconstructed slice to the mean brightness of a model fitted to every measured
+  // slice's (reconstruct/mean_brightness_model.h), the more the further its light lies from the
+  // lights the views it borrows from measured: weight 1 - exp(-gap / mean_model_onset_deg), so a
+  // measured pair keeps its own mean. The statistics keep their shape; only the mean moves.
+  bool mean_model = true;
+  double mean_model_onset_deg = 10.0;
   int num_threads = -1;
   bool Check() const;
 };
@@ -108,6 +116,17 @@ Eigen::Vector3d MeanRgb(const Image& image);
 MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::Vector3d>& lights,
                          const std::vector<Image>& slices, const StatisticalBtfOptions& options,
                          const ProgressFn& progress = nullptr);
+
+// How the mean brightness model (StatisticalBtfOptions::mean_model) fared on the session's own
+// slices: each tilted view's, predicted by the model fitted without that view, against the top
+// view's brightness at the same lights (what far lights fall back on without the model); median
+// |log(predicted / measured)| over `slices`. The model is used only when it is the nearer.
+struct MeanModelCheck {
+  double model_error = 0, top_view_error = 0;
+  int slices = 0;
+  bool used = false;
+  Json ToJson() const;
+};
 
 class StatisticalBtf {
  public:
@@ -140,11 +159,24 @@ class StatisticalBtf {
   const std::vector<MeasuredView>& views() const { return views_; }
   const StatisticalBtfOptions& options() const { return options_; }
   const WhiteLobe& white_lobe() const { return white_lobe_; }
+  const MeanBrightnessModel& mean_model() const { return mean_model_; }
+  const MeanModelCheck& mean_model_check() const { return mean_model_check_; }
 
  private:
   StatisticalBtfOptions options_;
   WhiteLobe white_lobe_;
   WhiteLobe FitWhiteLobe() const;  // to the views' mean colours (MeasuredView::mean_rgb)
+  MeanBrightnessModel mean_model_;
+  MeanModelCheck mean_model_check_;
+  // To every measured slice's Brightness; unfitted unless it passes the check (MeanModelCheck).
+  MeanBrightnessModel FitMeanModel();
+  // The top view's brightness at `light`: its measured lights' blended with cosine ratios.
+  double TopViewBrightness(const Eigen::Vector3d& light) const;
+  // The mean of the channels that scale with radiance: brightness in every colour space.
+  double Brightness(const SliceStatistics& statistics) const;
+  // StatisticalBtfOptions::mean_model: the factor that takes a slice of statistics `target` at
+  // (light, view) to the model's mean brightness, as far as the light gap asks (1: unchanged).
+  double MeanModelScale(const SliceStatistics& target, const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // A blend of measured statistics: the entries, their weights per channel ([channel][entry]) and
   // the (view, light) each was measured at.
   struct Blend {

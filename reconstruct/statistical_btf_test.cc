@@ -276,6 +276,7 @@ struct OneSidedBtf {
   StatusOr<StatisticalBtf> Reconstruction(StatisticalBtfOptions options, double skip_ring_deg = -1) const {
     options.cosine_weighted_lights = false;
     options.match_subbands = false;
+    options.mean_model = false;  // these tests are of the blend's statistics; the mean model has its own
     const std::vector<Eigen::Vector3d> all = BonnDirections();
     std::vector<Eigen::Vector3d> one_side;
     for (const auto& l : all)
@@ -354,6 +355,93 @@ TEST(StatisticalBtf, BlendingAViewsChangeFromTheTopViewKeepsTheTopViewsLightDepe
     if (change) { EXPECT_LT(error, 0.002); }
     else EXPECT_GT(error, 0.01);
   }
+}
+
+// A texture shaded by a mean brightness law in the mean model's terms
+// (reconstruct/mean_brightness_model.h), measured as the rig measures it: the top view under every
+// Bonn light, the tilted views (rig's 4 at 30 and 8 at 60 deg) under the lights within 50 deg of
+// their own direction.
+struct ShadedBtf {
+  SyntheticBtf texture{32, testing::SeedFromTestName()};
+  // Without a view dependence every view is the top view's: the model cannot beat it.
+  bool view_dependent = true;
+  double Brightness(const Eigen::Vector3d& l, const Eigen::Vector3d& v) const {
+    const double view_terms = view_dependent ? 0.5 * l.dot(v) - 0.4 * v.z() + 0.3 * l.x() * v.x() : 0.0;
+    return l.z() * std::exp(view_terms + 0.2 * (l.x() * l.x() - l.y() * l.y()));
+  }
+  Image Slice(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
+    Image out = texture.texture;
+    for (float& value : std::span(out.data(), out.size())) value *= float(Brightness(light, view));
+    return out;
+  }
+  StatusOr<StatisticalBtf> Reconstruction(bool mean_model) const {
+    StatisticalBtfOptions options;
+    options.mean_model = mean_model;
+    std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ()};
+    for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90.0 * k));
+    for (int k = 0; k < 8; ++k) views.push_back(DirectionFromAnglesDeg(60, 45.0 * k));
+    std::vector<MeasuredView> measured;
+    std::vector<Image> top;
+    for (const Eigen::Vector3d& v : views) {
+      std::vector<Eigen::Vector3d> lights;
+      std::vector<Image> slices;
+      for (const Eigen::Vector3d& l : BonnDirections())
+        if (v.z() > 0.99 || AngleBetweenDeg(l, v) <= 50) lights.push_back(l), slices.push_back(Slice(l, v));
+      if (v.z() > 0.99) top = slices;
+      measured.push_back(MeasureView(v, lights, slices, options));
+    }
+    return StatisticalBtf::Create(top, BonnDirections(), std::move(measured), options);
+  }
+};
+
+double MeanOf(const Image& image) {
+  double sum = 0;
+  for (float value : std::span(image.data(), image.size())) sum += value;
+  return sum / double(image.size());
+}
+
+// Opposite a tilted view's measured lights the blend falls back on the top view's statistics at
+// the light, whose mean is the top view's; the mean model gives the view's own mean there.
+TEST(StatisticalBtf, TheMeanModelGivesAFarPairTheMeanOfItsView) {
+  const ShadedBtf truth;
+  auto with = truth.Reconstruction(true), without = truth.Reconstruction(false);
+  ASSERT_TRUE(with.ok() && without.ok());
+  ASSERT_TRUE(with->mean_model_check().used);
+  EXPECT_LT(with->mean_model_check().model_error, 0.2 * with->mean_model_check().top_view_error);
+  double worst_with = 0, worst_without = 0;
+  for (int phi = 0; phi < 360; phi += 90) {
+    const Eigen::Vector3d view = DirectionFromAnglesDeg(45, phi), light = DirectionFromAnglesDeg(50, phi + 180);
+    ASSERT_GT(with->LightGapDeg(light, view), 40);
+    const double want = MeanOf(truth.Slice(light, view));
+    worst_with = std::max(worst_with, std::abs(MeanOf(with->Reconstruct(light, view)) / want - 1));
+    worst_without = std::max(worst_without, std::abs(MeanOf(without->Reconstruct(light, view)) / want - 1));
+  }
+  std::printf("far pairs' mean, worst relative error: %.4f with the mean model, %.4f without\n", worst_with, worst_without);
+  EXPECT_LT(worst_with, 0.03);
+  EXPECT_GT(worst_without, 0.1);
+}
+
+// At a pair a view measured, the light gap is 0 and the slice keeps its blended mean, model or not.
+TEST(StatisticalBtf, TheMeanModelLeavesAMeasuredPairAsItIs) {
+  const ShadedBtf truth;
+  auto with = truth.Reconstruction(true), without = truth.Reconstruction(false);
+  ASSERT_TRUE(with.ok() && without.ok());
+  // A Bonn light 16 deg from the view: measured.
+  const Eigen::Vector3d view = DirectionFromAnglesDeg(60, 45), light = DirectionFromAnglesDeg(45, 40);
+  ASSERT_NEAR(with->LightGapDeg(light, view), 0, 1e-6);
+  EXPECT_LT(RelativeRms(with->Reconstruct(light, view), without->Reconstruct(light, view)), 1e-6);
+}
+
+// Where every view sees what the top view sees, no model beats the top view's own brightness, and
+// the check leaves the model unused (the slices are the blend's).
+TEST(StatisticalBtf, TheMeanModelIsNotUsedWhereTheTopViewPredictsEveryView) {
+  ShadedBtf truth;
+  truth.view_dependent = false;
+  auto with = truth.Reconstruction(true);
+  ASSERT_TRUE(with.ok());
+  EXPECT_FALSE(with->mean_model_check().used);
+  EXPECT_GT(with->mean_model_check().slices, 100);
+  EXPECT_FALSE(with->mean_model().fitted());
 }
 
 TEST(StatisticalBtf, RejectsBadInput) {
