@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/directions.h"
+#include "reconstruct/btf_evaluation.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -227,9 +228,7 @@ TEST(StatisticalBtf, WhiteSpecularColourWhitensAMirrorPairNoViewMeasured) {
     return Tinted(texture.texture, tint);
   };
   const std::vector<Eigen::Vector3d> all = BonnDirections();
-  std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ()};
-  for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90.0 * k));
-  for (int k = 0; k < 8; ++k) views.push_back(DirectionFromAnglesDeg(60, 45.0 * k));
+  const std::vector<Eigen::Vector3d> views = RigViewDirections();
   const Eigen::Vector3d view = DirectionFromAnglesDeg(45, 90), mirror = DirectionFromAnglesDeg(45, 270);
   const Image truth = slice(mirror, view);
   Image reconstructed[2];
@@ -377,9 +376,7 @@ struct ShadedBtf {
   StatusOr<StatisticalBtf> Reconstruction(bool mean_model) const {
     StatisticalBtfOptions options;
     options.mean_model = mean_model;
-    std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ()};
-    for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90.0 * k));
-    for (int k = 0; k < 8; ++k) views.push_back(DirectionFromAnglesDeg(60, 45.0 * k));
+    const std::vector<Eigen::Vector3d> views = RigViewDirections();
     std::vector<MeasuredView> measured;
     std::vector<Image> top;
     for (const Eigen::Vector3d& v : views) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "core/directions.h"
+#include "reconstruct/btf_evaluation.h"
 
 namespace mesocap {
 namespace {
@@ -27,9 +28,7 @@ TEST(WhiteLobe, WhitePartIsWhatAddsToTheBodyColourEqually) {
 // tilted views under lights within 50 deg of their own direction (the flash on the camera's side);
 // each the body colour times a Lambertian cosine plus `strength` times the lobe of roughness `alpha`.
 std::vector<MeanColourSample> RigSamples(double strength, double alpha) {
-  std::vector<Eigen::Vector3d> views = {Eigen::Vector3d::UnitZ()};
-  for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90.0 * k));
-  for (int k = 0; k < 8; ++k) views.push_back(DirectionFromAnglesDeg(60, 45.0 * k));
+  const std::vector<Eigen::Vector3d> views = RigViewDirections();
   std::vector<MeanColourSample> samples;
   for (const Eigen::Vector3d& view : views)
     for (int t = 0; t <= 80; t += 8)
