@@ -167,6 +167,11 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
   EXPECT_TRUE((*eval)["chroma_from_top"].get<bool>());  // chosen because the shots are 4:2:0 JPEGs
   const double lobe = (*eval)["white_lobe"]["strength"].get<double>();
   EXPECT_TRUE(lobe >= 0 && lobe <= WhiteLobe::kMaxStrength) << lobe;
+  // The mean brightness model's check ran on the session's slices and its verdict follows its figures.
+  const Json& mean_model = (*eval)["mean_model"];
+  EXPECT_GT(mean_model["slices"].get<int>(), 0);
+  EXPECT_EQ(mean_model["used"].get<bool>(),
+            mean_model["model_median_log_error"].get<double>() < mean_model["top_view_median_log_error"].get<double>());
   const int used = (*eval)["input_slices"].get<int>();
   EXPECT_GT(used, 0);
   EXPECT_LE(used, int(index->slices.size()));
