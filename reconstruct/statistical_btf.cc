@@ -160,8 +160,9 @@ double StatisticalBtf::MeanModelScale(const SliceStatistics& target, const Eigen
                                       const Eigen::Vector3d& view) const {
   if (!mean_model_.fitted()) return 1.0;
   const double weight = 1 - std::exp(-LightGapDeg(light, view) / options_.mean_model_onset_deg);
+  if (!(weight > 0)) return 1.0;  // a measured light: the blend's own mean
   const double predicted = mean_model_.Predict(light, view), blended = Brightness(target);
-  if (!(weight > 0 && predicted > 0 && blended > 0)) return 1.0;
+  if (!(predicted > 0 && blended > 0)) return 1.0;
   return std::exp(weight * std::log(predicted / blended));
 }
 
