@@ -18,7 +18,8 @@
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
 //                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
 //                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
-//                               [--white-specular 0|1]
+//                               [--white-specular 0|1] [--mean-model 0|1] [--mean-onset DEG]
+//                               [--max-view-extrapolation RINGS] [--dump-means FILE]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour
@@ -26,6 +27,8 @@
 // far), which baseline the losses go to; the wins by the view's incidence and by the light's angle
 // to the view's mirror direction; and how many far pairs have a light that no flash position could
 // give the board nearest their view (below its horizon or shadowed from every position).
+// With --dump-means FILE (a diagnostic), every measured slice's mean and, per scored pair, the
+// truth's and the reconstruction's are appended to FILE as CSV (the mean model was chosen so).
 // With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
 // before it is scored, so the figures tell how much a known mean radiance would win.
 #include <cmath>
@@ -183,6 +186,7 @@ int Run(int argc, char** argv) {
   std::string colour_space = "chromaticity", dump_means;
   bool mean_model = StatisticalBtfOptions().mean_model;
   double mean_onset = StatisticalBtfOptions().mean_model_onset_deg;
+  double max_view_extrapolation = StatisticalBtfOptions().max_view_extrapolation;
   bool list_lights = false, top_view_prior = true;
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
@@ -217,6 +221,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--dump-means") dump_means = value;
     else if (flag == "--mean-model") mean_model = value == "1";
     else if (flag == "--mean-onset") mean_onset = std::stod(value);
+    else if (flag == "--max-view-extrapolation") max_view_extrapolation = std::stod(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
     else if (flag == "--objective") objective = value == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
@@ -254,6 +259,7 @@ int Run(int argc, char** argv) {
         options.btf.white_specular_colour = white_specular;
         options.btf.mean_model = mean_model;
         options.btf.mean_model_onset_deg = mean_onset;
+        options.btf.max_view_extrapolation = max_view_extrapolation;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
