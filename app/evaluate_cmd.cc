@@ -3,6 +3,7 @@
 // calibrated slices: the lights a hand-held flash gave each board), reconstructs the held-out
 // pairs of the Bonn 81 x 81 grid, and scores them against truth next to the two baselines.
 // Writes evaluation.json (every pair), evaluation.csv, a picture sheet and report.md/html.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -117,12 +118,12 @@ std::string WhiteLobeSentence(const WhiteLobe& lobe) {
 std::string MeanModelSentence(const StatisticalBtf& btf) {
   if (!btf.options().mean_model) return " The mean brightness model is off.";
   const MeanModelCheck& check = btf.mean_model_check();
-  if (check.slices == 0) return " Too few slices to fit the mean brightness model.";
+  if (check.slices == 0) return " The mean brightness model is not used: no tilted view to check it on, or too few slices.";
   return Format(" Beyond the measured lights, slices take the mean brightness of a model fitted to every measured "
-                "slice%s: it predicts each tilted view's slices, fitted without them, to %.1f%% (median), the top view "
-                "to %.1f%%.",
-                check.used ? "" : " (not used: no nearer than the top view)", 100 * check.model_error,
-                100 * check.top_view_error);
+                "slice%s: it predicts each tilted view's slices, fitted without them, within %.1f%% (median), the top "
+                "view within %.1f%%.",
+                check.used ? "" : " (not used: no nearer than the top view)", 100 * std::expm1(check.model_error),
+                100 * std::expm1(check.top_view_error));
 }
 
 int Run(const EvaluateArgs& a) {

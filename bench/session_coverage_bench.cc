@@ -158,7 +158,10 @@ std::pair<int, int> UnreachableFarPairs(const RigScene& scene, const RigRenderer
 void DumpMeans(const std::string& path, const std::string& material, const std::string& seed, const StatisticalBtf& btf,
                const BtfEvaluation& eval, const TrueSliceFn& truth) {
   std::FILE* out = std::fopen(path.c_str(), "a");
-  if (!out) return;
+  if (!out) {
+    std::fprintf(stderr, "--dump-means: cannot open %s\n", path.c_str());
+    return;
+  }
   const auto vec = [](const Eigen::Vector3d& v) {
     char text[96];
     std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f", v.x(), v.y(), v.z());

@@ -8,8 +8,9 @@
 // frame, h their half vector): the isotropic ones (1, cos theta_i, cos theta_o, their product,
 // l.v, h's elevation cosine and its square, Oren-Nayar's retro-reflection term), and products of
 // the x and y components of l, v and h, which carry a grain's anisotropy. Fitted by ridge least
-// squares; at a pair, the model's log error at the measured pairs near it (within about 15 deg of
-// both its view and light) is added back, so where slices were measured it reproduces them.
+// squares. At a pair, the model's log errors at the measured pairs are added back, weighted by a
+// Gaussian (15 deg) of their view's and light's angles to the pair's: near measured pairs their
+// errors, so where slices were measured it reproduces them; far from all, the nearest pairs'.
 #pragma once
 
 #include <array>

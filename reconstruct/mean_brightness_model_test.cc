@@ -72,13 +72,20 @@ TEST(MeanBrightnessModel, TooFewOrUnusableSamplesGiveNoModel) {
   samples.resize(2 * MeanBrightnessModel::kTerms - 1);
   EXPECT_FALSE(MeanBrightnessModel::Fit(samples).fitted());
   EXPECT_EQ(MeanBrightnessModel::Fit(samples).Predict(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()), 0.0);
-  // Dark, non-finite or grazing samples are left out, not fitted.
-  std::vector<MeanBrightnessSample> bad(100, {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), 0.0});
-  bad[1].brightness = std::nan("");
-  bad[2] = {DirectionFromAnglesDeg(89, 0), Eigen::Vector3d::UnitZ(), 1.0};
-  EXPECT_FALSE(MeanBrightnessModel::Fit(bad).fitted());
-  // A light below the horizon gets no prediction.
+  // Dark, non-finite and grazing samples are left out: mixed into a good set, they change nothing.
   const MeanBrightnessModel model = MeanBrightnessModel::Fit(RigSamples(LawInTheTerms));
+  std::vector<MeanBrightnessSample> mixed = RigSamples(LawInTheTerms);
+  for (int k = 0; k < 20; ++k) {
+    const Eigen::Vector3d light = DirectionFromAnglesDeg(10 + 3 * k, 17 * k), view = DirectionFromAnglesDeg(30, 90);
+    mixed.push_back({light, view, k % 3 == 0 ? 0.0 : k % 3 == 1 ? std::nan("") : -1.0});
+    mixed.push_back({DirectionFromAnglesDeg(88, 17 * k), view, 100.0});  // grazing, and far off the law
+  }
+  const MeanBrightnessModel fitted_with_bad = MeanBrightnessModel::Fit(mixed);
+  ASSERT_TRUE(fitted_with_bad.fitted());
+  for (const auto& [light, view] : {std::pair{DirectionFromAnglesDeg(40, 200), DirectionFromAnglesDeg(45, 20)},
+                                    std::pair{DirectionFromAnglesDeg(20, 10), DirectionFromAnglesDeg(15, 300)}})
+    EXPECT_DOUBLE_EQ(fitted_with_bad.Predict(light, view), model.Predict(light, view));
+  // A light below the horizon gets no prediction.
   EXPECT_EQ(model.Predict(Eigen::Vector3d(1, 0, -0.1), Eigen::Vector3d::UnitZ()), 0.0);
 }
 

@@ -110,10 +110,25 @@ double StatisticalBtf::FitLightFalloffExponent() const {
 }
 
 double StatisticalBtf::Brightness(const SliceStatistics& statistics) const {
+  // The principal axes' other two carry colour and can sum to nothing: the first is the brightness.
+  if (options_.colour_space == ColourSpace::kPrincipalAxes) return statistics.pixels[0].Mean();
   double mean = 0;
   for (int c = 0; c < statistics.channels; ++c)
     if (options_.colour.ScalesWithRadiance(c)) mean += statistics.pixels[c].Mean();
   return mean;
+}
+
+double StatisticalBtf::SliceBrightness(const Image& slice) const {
+  // Every colour space's brightness channels are linear in RGB: the brightness of the mean pixel.
+  const std::vector<double> means = ChannelMeans(slice);
+  Image mean_pixel(1, 1, slice.channels());
+  for (int c = 0; c < slice.channels(); ++c) mean_pixel.data()[c] = float(means[size_t(c)]);
+  const Image channels = options_.colour.Forward(mean_pixel);
+  if (options_.colour_space == ColourSpace::kPrincipalAxes) return channels.data()[0];
+  double brightness = 0;
+  for (int c = 0; c < channels.channels(); ++c)
+    if (options_.colour.ScalesWithRadiance(c)) brightness += channels.data()[c];
+  return brightness;
 }
 
 MeanBrightnessModel StatisticalBtf::FitMeanModel() {
@@ -156,12 +171,12 @@ double StatisticalBtf::TopViewBrightness(const Eigen::Vector3d& light) const {
   return brightness;
 }
 
-double StatisticalBtf::MeanModelScale(const SliceStatistics& target, const Eigen::Vector3d& light,
-                                      const Eigen::Vector3d& view) const {
+double StatisticalBtf::MeanModelScale(const Image& slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   if (!mean_model_.fitted()) return 1.0;
   const double weight = 1 - std::exp(-LightGapDeg(light, view) / options_.mean_model_onset_deg);
   if (!(weight > 0)) return 1.0;  // a measured light: the blend's own mean
-  const double predicted = mean_model_.Predict(light, view), blended = Brightness(target);
+  // The slice as matched and clamped, not the blended statistics: matching and clamping move the mean.
+  const double predicted = mean_model_.Predict(light, view), blended = SliceBrightness(slice);
   if (!(predicted > 0 && blended > 0)) return 1.0;
   // A model four times off the blend is extrapolating past what it learned: bounded there (on the
   // virtual sessions the ratio stays within 0.59-1.95, seeds 11-13).
@@ -291,8 +306,10 @@ Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vec
   // Statistics extrapolated beyond the outer view ring, and the way back to RGB, can leave
   // values below zero: Inverse clamps them.
   Image slice = options_.colour.Inverse(matched);
-  if (const float scale = float(MeanModelScale(target, light, view)); scale != 1.0f)
+  if (const float scale = float(MeanModelScale(slice, light, view)); scale != 1.0f) {
     for (size_t i = 0; i < slice.size(); ++i) slice.data()[i] *= scale;
+    ClampToStorableRadiance(&slice);
+  }
   if (white_lobe_.strength() > 0 && slice.channels() == 3) MoveColourByWhiteLobe(&slice, light, view, blend);
   return slice;
 }

@@ -176,11 +176,14 @@ class StatisticalBtf {
   MeanBrightnessModel FitMeanModel();
   // The top view's brightness at `light`: its measured lights' blended with cosine ratios.
   double TopViewBrightness(const Eigen::Vector3d& light) const;
-  // The mean of the channels that scale with radiance: brightness in every colour space.
+  // The mean brightness of a slice from its statistics: the mean of the channels that scale with
+  // radiance (R + G + B for rgb and chromaticity), the first principal axis for pca.
   double Brightness(const SliceStatistics& statistics) const;
-  // StatisticalBtfOptions::mean_model: the factor that takes a slice of statistics `target` at
-  // (light, view) to the model's mean brightness, as far as the light gap asks (1: unchanged).
-  double MeanModelScale(const SliceStatistics& target, const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
+  // The same for a slice's pixels (RGB or grey).
+  double SliceBrightness(const Image& slice) const;
+  // StatisticalBtfOptions::mean_model: the factor that takes `slice` at (light, view) to the model's
+  // mean brightness, as far as the light gap asks, bounded to 4x either way (1: unchanged).
+  double MeanModelScale(const Image& slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // A blend of measured statistics: the entries, their weights per channel ([channel][entry]) and
   // the (view, light) each was measured at.
   struct Blend {

@@ -429,8 +429,9 @@ TEST(StatisticalBtf, TheMeanModelLeavesAMeasuredPairAsItIs) {
   EXPECT_LT(RelativeRms(with->Reconstruct(light, view), without->Reconstruct(light, view)), 1e-6);
 }
 
-// Where every view sees what the top view sees, no model beats the top view's own brightness, and
-// the check leaves the model unused (the slices are the blend's).
+// Where every view sees what the top view sees, the top view's brightness at a tilted view's
+// (Bonn) lights is exact and no model can be nearer: this checks that the check is wired, that its
+// verdict leaves the model unfitted and that it ran over the tilted views' slices.
 TEST(StatisticalBtf, TheMeanModelIsNotUsedWhereTheTopViewPredictsEveryView) {
   ShadedBtf truth;
   truth.view_dependent = false;
