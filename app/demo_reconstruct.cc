@@ -29,7 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 // The top patch's true slices on a grid of `size` texels, each view traced once.
 TrueBtfRenderer TruthRenderer(const DemoReconstructionInputs& in, int size, int samples_per_axis = 2) {
   TrueBtfRequest grid;

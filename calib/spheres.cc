@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "core/median.h"
 #include "core/status.h"
 
 namespace mesocap {
@@ -425,9 +426,7 @@ SphereReport LocateSpheres(const CameraModel& camera, const Image& max_image, co
     // Drop rays more than 3 robust sigmas off, solve again.
     std::vector<double> abs_err;
     for (const auto& d : rays) abs_err.push_back(std::abs(tangent_error(d)));
-    std::vector<double> sorted = abs_err;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double sigma = std::max(1.4826 * sorted[sorted.size() / 2], 1e-5);
+    const double sigma = std::max(1.4826 * UpperMedian(abs_err), 1e-5);
     std::vector<Eigen::Vector3d> inliers;
     std::vector<double> inlier_weights;
     for (size_t i = 0; i < rays.size(); ++i)

@@ -8,10 +8,6 @@
 #include "core/median.h"
 
 namespace mesocap {
-namespace {
-
-
-}  // namespace
 
 Json CalibrationScore::ToJson() const {
   return {{"fx_error_pct", fx_error_pct}, {"fy_error_pct", fy_error_pct}, {"boards_posed", boards_posed},

@@ -1,7 +1,5 @@
 #include "reconstruct/btf_evaluation.h"
 
-#include "core/median.h"
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -9,6 +7,7 @@
 #include <sstream>
 
 #include "core/directions.h"
+#include "core/median.h"
 #include "core/parallel.h"
 #include "core/text_format.h"
 #include "reconstruct/colour.h"
@@ -121,7 +120,6 @@ int BtfEvaluation::CountWith(LightCoverage coverage) const {
 }
 
 namespace {
-
 
 std::vector<double> SaturationErrors(const std::vector<PairScore>& pairs, int method) {
   std::vector<double> v;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/directions.h"
+#include "core/median.h"
 #include "core/text_format.h"
 #include "reconstruct/statistical_btf.h"
 
@@ -39,8 +40,7 @@ double MedianFlashDistance(const std::vector<Eigen::Vector3d>& flashes, const Ei
   if (flashes.empty()) return fallback;
   std::vector<double> distances;
   for (const Eigen::Vector3d& f : flashes) distances.push_back((f - centre).norm());
-  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-  return distances[distances.size() / 2];
+  return UpperMedian(std::move(distances));
 }
 
 std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardLights& top) {

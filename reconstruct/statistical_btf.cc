@@ -109,13 +109,19 @@ double StatisticalBtf::FitLightFalloffExponent() const {
   return std::clamp((sxy - sx * sy / n) / spread, 0.25, 2.0);
 }
 
-double StatisticalBtf::Brightness(const SliceStatistics& statistics) const {
+double StatisticalBtf::BrightnessOf(const std::vector<double>& channel_means) const {
   // The principal axes' other two carry colour and can sum to nothing: the first is the brightness.
-  if (options_.colour_space == ColourSpace::kPrincipalAxes) return statistics.pixels[0].Mean();
-  double mean = 0;
-  for (int c = 0; c < statistics.channels; ++c)
-    if (options_.colour.ScalesWithRadiance(c)) mean += statistics.pixels[c].Mean();
-  return mean;
+  if (options_.colour_space == ColourSpace::kPrincipalAxes) return channel_means[0];
+  double brightness = 0;
+  for (int c = 0; c < int(channel_means.size()); ++c)
+    if (options_.colour.ScalesWithRadiance(c)) brightness += channel_means[size_t(c)];
+  return brightness;
+}
+
+double StatisticalBtf::Brightness(const SliceStatistics& statistics) const {
+  std::vector<double> means;
+  for (int c = 0; c < statistics.channels; ++c) means.push_back(statistics.pixels[c].Mean());
+  return BrightnessOf(means);
 }
 
 double StatisticalBtf::SliceBrightness(const Image& slice) const {
@@ -124,11 +130,7 @@ double StatisticalBtf::SliceBrightness(const Image& slice) const {
   Image mean_pixel(1, 1, slice.channels());
   for (int c = 0; c < slice.channels(); ++c) mean_pixel.data()[c] = float(means[size_t(c)]);
   const Image channels = options_.colour.Forward(mean_pixel);
-  if (options_.colour_space == ColourSpace::kPrincipalAxes) return channels.data()[0];
-  double brightness = 0;
-  for (int c = 0; c < channels.channels(); ++c)
-    if (options_.colour.ScalesWithRadiance(c)) brightness += channels.data()[c];
-  return brightness;
+  return BrightnessOf(std::vector<double>(channels.data(), channels.data() + channels.channels()));
 }
 
 MeanBrightnessModel StatisticalBtf::FitMeanModel() {

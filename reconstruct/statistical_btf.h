@@ -176,6 +176,8 @@ class StatisticalBtf {
   MeanBrightnessModel FitMeanModel();
   // The top view's brightness at `light`: its measured lights' blended with cosine ratios.
   double TopViewBrightness(const Eigen::Vector3d& light) const;
+  // The brightness from a slice's channel means in the colour space (options_.colour).
+  double BrightnessOf(const std::vector<double>& channel_means) const;
   // The mean brightness of a slice from its statistics: the mean of the channels that scale with
   // radiance (R + G + B for rgb and chromaticity), the first principal axis for pca.
   double Brightness(const SliceStatistics& statistics) const;

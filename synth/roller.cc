@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/median.h"
 #include "core/parallel.h"
 #include "core/text_format.h"
 #include "synth/graphcut_fit.h"
@@ -49,9 +50,7 @@ bool DominantFrequencies(const Image& lum, double* rows, double* columns, std::s
     std::vector<double> rest(marginal.begin() + 1, marginal.end());
     const auto peak = std::max_element(rest.begin(), rest.end());
     *f = double(peak - rest.begin() + 1);
-    std::vector<double> sorted = rest;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    return *peak > 2.0 * sorted[sorted.size() / 2];
+    return *peak > 2.0 * UpperMedian(rest);
   };
   const bool r = dominant(along_rows, rows), c = dominant(along_columns, columns);
   if (!r || !c) {
