@@ -8,6 +8,8 @@
 #include <numbers>
 #include <vector>
 
+#include "core/median.h"
+
 namespace mesocap {
 namespace {
 
@@ -124,8 +126,7 @@ SphereLight FindSphereLight(const Image& photo, const SphereCircle& sphere, cons
     result.why_not = "the sphere lies outside this photo";
     return result;
   }
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  const double median = values[values.size() / 2];
+  const double median = UpperMedian(std::move(values));
   result.saturated = peak >= options.saturation;
   if (!result.saturated && peak - median < 0.02) {
     result.why_not = "no highlight: the sphere is dark (brightest point " + Fixed(peak, 4) + ", median " + Fixed(median, 4) +

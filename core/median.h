@@ -1,5 +1,6 @@
 // The upper median of a list (the element at size / 2 in sorted order; 0 for an empty list): the
-// figure the project's tables and reports show.
+// figure the project's tables and reports show. Any arithmetic element type: float lists (texel
+// errors, pixel values) need no copy to double.
 #pragma once
 
 #include <algorithm>
@@ -7,8 +8,9 @@
 
 namespace mesocap {
 
-inline double UpperMedian(std::vector<double> values) {
-  if (values.empty()) return 0;
+template <typename T>
+T UpperMedian(std::vector<T> values) {
+  if (values.empty()) return T(0);
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
   return values[values.size() / 2];
 }

@@ -9,6 +9,7 @@
 
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/median.h"
 #include "core/parallel.h"
 #include "core/pbr_brdf.h"
 #include "core/slice_index.h"
@@ -285,9 +286,8 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
     if (!ReportProgress(progress, int(n) + ++rows_done, int(n) + height, "fitting")) cancelled = true;
   }, options.num_threads);
   if (cancelled) return Status::Error("cancelled");
-  std::vector<float> errs(maps.relative_error.data(), maps.relative_error.data() + texels);
-  std::nth_element(errs.begin(), errs.begin() + errs.size() / 2, errs.end());
-  maps.median_relative_error = errs[errs.size() / 2];
+  maps.median_relative_error =
+      UpperMedian(std::vector<float>(maps.relative_error.data(), maps.relative_error.data() + texels));
   maps.slices_used = int(n);
   maps.mean_iterations = double(iterations) / texels;
   maps.mean_evaluations = double(evaluations) / texels;

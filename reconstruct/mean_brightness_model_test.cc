@@ -9,6 +9,7 @@
 
 #include "core/directions.h"
 #include "reconstruct/btf_evaluation.h"
+#include "reconstruct/rig_coverage_testing.h"
 
 namespace mesocap {
 namespace {
@@ -23,7 +24,7 @@ std::vector<MeanBrightnessSample> RigSamples(const Law& law) {
     for (int theta = 0; theta <= 80; theta += 10)
       for (int phi = 0; phi < 360; phi += 20) {
         const Eigen::Vector3d light = DirectionFromAnglesDeg(theta, phi);
-        if (view.z() < 0.99 && AngleBetweenDeg(light, view) > 50) continue;
+        if (!testing::RigViewMeasures(view, light)) continue;
         samples.push_back({light, view, law(light, view)});
       }
   return samples;

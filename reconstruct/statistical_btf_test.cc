@@ -9,6 +9,7 @@
 
 #include "core/directions.h"
 #include "reconstruct/btf_evaluation.h"
+#include "reconstruct/rig_coverage_testing.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -227,25 +228,13 @@ TEST(StatisticalBtf, WhiteSpecularColourWhitensAMirrorPairNoViewMeasured) {
                            float(0.3 * light.z() * kOrange[2] + white)};
     return Tinted(texture.texture, tint);
   };
-  const std::vector<Eigen::Vector3d> all = BonnDirections();
-  const std::vector<Eigen::Vector3d> views = RigViewDirections();
   const Eigen::Vector3d view = DirectionFromAnglesDeg(45, 90), mirror = DirectionFromAnglesDeg(45, 270);
   const Image truth = slice(mirror, view);
   Image reconstructed[2];
   for (const bool white : {false, true}) {
     StatisticalBtfOptions options;
     options.white_specular_colour = white;
-    std::vector<MeasuredView> measured;
-    std::vector<Image> top;
-    for (const Eigen::Vector3d& v : views) {
-      std::vector<Eigen::Vector3d> lights;
-      std::vector<Image> slices;
-      for (const Eigen::Vector3d& l : all)
-        if (v.z() > 0.99 || AngleBetweenDeg(l, v) <= 50) lights.push_back(l), slices.push_back(slice(l, v));
-      if (v.z() > 0.99) top = slices, options = WithColourChannels(options, top);
-      measured.push_back(MeasureView(v, lights, slices, options));
-    }
-    auto btf = StatisticalBtf::Create(top, all, std::move(measured), options);
+    auto btf = testing::ReconstructFromRigViews(slice, options);
     ASSERT_TRUE(btf.ok()) << btf.status().message();
     EXPECT_EQ(btf->white_lobe().strength() > 0, white);
     reconstructed[white] = btf->Reconstruct(mirror, view);
@@ -376,18 +365,8 @@ struct ShadedBtf {
   StatusOr<StatisticalBtf> Reconstruction(bool mean_model) const {
     StatisticalBtfOptions options;
     options.mean_model = mean_model;
-    const std::vector<Eigen::Vector3d> views = RigViewDirections();
-    std::vector<MeasuredView> measured;
-    std::vector<Image> top;
-    for (const Eigen::Vector3d& v : views) {
-      std::vector<Eigen::Vector3d> lights;
-      std::vector<Image> slices;
-      for (const Eigen::Vector3d& l : BonnDirections())
-        if (v.z() > 0.99 || AngleBetweenDeg(l, v) <= 50) lights.push_back(l), slices.push_back(Slice(l, v));
-      if (v.z() > 0.99) top = slices;
-      measured.push_back(MeasureView(v, lights, slices, options));
-    }
-    return StatisticalBtf::Create(top, BonnDirections(), std::move(measured), options);
+    return testing::ReconstructFromRigViews([this](const Eigen::Vector3d& l, const Eigen::Vector3d& v) { return Slice(l, v); },
+                                            options);
   }
 };
 

@@ -8,6 +8,7 @@
 
 #include "core/directions.h"
 #include "reconstruct/btf_evaluation.h"
+#include "reconstruct/rig_coverage_testing.h"
 
 namespace mesocap {
 namespace {
@@ -34,7 +35,7 @@ std::vector<MeanColourSample> RigSamples(double strength, double alpha) {
     for (int t = 0; t <= 80; t += 8)
       for (int p = 0; p < 360; p += 20) {
         const Eigen::Vector3d light = DirectionFromAnglesDeg(t, p);
-        if (view.z() < 0.99 && AngleBetweenDeg(light, view) > 50) continue;
+        if (!testing::RigViewMeasures(view, light)) continue;
         const double white = strength * WhiteLobe::Shape(light, view, alpha);
         samples.push_back({light, view, 0.3 * light.z() * kBody + Eigen::Vector3d::Constant(white)});
       }
