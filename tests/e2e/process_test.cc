@@ -167,11 +167,18 @@ TEST_F(ProcessTest, EvaluateScoresTheSessionsCalibratedSlicesAgainstItsTrueBtf) 
   EXPECT_TRUE((*eval)["chroma_from_top"].get<bool>());  // chosen because the shots are 4:2:0 JPEGs
   const double lobe = (*eval)["white_lobe"]["strength"].get<double>();
   EXPECT_TRUE(lobe >= 0 && lobe <= WhiteLobe::kMaxStrength) << lobe;
-  // The mean brightness model's check ran on the session's slices and its verdict follows its figures.
+  // The mean brightness model's check ran on the session's slices and its verdict follows its
+  // figures. The virtual weave looks different from each view, so the model, fitted to all views,
+  // must predict a left-out view's brightness well ahead of the top view's (here 1.6% against 5.0%).
   const Json& mean_model = (*eval)["mean_model"];
   EXPECT_GT(mean_model["slices"].get<int>(), 0);
+  std::printf("mean model check: %d slices, median log error %.4f, top view's %.4f, used %d\n", mean_model["slices"].get<int>(),
+              mean_model["model_median_log_error"].get<double>(), mean_model["top_view_median_log_error"].get<double>(),
+              int(mean_model["used"].get<bool>()));
   EXPECT_EQ(mean_model["used"].get<bool>(),
             mean_model["model_median_log_error"].get<double>() < mean_model["top_view_median_log_error"].get<double>());
+  EXPECT_TRUE(mean_model["used"].get<bool>());
+  EXPECT_LT(mean_model["model_median_log_error"].get<double>(), 0.6 * mean_model["top_view_median_log_error"].get<double>());
   const int used = (*eval)["input_slices"].get<int>();
   EXPECT_GT(used, 0);
   EXPECT_LE(used, int(index->slices.size()));
