@@ -20,6 +20,7 @@
 //                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
 //                               [--white-specular 0|1] [--mean-model 0|1] [--mean-onset DEG]
 //                               [--max-view-extrapolation RINGS] [--dump-means FILE]
+//                               [--dump-shapes FILE]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
 // With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour
@@ -28,7 +29,9 @@
 // to the view's mirror direction; and how many far pairs have a light that no flash position could
 // give the board nearest their view (below its horizon or shadowed from every position).
 // With --dump-means FILE (a diagnostic), every measured slice's mean and, per scored pair, the
-// truth's and the reconstruction's are appended to FILE as CSV (the mean model was chosen so).
+// truth's and the reconstruction's (and the pair's pixel W1 of the three methods) are appended to
+// FILE as CSV (the mean model was chosen so). With --dump-shapes FILE, the same for the brightness
+// quantile functions, with the two baselines' (to study the distribution's shape beyond its mean).
 // With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
 // before it is scored, so the figures tell how much a known mean radiance would win.
 #include <cmath>
@@ -154,7 +157,8 @@ std::pair<int, int> UnreachableFarPairs(const RigScene& scene, const RigRenderer
 }
 
 // A diagnostic (--dump-means FILE): appends every measured slice's mean (M lines) and, per scored
-// pair, the truth's mean and the reconstruction's (T lines), as CSV, to study models of the mean.
+// pair, the truth's mean and the reconstruction's, its coverage, whether it was won and the three
+// methods' pixel W1 (T lines), as CSV, to study models of the mean.
 void DumpMeans(const std::string& path, const std::string& material, const std::string& seed, const StatisticalBtf& btf,
                const BtfEvaluation& eval, const TrueSliceFn& truth) {
   std::FILE* out = std::fopen(path.c_str(), "a");
@@ -175,9 +179,54 @@ void DumpMeans(const std::string& path, const std::string& material, const std::
     const Eigen::Vector3d true_mean = MeanRgb(truth(p.light, p.view));
     const Eigen::Vector3d mean = MeanRgb(btf.Reconstruct(p.light, p.view));
     const auto& w = p.wasserstein_pixels;
-    std::fprintf(out, "T,%s,%s,%s,%s,%s,%s,%s,%d\n", material.c_str(), seed.c_str(), vec(p.view).c_str(), vec(p.light).c_str(),
-                 vec(true_mean).c_str(), vec(mean).c_str(), LightCoverageToString(p.coverage).c_str(),
-                 int(w[0] < w[1] && w[0] < w[2]));
+    std::fprintf(out, "T,%s,%s,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g\n", material.c_str(), seed.c_str(), vec(p.view).c_str(),
+                 vec(p.light).c_str(), vec(true_mean).c_str(), vec(mean).c_str(), LightCoverageToString(p.coverage).c_str(),
+                 int(w[0] < w[1] && w[0] < w[2]), w[0], w[1], w[2]);
+  }
+  std::fclose(out);
+}
+
+// A diagnostic (--dump-shapes FILE): the brightness (R + G + B) quantile function at 33 levels of
+// every measured slice (M lines) and, per scored pair, of the truth, the reconstruction, the top
+// view and the BRDF-modulated baseline (T lines), to study models of the distribution's shape.
+void DumpShapes(const std::string& path, const std::string& material, const std::string& seed, const StatisticalBtf& btf,
+                const BtfEvaluation& eval, const TrueSliceFn& truth) {
+  std::FILE* out = std::fopen(path.c_str(), "a");
+  if (!out) {
+    std::fprintf(stderr, "--dump-shapes: cannot open %s\n", path.c_str());
+    return;
+  }
+  const auto vec = [](const Eigen::Vector3d& v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f", v.x(), v.y(), v.z());
+    return std::string(text);
+  };
+  const auto levels = [](const InverseCdf& q) {
+    std::string text;
+    for (int k = 0; k <= 32; ++k) text += "," + std::to_string(q.At(k / 32.0));
+    return text;
+  };
+  const auto brightness = [](const Image& rgb) {
+    std::vector<float> values(rgb.pixel_count());
+    for (size_t i = 0; i < values.size(); ++i) values[i] = rgb.data()[3 * i] + rgb.data()[3 * i + 1] + rgb.data()[3 * i + 2];
+    return InverseCdfOf(values);
+  };
+  for (const MeasuredView& view : btf.views())
+    for (size_t i = 0; i < view.lights.size(); ++i)
+      std::fprintf(out, "M,%s,%s,%s,%s%s\n", material.c_str(), seed.c_str(), vec(view.view).c_str(), vec(view.lights[i]).c_str(),
+                   levels(view.statistics[i].pixels[0]).c_str());
+  const Image top_light = btf.BaseTexture(Eigen::Vector3d::UnitZ());
+  for (const PairScore& p : eval.pairs) {
+    const Image t = truth(p.light, p.view);
+    Image modulated = top_light;
+    const Eigen::Vector3d want = MeanRgb(t), have = MeanRgb(top_light);
+    for (size_t i = 0; i < modulated.pixel_count(); ++i)
+      for (int c = 0; c < 3; ++c) modulated.data()[3 * i + c] *= have[c] > 0 ? float(want[c] / have[c]) : 1.0f;
+    const auto& w = p.wasserstein_pixels;
+    std::fprintf(out, "T,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g%s%s%s%s\n", material.c_str(), seed.c_str(), vec(p.view).c_str(),
+                 vec(p.light).c_str(), LightCoverageToString(p.coverage).c_str(), int(w[0] < w[1] && w[0] < w[2]), w[0], w[1], w[2],
+                 levels(brightness(t)).c_str(), levels(brightness(btf.Reconstruct(p.light, p.view))).c_str(),
+                 levels(brightness(btf.BaseTexture(p.light))).c_str(), levels(brightness(modulated)).c_str());
   }
   std::fclose(out);
 }
@@ -186,7 +235,7 @@ int Run(int argc, char** argv) {
   std::vector<std::string> shots = {"24", "50", "100", "150"}, materials = {"weave", "stones", "corduroy"},
                            seeds = {"11", "12"};
   int size = 64, pairs = 240;
-  std::string colour_space = "chromaticity", dump_means;
+  std::string colour_space = "chromaticity", dump_means, dump_shapes;
   bool mean_model = StatisticalBtfOptions().mean_model;
   double mean_onset = StatisticalBtfOptions().mean_model_onset_deg;
   double max_view_extrapolation = StatisticalBtfOptions().max_view_extrapolation;
@@ -222,6 +271,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--white-specular") white_specular = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
     else if (flag == "--dump-means") dump_means = value;
+    else if (flag == "--dump-shapes") dump_shapes = value;
     else if (flag == "--mean-model") mean_model = value == "1";
     else if (flag == "--mean-onset") mean_onset = std::stod(value);
     else if (flag == "--max-view-extrapolation") max_view_extrapolation = std::stod(value);
@@ -385,6 +435,7 @@ int Run(int argc, char** argv) {
                       "nearest their view: %d, won %d\n", unreachable, won);
         }
         if (!dump_means.empty() && model) DumpMeans(dump_means, material_name, seed, *model, *eval, truth);
+        if (!dump_shapes.empty() && model) DumpShapes(dump_shapes, material_name, seed, *model, *eval, truth);
         if (dropped) std::printf("          (%d boards with too few lights to triangulate left out)\n", dropped);
         std::fflush(stdout);
       }
