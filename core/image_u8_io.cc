@@ -144,6 +144,9 @@ struct JpegRowReader::Decoder {
   // copy of the file, so fit-ptm's 36 open decoders take no fresh memory for 36 files' bytes
   // (each fresh page costs a fault, several microseconds on our virtual machines).
   std::FILE* file = nullptr;
+  // stdio's buffer: glibc ignores setvbuf's size unless it is given the buffer, and reads 4 KB
+  // at a time (8500 read calls for fit-ptm's 36 photos instead of 500).
+  std::unique_ptr<char[]> file_buffer;
   bool created = false;
 
   Decoder() {
@@ -182,7 +185,9 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   if (file_size == 0) return Status::Error(path.string() + ": empty file");
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) return Status::Error(path.string() + ": cannot open: " + std::strerror(errno));
-  std::setvbuf(file, nullptr, _IOFBF, size_t(64) << 10);  // before any read; on failure stdio's default
+  constexpr size_t kFileBuffer = size_t(64) << 10;
+  auto file_buffer = std::make_unique_for_overwrite<char[]>(kFileBuffer);
+  std::setvbuf(file, file_buffer.get(), _IOFBF, kFileBuffer);  // before any read; on failure stdio's default
   // The markers first: any other file is left to its reader without being read here too.
   uint8_t magic[3] = {0, 0, 0};
   const bool is_jpeg = std::fread(magic, 1, 3, file) == 3 && magic[0] == 0xFF && magic[1] == 0xD8 && magic[2] == 0xFF;
@@ -193,6 +198,7 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   std::unique_ptr<JpegRowReader> reader(new JpegRowReader(path));
   Decoder& d = *reader->decoder_;
   d.file = file;
+  d.file_buffer = std::move(file_buffer);
   if (std::fseek(file, 0, SEEK_SET) != 0)
     return Status::Error(path.string() + ": cannot read: " + std::strerror(errno));
 
