@@ -156,34 +156,43 @@ std::pair<int, int> UnreachableFarPairs(const RigScene& scene, const RigRenderer
   return {unreachable, won};
 }
 
+// A diagnostic dump's CSV file, opened for appending; null (and a line on stderr) if it cannot be.
+struct CloseFile {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+std::unique_ptr<std::FILE, CloseFile> OpenDump(const char* flag, const std::string& path) {
+  std::unique_ptr<std::FILE, CloseFile> out(std::fopen(path.c_str(), "a"));
+  if (!out) std::fprintf(stderr, "%s: cannot open %s\n", flag, path.c_str());
+  return out;
+}
+
+// A direction or colour as three CSV fields.
+std::string Csv(const Eigen::Vector3d& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f", v.x(), v.y(), v.z());
+  return std::string(text);
+}
+
 // A diagnostic (--dump-means FILE): appends every measured slice's mean (M lines) and, per scored
 // pair, the truth's mean and the reconstruction's, its coverage, whether it was won and the three
 // methods' pixel W1 (T lines), as CSV, to study models of the mean.
 void DumpMeans(const std::string& path, const std::string& material, const std::string& seed, const StatisticalBtf& btf,
                const BtfEvaluation& eval, const TrueSliceFn& truth) {
-  std::FILE* out = std::fopen(path.c_str(), "a");
-  if (!out) {
-    std::fprintf(stderr, "--dump-means: cannot open %s\n", path.c_str());
-    return;
-  }
-  const auto vec = [](const Eigen::Vector3d& v) {
-    char text[96];
-    std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f", v.x(), v.y(), v.z());
-    return std::string(text);
-  };
+  const auto file = OpenDump("--dump-means", path);
+  if (!file) return;
+  std::FILE* out = file.get();
   for (const MeasuredView& view : btf.views())
     for (size_t i = 0; i < view.lights.size() && i < view.mean_rgb.size(); ++i)
-      std::fprintf(out, "M,%s,%s,%s,%s,%s\n", material.c_str(), seed.c_str(), vec(view.view).c_str(),
-                   vec(view.lights[i]).c_str(), vec(view.mean_rgb[i]).c_str());
+      std::fprintf(out, "M,%s,%s,%s,%s,%s\n", material.c_str(), seed.c_str(), Csv(view.view).c_str(),
+                   Csv(view.lights[i]).c_str(), Csv(view.mean_rgb[i]).c_str());
   for (const PairScore& p : eval.pairs) {
     const Eigen::Vector3d true_mean = MeanRgb(truth(p.light, p.view));
     const Eigen::Vector3d mean = MeanRgb(btf.Reconstruct(p.light, p.view));
     const auto& w = p.wasserstein_pixels;
-    std::fprintf(out, "T,%s,%s,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g\n", material.c_str(), seed.c_str(), vec(p.view).c_str(),
-                 vec(p.light).c_str(), vec(true_mean).c_str(), vec(mean).c_str(), LightCoverageToString(p.coverage).c_str(),
+    std::fprintf(out, "T,%s,%s,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g\n", material.c_str(), seed.c_str(), Csv(p.view).c_str(),
+                 Csv(p.light).c_str(), Csv(true_mean).c_str(), Csv(mean).c_str(), LightCoverageToString(p.coverage).c_str(),
                  int(w[0] < w[1] && w[0] < w[2]), w[0], w[1], w[2]);
   }
-  std::fclose(out);
 }
 
 // A diagnostic (--dump-shapes FILE): the brightness (R + G + B) quantile function at 33 levels of
@@ -191,16 +200,9 @@ void DumpMeans(const std::string& path, const std::string& material, const std::
 // view and the BRDF-modulated baseline (T lines), to study models of the distribution's shape.
 void DumpShapes(const std::string& path, const std::string& material, const std::string& seed, const StatisticalBtf& btf,
                 const BtfEvaluation& eval, const TrueSliceFn& truth) {
-  std::FILE* out = std::fopen(path.c_str(), "a");
-  if (!out) {
-    std::fprintf(stderr, "--dump-shapes: cannot open %s\n", path.c_str());
-    return;
-  }
-  const auto vec = [](const Eigen::Vector3d& v) {
-    char text[96];
-    std::snprintf(text, sizeof text, "%.6f,%.6f,%.6f", v.x(), v.y(), v.z());
-    return std::string(text);
-  };
+  const auto file = OpenDump("--dump-shapes", path);
+  if (!file) return;
+  std::FILE* out = file.get();
   const auto levels = [](const InverseCdf& q) {
     std::string text;
     for (int k = 0; k <= 32; ++k) text += "," + std::to_string(q.At(k / 32.0));
@@ -213,7 +215,7 @@ void DumpShapes(const std::string& path, const std::string& material, const std:
   };
   for (const MeasuredView& view : btf.views())
     for (size_t i = 0; i < view.lights.size(); ++i)
-      std::fprintf(out, "M,%s,%s,%s,%s%s\n", material.c_str(), seed.c_str(), vec(view.view).c_str(), vec(view.lights[i]).c_str(),
+      std::fprintf(out, "M,%s,%s,%s,%s%s\n", material.c_str(), seed.c_str(), Csv(view.view).c_str(), Csv(view.lights[i]).c_str(),
                    levels(view.statistics[i].pixels[0]).c_str());
   const Image top_light = btf.BaseTexture(Eigen::Vector3d::UnitZ());
   for (const PairScore& p : eval.pairs) {
@@ -223,12 +225,11 @@ void DumpShapes(const std::string& path, const std::string& material, const std:
     for (size_t i = 0; i < modulated.pixel_count(); ++i)
       for (int c = 0; c < 3; ++c) modulated.data()[3 * i + c] *= have[c] > 0 ? float(want[c] / have[c]) : 1.0f;
     const auto& w = p.wasserstein_pixels;
-    std::fprintf(out, "T,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g%s%s%s%s\n", material.c_str(), seed.c_str(), vec(p.view).c_str(),
-                 vec(p.light).c_str(), LightCoverageToString(p.coverage).c_str(), int(w[0] < w[1] && w[0] < w[2]), w[0], w[1], w[2],
+    std::fprintf(out, "T,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g%s%s%s%s\n", material.c_str(), seed.c_str(), Csv(p.view).c_str(),
+                 Csv(p.light).c_str(), LightCoverageToString(p.coverage).c_str(), int(w[0] < w[1] && w[0] < w[2]), w[0], w[1], w[2],
                  levels(brightness(t)).c_str(), levels(brightness(btf.Reconstruct(p.light, p.view))).c_str(),
                  levels(brightness(btf.BaseTexture(p.light))).c_str(), levels(brightness(modulated)).c_str());
   }
-  std::fclose(out);
 }
 
 int Run(int argc, char** argv) {
