@@ -16,6 +16,7 @@
 //                               [--top-view-prior 0|1] [--far-light-falloff DEG] [--details 1]
 //                               [--list-lights 1] [--guided START]
 //                               [--predict-shadows 0|1] [--objective spread|near] [--spread-cap DEG]
+//                               [--board-weights 0|1]
 //                               [--cosine 0|1] [--fit-light-falloff 0|1] [--change-from-top 0|1]
 //                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
 //                               [--white-specular 0|1] [--mean-model 0|1] [--mean-onset DEG]
@@ -104,7 +105,7 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
 // With `predict_shadows`, the guidance knows which positions shadow which board (as `mesocap
 // capture --guide` predicts them from the calibrated rig).
 std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total, bool predict_shadows,
-                                     CoverageObjective objective, double spread_cap_deg) {
+                                     CoverageObjective objective, double spread_cap_deg, bool board_weights) {
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
@@ -116,6 +117,7 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     options.suggestions = 1;
     options.objective = objective;
     options.spread_cap_deg = spread_cap_deg;
+    options.weigh_boards_by_use = board_weights;
     options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
     LitFn lit;
     if (predict_shadows)
@@ -251,6 +253,7 @@ int Run(int argc, char** argv) {
   bool predict_shadows = true;
   CoverageObjective objective = CoverageObjective::kSpread;
   double spread_cap_deg = CoverageOptions().spread_cap_deg;
+  bool board_weights = CoverageOptions().weigh_boards_by_use;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "--shots") shots = Split(value);
@@ -278,6 +281,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--max-view-extrapolation") max_view_extrapolation = std::stod(value);
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
+    else if (flag == "--board-weights") board_weights = value == "1";
     else if (flag == "--objective") objective = value == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
     else {
       std::fprintf(stderr, "unknown option %s\n", flag.c_str());
@@ -317,7 +321,7 @@ int Run(int argc, char** argv) {
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
-            Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg);
+            Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg, board_weights);
         const std::vector<BoardInputs> measured = MeasuredLights(*scene, renderer, flashes);
         for (const BoardInputs& board : measured) {
           if (list_lights) {

@@ -6,6 +6,7 @@
 #include "core/directions.h"
 #include "core/median.h"
 #include "core/text_format.h"
+#include "reconstruct/direction_interpolation.h"
 #include "reconstruct/statistical_btf.h"
 
 namespace mesocap {
@@ -62,6 +63,22 @@ std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardL
   return Format("%s, %s (%.0f deg above the target's plane)", kSectors[sector], height, elevation);
 }
 
+std::vector<double> BoardWeights(const std::vector<BoardLights>& boards) {
+  std::vector<double> weights(boards.size(), 1.0);
+  std::vector<Eigen::Vector3d> views;
+  for (const BoardLights& b : boards) views.push_back((-b.R.transpose() * b.t).normalized());
+  const StatisticalBtfOptions reconstruction;  // its view rings
+  auto rings = ViewInterpolator::Create(views, reconstruction.ring_gap_deg, reconstruction.max_view_extrapolation);
+  if (!rings.ok()) return weights;
+  std::fill(weights.begin(), weights.end(), 0.0);
+  double total = 0;
+  for (const Eigen::Vector3d& view : BonnDirections())
+    for (const WeightedIndex& w : rings->Weights(view)) weights[size_t(w.index)] += std::abs(w.weight), total += std::abs(w.weight);
+  if (!(total > 0)) return std::vector<double>(boards.size(), 1.0);
+  for (double& w : weights) w *= double(boards.size()) / total;
+  return weights;
+}
+
 CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, const CoverageOptions& options,
                               const LitFn& lit) {
   CoverageReport report;
@@ -115,6 +132,8 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
   for (int b = 0; spread && b < int(boards.size()); ++b)
     for (int k = 0; k < int(targets.size()); ++k)
       for (const Eigen::Vector3d& light : boards[b].lights) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
+  const std::vector<double> board_weight =
+      options.weigh_boards_by_use ? BoardWeights(boards) : std::vector<double>(boards.size(), 1.0);
   const auto gain_of = [&](size_t c) {
     double gain = 0;
     if (!spread) {
@@ -122,7 +141,8 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
       return gain;
     }
     for (const GivenLight& g : gives[c])
-      for (int k = 0; k < int(targets.size()); ++k) gain += std::max(0.0, nearest[g.board][k] - g.target_angles_deg[k]);
+      for (int k = 0; k < int(targets.size()); ++k)
+        gain += board_weight[size_t(g.board)] * std::max(0.0, nearest[g.board][k] - g.target_angles_deg[k]);
     return gain;
   };
   for (int n = 0; n < options.suggestions; ++n) {

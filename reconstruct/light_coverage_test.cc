@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/directions.h"
+#include "reconstruct/btf_evaluation.h"
 #include "reconstruct/statistical_btf.h"
 
 namespace mesocap {
@@ -90,6 +91,31 @@ TEST(LightCoverage, WordsSayWhereTheFlashGoesAsSeenFromTheCamera) {
   const std::string top_high = FlashPositionWords(Eigen::Vector3d(0, -0.2, 0.1), top);
   EXPECT_NE(top_high.find("toward the top of the picture"), std::string::npos) << top_high;
   EXPECT_NE(top_high.find("high"), std::string::npos) << top_high;
+}
+
+// The rig's 13 boards (top, 4 at 30 deg, 8 at 60 deg; reconstruct/btf_evaluation.h): the 81 Bonn
+// views interpolate their rings by incidence, 0 and 15 deg from the top and the 30 deg ring (15 at
+// weight 1/2 each), 30 from the 30 deg ring, 45 and 60 between the outer rings, 75 extrapolated
+// (weights -1/2 and 3/2). Summed over the Bonn views' incidences (1, 6, 12, 18, 20, 24 views):
+// the top 1 + 3 = 4, the 30 deg ring 3 + 12 + 9 + 12 = 36, the 60 deg ring 9 + 20 + 36 = 65.
+TEST(LightCoverage, BoardWeightsAreWhatTheHeldOutViewsBorrowFromEachBoard) {
+  std::vector<BoardLights> boards;
+  for (const Eigen::Vector3d& view : RigViewDirections()) {
+    BoardLights b;
+    b.t = -view;  // the camera 1 m along the board's view direction
+    boards.push_back(b);
+  }
+  const std::vector<double> weights = BoardWeights(boards);
+  ASSERT_EQ(weights.size(), 13u);
+  const double scale = 13.0 / (4 + 36 + 65);
+  EXPECT_NEAR(weights[0], 4 * scale, 1e-9);
+  double ring30 = 0, ring60 = 0;
+  for (int b = 1; b <= 4; ++b) ring30 += weights[size_t(b)];
+  for (int b = 5; b <= 12; ++b) ring60 += weights[size_t(b)];
+  EXPECT_NEAR(ring30, 36 * scale, 1e-9);
+  EXPECT_NEAR(ring60, 65 * scale, 1e-9);
+  // One board: every view borrows from it alone.
+  EXPECT_EQ(BoardWeights({boards[5]}), std::vector<double>{1.0});
 }
 
 TEST(LightCoverage, NoBoardsGiveAnEmptyReport) {
