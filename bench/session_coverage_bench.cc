@@ -35,6 +35,7 @@
 // quantile functions, with the two baselines' (to study the distribution's shape beyond its mean).
 // With --true-mean 1 (a diagnostic): each reconstruction is scaled per channel to the truth's mean
 // before it is scored, so the figures tell how much a known mean radiance would win.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -219,18 +220,15 @@ void DumpShapes(const std::string& path, const std::string& material, const std:
     for (size_t i = 0; i < view.lights.size(); ++i)
       std::fprintf(out, "M,%s,%s,%s,%s%s\n", material.c_str(), seed.c_str(), Csv(view.view).c_str(), Csv(view.lights[i]).c_str(),
                    levels(view.statistics[i].pixels[0]).c_str());
-  const Image top_light = btf.BaseTexture(Eigen::Vector3d::UnitZ());
   for (const PairScore& p : eval.pairs) {
     const Image t = truth(p.light, p.view);
-    Image modulated = top_light;
-    const Eigen::Vector3d want = MeanRgb(t), have = MeanRgb(top_light);
-    for (size_t i = 0; i < modulated.pixel_count(); ++i)
-      for (int c = 0; c < 3; ++c) modulated.data()[3 * i + c] *= have[c] > 0 ? float(want[c] / have[c]) : 1.0f;
+    const std::array<Image, kBtfMethods> methods = ReconstructAllMethods(btf, p.light, p.view, t);
+    std::string quantiles = levels(brightness(t));
+    for (const Image& method : methods) quantiles += levels(brightness(method));
     const auto& w = p.wasserstein_pixels;
-    std::fprintf(out, "T,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g%s%s%s%s\n", material.c_str(), seed.c_str(), Csv(p.view).c_str(),
+    std::fprintf(out, "T,%s,%s,%s,%s,%s,%d,%.6g,%.6g,%.6g%s\n", material.c_str(), seed.c_str(), Csv(p.view).c_str(),
                  Csv(p.light).c_str(), LightCoverageToString(p.coverage).c_str(), int(w[0] < w[1] && w[0] < w[2]), w[0], w[1], w[2],
-                 levels(brightness(t)).c_str(), levels(brightness(btf.Reconstruct(p.light, p.view))).c_str(),
-                 levels(brightness(btf.BaseTexture(p.light))).c_str(), levels(brightness(modulated)).c_str());
+                 quantiles.c_str());
   }
 }
 
