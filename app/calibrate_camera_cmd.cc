@@ -1,10 +1,8 @@
 // mesocap calibrate-camera: camera intrinsics from any folder of checkerboard photos.
 // Writes camera.json (CameraModel::ToJson keys width, height, K, dist, plus "report", the
 // per-image solver inputs under "images", and "provenance") and a residual plot PNG beside it.
-//
-// To wire in: declare `Command CalibrateCameraCommand();` in app/commands.h, add it to
-// AllCommands() in app/commands.cc, and add calibrate_camera_cmd.cc and mesocap_calib to the
-// mesocap target in app/CMakeLists.txt.
+#include "app/calibrate_camera_args.h"
+
 #include <cstdio>
 #include <memory>
 
@@ -19,18 +17,6 @@
 namespace mesocap::app {
 namespace {
 
-struct CalibrateCameraArgs {
-  IntrinsicsOptions options;
-  std::filesystem::path images_dir;
-  std::string board;  // "COLSxROWS", inner corners
-  std::filesystem::path out;
-  std::filesystem::path plot;  // empty: beside --out, named <stem>_residuals.png
-  std::string loss = "huber";
-  std::string refinement = "subpix";
-  bool no_plot = false;
-  bool no_progress = false;
-};
-
 // "9x6" -> cols 9, rows 6; false unless the whole text is two positive integers around an 'x'.
 bool ParseBoard(const std::string& text, int* cols, int* rows) {
   int c = 0, r = 0, used = 0;
@@ -41,7 +27,9 @@ bool ParseBoard(const std::string& text, int* cols, int* rows) {
   return true;
 }
 
-int Run(CalibrateCameraArgs& a) {
+}  // namespace
+
+int RunCalibrateCamera(CalibrateCameraArgs& a) {
   const char* verb = "calibrate-camera";
   IntrinsicsOptions& o = a.options;
   if (!ParseBoard(a.board, &o.cols, &o.rows))
@@ -92,48 +80,4 @@ int Run(CalibrateCameraArgs& a) {
   std::printf("%s\n-> %s\n", result->Brief().c_str(), written.c_str());
   return kExitOk;  // rejected images are listed; the exit code stays 0
 }
-
-}  // namespace
-
-Command CalibrateCameraCommand() {
-  auto args = std::make_shared<CalibrateCameraArgs>();
-  Command c;
-  c.name = "calibrate-camera";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("calibrate-camera",
-                                       "Camera intrinsics (K and 5 distortion coefficients) from a folder of "
-                                       "checkerboard photos");
-    IntrinsicsOptions& o = args->options;
-    sub->add_option("--images", args->images_dir, "Folder of checkerboard photos (not searched recursively)")
-        ->required();
-    sub->add_option("--board", args->board, "Inner corners COLSxROWS, e.g. 9x6 (OpenCV's patternSize)")->required();
-    sub->add_option("--square", o.square_m, "Side of one square, metres")->required();
-    sub->add_option("--out", args->out, "Output camera.json")->required();
-    sub->add_option("--plot", args->plot, "Residual plot PNG (default: beside --out, <name>_residuals.png)");
-    sub->add_flag("--no-plot", args->no_plot, "Do not write the residual plot");
-    sub->add_option("--refinement", args->refinement,
-                    "Corner refinement: subpix (fast, default) or sb-accuracy (findChessboardCornersSB "
-                    "CALIB_CB_ACCURACY, slow)")
-        ->capture_default_str();
-    sub->add_option("--loss", args->loss, "Robust loss: huber, cauchy or none")->capture_default_str();
-    sub->add_option("--loss-scale", o.loss_scale_px, "Robust loss scale, pixels")->capture_default_str();
-    sub->add_option("--outlier-factor", o.outlier_rms_factor,
-                    "Reject an image whose RMS exceeds this many times the median image RMS")
-        ->capture_default_str();
-    sub->add_option("--outlier-floor", o.outlier_min_rms_px, "...and exceeds this RMS, pixels")
-        ->capture_default_str();
-    sub->add_option("--max-edge-rise", o.max_edge_rise_px,
-                    "Reject a board whose edges rise over more pixels than this (blur); 0: off")
-        ->capture_default_str();
-    sub->add_option("--blur-factor", o.blur_median_factor,
-                    "...and more than this many times the median of the images")
-        ->capture_default_str();
-    sub->add_option("--min-images", o.min_images, "Fewest usable images to calibrate from")->capture_default_str();
-    sub->add_option("--threads", o.num_threads, "Threads (-1: all cores)")->capture_default_str();
-    sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

@@ -1,12 +1,12 @@
-// The table of subcommands (COLMAP's exe/colmap.cc): each entry adds its CLI11 subcommand and
-// options, then runs when chosen. Exit codes are shared so scripts can trust them.
+// Every subcommand in two halves (COLMAP's exe/colmap.cc table, split for start-up): its
+// options, declared in app/<verb>_args.h and parsed by the front executable (app/main.cc), and
+// its run, in app/<verb>_cmd.cc, inside the commands module (libmesocap_commands.so) that the
+// front loads only once a command is chosen. So `mesocap --help` and `--version` map none of
+// OpenCV, Ceres or libgphoto2 (issue 14). Exit codes are shared so scripts can trust them.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
-#include <functional>
+#include <cstddef>
 #include <string>
-#include <vector>
 
 #include "core/image_io.h"
 
@@ -20,16 +20,8 @@ inline constexpr int kExitUsage = 2;
 inline constexpr int kExitCancelled = 3;
 inline constexpr int kExitInternal = 70;
 
-struct Command {
-  std::string name;
-  std::function<void(CLI::App&)> setup;
-  std::function<int()> run;
-};
-
 // Prints "mesocap <verb>: <message>" on stderr and returns `code`.
 int Fail(const std::string& verb, const std::string& message, int code = kExitFailure);
-
-std::vector<Command> AllCommands();
 
 // Options before the subcommand.
 struct GlobalOptions {
@@ -37,28 +29,18 @@ struct GlobalOptions {
   double max_megapixels = double(kDefaultMaxImagePixels) / 1e6;
 };
 
-// The whole command line: program name, version flag, global options and every subcommand's
-// options.
-void DefineCommandLine(CLI::App& app, GlobalOptions& globals, std::vector<Command>& commands);
+// X(Verb) for every subcommand: app/<verb>_args.h declares Verb##Args, Add##Verb##Options and
+// Run##Verb. The front defines the options of each, the module runs the chosen one by its name.
+#define MESOCAP_FOR_EACH_COMMAND(X)                                                                            \
+  X(Simulate) X(Demo) X(Import) X(Capture) X(Cameras) X(Calibrate) X(CalibrateCamera) X(FitPtm) X(Relight) \
+  X(Reconstruct) X(Evaluate) X(Lights) X(Synth) X(SynthApply) X(Paint) X(Process) X(Export) X(Coverage)
 
-// One factory per <verb>_cmd.cc.
-Command SimulateCommand();
-Command DemoCommand();
-Command ImportCommand();
-Command CaptureCommand();
-Command CamerasCommand();
-Command CalibrateCameraCommand();
-Command CalibrateCommand();
-Command FitPtmCommand();
-Command RelightCommand();
-Command ReconstructCommand();
-Command EvaluateCommand();
-Command LightsCommand();
-Command SynthCommand();
-Command SynthApplyCommand();
-Command PaintCommand();
-Command ProcessCommand();
-Command ExportCommand();
-Command CoverageCommand();
+// The commands module's one entry point: runs the command `verb` ("FitPtm") on `args`, the
+// Verb##Args the front parsed (`args_size` its size, a check that both halves come from one
+// build), after setting up what every command shares from `globals` and the command line.
+using RunCommandFn = int (*)(const char* verb, void* args, size_t args_size, const GlobalOptions* globals, int argc,
+                             char** argv);
+inline constexpr const char* kRunCommandSymbol = "MesocapRunCommand";
+inline constexpr const char* kCommandsModuleName = "libmesocap_commands.so";
 
 }  // namespace mesocap::app

@@ -2,6 +2,8 @@
 // Per board, the light directions measured so far on its hemisphere, a score against what the
 // statistical BTF needs, and the next flash positions that would add most, in the camera's
 // frame and in words for whoever holds the flash.
+#include "app/coverage_args.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -21,12 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CoverageArgs {
-  fs::path session, out, layout_file;
-  std::string objective = "spread";
-  CoverageOptions options;
-};
-
 // Each posed board's lights: the resampled slices' (which leave out shadowed pairs) when the
 // session has them, else every calibrated flash above the board's horizon that `lit` allows.
 std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibration, const std::vector<Eigen::Vector3d>& flashes,
@@ -44,7 +40,9 @@ std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibratio
   return boards;
 }
 
-int Run(CoverageArgs a) {
+}  // namespace
+
+int RunCoverage(CoverageArgs a) {
   const std::string verb = "coverage";
   a.options.objective = a.objective == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
   if (a.options.near_deg <= 0 || a.options.near_deg > 90 || a.options.suggestions < 0 || a.options.suggestions > 100)
@@ -84,34 +82,4 @@ int Run(CoverageArgs a) {
               out.string().c_str());
   return kExitOk;
 }
-
-}  // namespace
-
-Command CoverageCommand() {
-  auto args = std::make_shared<CoverageArgs>();
-  Command c;
-  c.name = "coverage";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand(
-        "coverage",
-        "Capture guidance: per board, the light directions measured so far, a score against what the BTF "
-        "reconstruction needs, and the next flash positions that would add most (SESSION/coverage/)");
-    sub->add_option("session", args->session, "Calibrated session folder (reads calibration/rig.json, and slices/index.json when present)")
-        ->required();
-    sub->add_option("--out", args->out, "Output folder (default SESSION/coverage; replaced on a re-run)");
-    sub->add_option("--layout", args->layout_file,
-                    "Rig layout (default SESSION/rig_layout.json): predicts which flash positions shadow which board");
-    sub->add_option("--near-deg", args->options.near_deg, "A target light within this of a measured one is covered")
-        ->capture_default_str();
-    sub->add_option("--suggest", args->options.suggestions, "How many next flash positions to list")->capture_default_str();
-    sub->add_option("--objective", args->objective,
-                    "How the next positions are chosen: spread (where the measured lights are sparsest) or near (most "
-                    "targets brought within --near-deg)")
-        ->check(CLI::IsMember({"spread", "near"}))
-        ->capture_default_str();
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

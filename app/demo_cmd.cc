@@ -1,5 +1,7 @@
 // mesocap demo: the virtual rig through every stage that works so far, results and a report in
 // one folder. Each stage adds itself here, so the README's first command shows everything.
+#include "app/demo_args.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,12 +28,6 @@ namespace mesocap::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct DemoArgs {
-  SimulateOptions simulate;
-  fs::path out = "mesocap-demo";
-  bool no_progress = false;
-};
 
 // The photo at no less than `width` pixels across: a JPEG decoded at 1/2 to 1/8 of its size by
 // libjpeg's scaled inverse DCT (a 6 MP shot in a few ms), anything else read whole.
@@ -171,6 +167,8 @@ Status AddSliceScores(const fs::path& out, const fs::path& session_dir, const Ri
   return Status::Ok();
 }
 
+}  // namespace
+
 int RunDemo(DemoArgs& a) {
   if (!IsMissingOrEmptyDir(a.out))
     return Fail("demo", a.out.string() + ": exists and is not empty; choose a new folder", kExitUsage);
@@ -295,26 +293,4 @@ int RunDemo(DemoArgs& a) {
   std::printf("demo: finished in %.0f s -> %s\n", clock.TotalSeconds(), (a.out / "report.html").string().c_str());
   return kExitOk;
 }
-
-}  // namespace
-
-Command DemoCommand() {
-  auto args = std::make_shared<DemoArgs>();
-  args->simulate.rig.shots = 24;
-  Command c;
-  c.name = "demo";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("demo", "Run the virtual rig through every working stage; results and a report in one folder");
-    sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->capture_default_str();
-    sub->add_option("--material", args->simulate.rig.material, "Material of the virtual sample")->capture_default_str();
-    sub->add_option("--shots", args->simulate.rig.shots, "Flash shots")->capture_default_str();
-    sub->add_option("--seed", args->simulate.rig.seed, "Random seed")->capture_default_str();
-    sub->add_option("--width", args->simulate.rig.width, "Image width")->capture_default_str();
-    sub->add_option("--height", args->simulate.rig.height, "Image height")->capture_default_str();
-    sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");
-  };
-  c.run = [args]() { return RunDemo(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

@@ -3,6 +3,8 @@
 // calibrated slices: the lights a hand-held flash gave each board), reconstructs the held-out
 // pairs of the Bonn 81 x 81 grid, and scores them against truth next to the two baselines.
 // Writes evaluation.json (every pair), evaluation.csv, a picture sheet and report.md/html.
+#include "app/evaluate_args.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -27,20 +29,6 @@
 
 namespace mesocap::app {
 namespace {
-
-struct EvaluateArgs {
-  std::string material = "weave";
-  std::filesystem::path session;  // a virtual session's calibrated slices instead of the rig's 13 x 81
-  std::filesystem::path out;
-  int size = 128;
-  int pairs = -1;
-  int samples_per_axis = 2;
-  bool pixel_only = false;
-  double max_view_extrapolation = 1e9;
-  BtfMethodArgs method;
-  int threads = -1;
-  bool no_progress = false;
-};
 
 // Truth / statistical / top view / BRDF-modulated for a few held-out pairs, each row exposed
 // by its truth so the methods compare at one brightness.
@@ -126,7 +114,9 @@ std::string MeanModelSentence(const StatisticalBtf& btf) {
                 100 * std::expm1(check.top_view_error));
 }
 
-int Run(const EvaluateArgs& a) {
+}  // namespace
+
+int RunEvaluate(const EvaluateArgs& a) {
   std::optional<RigScene> scene;
   if (!a.session.empty()) {
     auto truth = SessionTruth(a.session);
@@ -233,36 +223,4 @@ int Run(const EvaluateArgs& a) {
   std::printf("%s\n", eval->Brief().c_str());
   return kExitOk;
 }
-
-}  // namespace
-
-Command EvaluateCommand() {
-  auto args = std::make_shared<EvaluateArgs>();
-  Command c;
-  c.name = "evaluate";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand(
-        "evaluate", "Score the statistical BTF reconstruction against a virtual material's true BTF (paper's validation)");
-    CLI::Option* material = sub->add_option("--material", args->material, "Virtual material")->capture_default_str();
-    sub->add_option("--session", args->session,
-                    "A virtual session (mesocap simulate, then calibrate): reconstruct from its calibrated slices "
-                    "(SESSION/slices) and score against its material's true BTF")
-        ->excludes(material);
-    sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
-    sub->add_option("--size", args->size, "Texels per side of every slice (power of two)")->capture_default_str();
-    sub->add_option("--pairs", args->pairs, "Score this many held-out pairs, evenly spread (-1: all)")->capture_default_str();
-    sub->add_option("--samples-per-axis", args->samples_per_axis, "True slices: samples per texel axis (area average)")
-        ->capture_default_str();
-    sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands), for comparison");
-    sub->add_option("--max-view-extrapolation", args->max_view_extrapolation,
-                    "Extrapolate view statistics at most this many ring spacings beyond the outer ring")
-        ->capture_default_str();
-    args->method.AddTo(sub);
-    sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
-    sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

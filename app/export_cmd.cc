@@ -1,5 +1,7 @@
 // mesocap export SESSION --format ptm|lp|exr: a processed session's results in the forms other
 // tools open (app/session_export.h), into --out (default SESSION/export).
+#include "app/export_args.h"
+
 #include <cstdio>
 #include <memory>
 
@@ -12,13 +14,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ExportArgs {
-  fs::path session, out;
-  std::vector<std::string> formats;
-  ExportOptions options;
-};
+}  // namespace
 
-int Run(const ExportArgs& a) {
+int RunExport(const ExportArgs& a) {
   std::vector<ExportFormat> formats;
   for (const std::string& name : a.formats) {
     ExportFormat f;
@@ -34,24 +32,4 @@ int Run(const ExportArgs& a) {
   }
   return kExitOk;
 }
-
-}  // namespace
-
-Command ExportCommand() {
-  auto args = std::make_shared<ExportArgs>();
-  Command c;
-  c.name = "export";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("export", "Write a processed session's material as .ptm, .lp + images, an OpenEXR BTF or a glTF PBR material");
-    sub->add_option("session", args->session, "Session folder (after `mesocap process`)")->required();
-    sub->add_option("--format", args->formats, "ptm (top board's PTM), lp (RTI light file + PNGs), exr (BTF folder), gltf (PBR material fitted to the BTF); repeatable")
-        ->required();
-    sub->add_flag("--multipart", args->options.exr_multipart,
-                  "exr: also btf.exr, every slice as a part of one multi-part OpenEXR (named by the slice, with its directions)");
-    sub->add_option("--out", args->out, "Output folder (default SESSION/export); each format's item is replaced whole");
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

@@ -1,5 +1,7 @@
 // mesocap fit-ptm: fit a polynomial texture map (reconstruct/ptm.h) to an RTI capture given as a
 // .lp light file and its photos, and write it as HP's .ptm (export/ptm_file.h) plus a JSON report.
+#include "app/fit_ptm_args.h"
+
 #include <sys/resource.h>
 
 #include <array>
@@ -34,17 +36,6 @@ namespace mesocap::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct FitPtmArgs {
-  std::string lp;
-  std::string out;
-  std::string format = "lrgb";
-  std::string normals;
-  std::string albedo;
-  bool linearize = false;
-  int threads = -1;
-  bool no_progress = false;
-};
 
 // CPU seconds of the whole process (all threads, user + sys): on a shared machine a steadier
 // measure of the work than wall time.
@@ -305,7 +296,9 @@ StatusOr<Ptm> FitWholePhotos(const std::vector<LpEntry>& entries, const std::vec
   return eight_bit ? FitPtm(images_u8, lights, fit, report) : FitPtm(images, lights, fit, report);
 }
 
-int Run(const FitPtmArgs& args) {
+}  // namespace
+
+int RunFitPtm(const FitPtmArgs& args) {
   const std::string verb = "fit-ptm";
   PtmFitOptions fit;
   if (!StringToPtmFormat(args.format, &fit.format))
@@ -423,31 +416,4 @@ int Run(const FitPtmArgs& args) {
               report.num_lights, report.rms_residual, decode_seconds, fit_seconds, write_seconds, total_seconds);
   return kExitOk;
 }
-
-}  // namespace
-
-Command FitPtmCommand() {
-  auto args = std::make_shared<FitPtmArgs>();
-  Command c;
-  c.name = "fit-ptm";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand(
-        "fit-ptm", "Fit a polynomial texture map to an RTI capture (.lp light file + photos); writes .ptm and .json");
-    sub->add_option("--lp", args->lp, "RTI light-position file (first line: count; then 'image x y z')")
-        ->required();
-    sub->add_option("--out", args->out, "Output .ptm (PTM_1.2); the report goes beside it as .json")->required();
-    sub->add_option("--format", args->format, "lrgb: luminance polynomial times colour; rgb: one polynomial per channel")
-        ->capture_default_str();
-    sub->add_option("--normals", args->normals, "Also write surface normals (n+1)/2 to this image (16-bit PNG/TIFF)");
-    sub->add_option("--albedo", args->albedo, "Also write the albedo estimate to this image (16-bit PNG/TIFF)");
-    sub->add_flag("--linearize", args->linearize,
-                  "Decode 8-bit photos from sRGB to linear before fitting (default: fit the stored values, as RTI "
-                  "tools and viewers expect)");
-    sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
-    sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

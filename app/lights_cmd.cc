@@ -1,5 +1,7 @@
 // mesocap lights: light directions from one reflective sphere in a folder of RTI photos
 // (calib/sphere_lights.h), written as a .lp file with a JSON report beside it.
+#include "app/lights_args.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -22,14 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct LightsArgs {
-  std::string images;
-  std::string sphere_mask;
-  std::string sphere;  // x,y,r
-  std::string out;     // default IMAGES/lights.lp
-  SphereLightsOptions options;
-};
-
 bool ParseCircle(const std::string& text, SphereCircle* circle) {
   std::string s = text;
   std::replace(s.begin(), s.end(), ',', ' ');
@@ -41,7 +35,9 @@ bool ParseCircle(const std::string& text, SphereCircle* circle) {
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(r) && r > 2;
 }
 
-int Run(const LightsArgs& a) {
+}  // namespace
+
+int RunLights(const LightsArgs& a) {
   const std::string verb = "lights";
   if (a.sphere_mask.empty() == a.sphere.empty()) return Fail(verb, "give exactly one of --sphere-mask and --sphere", kExitUsage);
   if (std::string why = a.options.Check(); !why.empty()) return Fail(verb, why, kExitUsage);
@@ -128,31 +124,4 @@ int Run(const LightsArgs& a) {
               out.string().c_str(), report_path.string().c_str());
   return kExitOk;
 }
-
-}  // namespace
-
-Command LightsCommand() {
-  auto args = std::make_shared<LightsArgs>();
-  Command c;
-  c.name = "lights";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand(
-        "lights",
-        "Light directions from a reflective sphere in a folder of RTI photos (camera and sphere fixed, the light "
-        "moves): the mirror highlight on the sphere in each photo gives its light. Writes a .lp file and a JSON "
-        "report of every photo (skipped ones with the reason)");
-    sub->add_option("--images", args->images, "Folder of photos (.jpg, .png, .tif, .exr)")->required();
-    sub->add_option("--sphere-mask", args->sphere_mask, "Image of the sphere's mask, white = sphere, same size as the photos");
-    sub->add_option("--sphere", args->sphere, "The sphere's circle instead of a mask: x,y,r in pixels (write --sphere=x,y,r)");
-    sub->add_option("--out", args->out, "Light file (.lp); default IMAGES/lights.lp. The report goes beside it (.json)");
-    sub->add_option("--saturation", args->options.saturation, "Linear value from which a pixel counts as clipped")
-        ->capture_default_str();
-    sub->add_option("--max-highlight-radius", args->options.max_blob_radius,
-                    "Largest highlight, as a fraction of the sphere's radius")
-        ->capture_default_str();
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

@@ -1,27 +1,38 @@
-// mesocap: one subcommand per stage.
-// Each <verb>_cmd.cc registers its options and runs one library entry point; this file only
-// dispatches and turns failures into exit codes.
+// mesocap: one subcommand per stage. This front only parses the command line (app/commands.h):
+// the chosen command runs in the commands module, loaded here, so that asking for help or the
+// version maps none of the libraries the commands need (issue 14).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
-#include <exception>
+#include <vector>
 
+#include "app/command_line.h"
 #include "app/commands.h"
-#include "core/image_io.h"
-#include "core/logging.h"
-#include "core/pixel_memory.h"
-#include "core/provenance.h"
+#include "core/module_loader.h"
+
+namespace {
+
+int RunInModule(const mesocap::app::CommandOptions& command, const mesocap::app::GlobalOptions& globals, int argc,
+                char** argv) {
+  using namespace mesocap::app;
+  auto run = mesocap::LoadModuleSymbol(kCommandsModuleName, MESOCAP_COMMANDS_BUILD_PATH, kRunCommandSymbol);
+  if (!run.ok()) {
+    std::fprintf(stderr, "mesocap: %s\n", run.status().message().c_str());
+    return kExitInternal;
+  }
+  return reinterpret_cast<RunCommandFn>(*run)(command.verb, command.args.get(), command.args_size, &globals, argc, argv);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  mesocap::KeepLargeLibraryBuffersInHeap();
   // Results are printed line by line as stages finish; piped into a log or `tee`, stdout would
   // otherwise hold them all until exit.
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  mesocap::SetCommandLine(argc, argv);
   CLI::App app;
   mesocap::app::GlobalOptions globals;
-  std::vector<mesocap::app::Command> commands;
-  mesocap::app::DefineCommandLine(app, globals, commands);
+  std::vector<mesocap::app::CommandOptions> commands;
+  mesocap::app::DefineCommandLine(app, &globals, &commands);
 
   try {
     app.parse(argc, argv);
@@ -36,14 +47,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mesocap: %s (see --help)\n", e.what());
     return mesocap::app::kExitUsage;
   }
-  mesocap::InitLogging(globals.verbosity);
-  mesocap::SetMaxImagePixels(int64_t(globals.max_megapixels * 1e6));
-  try {
-    for (auto& command : commands)
-      if (app.got_subcommand(command.name)) return command.run();
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "mesocap: internal error: %s\n", e.what());
-    return mesocap::app::kExitInternal;
-  }
+  for (const auto& command : commands)
+    if (command.subcommand->parsed()) return RunInModule(command, globals, argc, argv);
   return mesocap::app::kExitUsage;
 }

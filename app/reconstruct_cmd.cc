@@ -1,6 +1,8 @@
 // mesocap reconstruct: the full BTF from a session's measured slices (Ngan & Durand 2006).
 // Reads SESSION/slices/index.json (or --slices INDEX), reconstructs the requested direction
 // pairs (default: the Bonn 81 x 81 grid) and writes one OpenEXR slice per pair plus an index.
+#include "app/reconstruct_args.h"
+
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -25,16 +27,6 @@
 
 namespace mesocap::app {
 namespace {
-
-struct ReconstructArgs {
-  std::filesystem::path session, index, out;
-  SliceSetOptions options;
-  std::vector<std::string> pairs;  // "theta_i,phi_i,theta_o,phi_o"
-  std::string grid = "bonn";
-  bool pixel_only = false;
-  BtfMethodArgs method;
-  bool no_progress = false;
-};
 
 // "theta_i,phi_i,theta_o,phi_o": exactly four numbers separated by commas, nothing else; theta in
 // [0, 90), phi normalised into [0, 360). An empty string means the text was valid.
@@ -63,7 +55,7 @@ std::string ParsePair(const std::string& text, std::array<double, 4>* pair) {
   return "";
 }
 
-int Run(ReconstructArgs& a) {
+int ReconstructToFolder(ReconstructArgs& a) {
   const std::filesystem::path index = a.index.empty() ? a.session / "slices" / "index.json" : a.index;
   if (!std::filesystem::exists(index))
     return Fail("reconstruct", index.string() + " not found: run `mesocap calibrate` first or pass --slices");
@@ -116,30 +108,9 @@ int Run(ReconstructArgs& a) {
 
 }  // namespace
 
-Command ReconstructCommand() {
-  auto args = std::make_shared<ReconstructArgs>();
-  Command c;
-  c.name = "reconstruct";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("reconstruct", "Reconstruct a full BTF from a session's measured slices (statistical, Ngan & Durand)");
-    sub->add_option("session", args->session, "Session folder (reads SESSION/slices/index.json)");
-    sub->add_option("--slices", args->index, "A slice index.json instead of the session's");
-    sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
-    sub->add_option("--pair", args->pairs, "theta_i,phi_i,theta_o,phi_o in degrees (repeatable; default: the Bonn 81x81 grid)");
-    sub->add_option("--grid", args->grid, "Without --pair: every light with every view of 'bonn' (81 directions, "
-                    "6561 slices) or 'coarse' (17 directions, 289 slices)")->capture_default_str();
-    sub->add_option("--size", args->options.size, "Resample slices to this many texels a side (power of two; 0 keeps theirs)")
-        ->capture_default_str();
-    sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands)");
-    args->method.AddTo(sub);
-    sub->add_option("--threads", args->options.btf.num_threads, "Threads (-1: all cores)")->capture_default_str();
-    sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
-  };
-  c.run = [args]() {
-    if (args->session.empty() && args->index.empty()) return Fail("reconstruct", "give a SESSION or --slices INDEX", kExitUsage);
-    return Run(*args);
-  };
-  return c;
+int RunReconstruct(ReconstructArgs& a) {
+  if (a.session.empty() && a.index.empty()) return Fail("reconstruct", "give a SESSION or --slices INDEX", kExitUsage);
+  return ReconstructToFolder(a);
 }
 
 }  // namespace mesocap::app

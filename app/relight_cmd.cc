@@ -1,4 +1,6 @@
 // mesocap relight: evaluate a .ptm (export/ptm_file.h) for one light direction and write the image.
+#include "app/relight_args.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,14 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RelightArgs {
-  std::string ptm;
-  std::string light;
-  std::string out;
-  int bits = 8;
-  int threads = -1;
-};
-
 bool ParseLight(const std::string& text, Eigen::Vector3d* light) {
   std::string s = text;
   for (char& ch : s)
@@ -37,7 +31,9 @@ bool ParseLight(const std::string& text, Eigen::Vector3d* light) {
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && light->norm() > 0 && z >= 0;
 }
 
-int Run(const RelightArgs& args) {
+}  // namespace
+
+int RunRelight(const RelightArgs& args) {
   const std::string verb = "relight";
   Eigen::Vector3d light;
   if (!ParseLight(args.light, &light))
@@ -71,31 +67,4 @@ int Run(const RelightArgs& args) {
               image.height(), d.x(), d.y(), d.z(), args.bits);
   return kExitOk;
 }
-
-}  // namespace
-
-Command RelightCommand() {
-  auto args = std::make_shared<RelightArgs>();
-  Command c;
-  c.name = "relight";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand(
-        "relight",
-        "Relight a .ptm for one light direction. The output holds the PTM's values as stored, "
-        "clamped to [0, 1] as RTI viewers show them: an 8-bit file's bytes are round(255 * value) "
-        "(no sRGB encoding is added; a PTM fitted from photos is already display-encoded), a 16-bit "
-        "file's samples round(65535 * value)");
-    sub->add_option("ptm", args->ptm, "PTM_1.2 file (LRGB or RGB)")->required();
-    sub->add_option("--light", args->light,
-                    "Light direction x,y,z in the surface frame (x right, y up the image, z toward the camera); "
-                    "write --light=-0.5,0,1 when x is negative")
-        ->required();
-    sub->add_option("--out", args->out, "Output image (.png, .tif, .jpg)")->required();
-    sub->add_option("--bits", args->bits, "Bits per sample of the output: 8 or 16 (PNG/TIFF)")->capture_default_str();
-    sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
-  };
-  c.run = [args]() { return Run(*args); };
-  return c;
-}
-
 }  // namespace mesocap::app

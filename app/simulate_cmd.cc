@@ -1,20 +1,16 @@
 // mesocap simulate: render a virtual capture session, or one true BTF slice (--true-btf).
+#include "app/simulate_args.h"
+
 #include <cstdio>
 
 #include "app/commands.h"
+#include "core/progress.h"
 #include "capture/btf_render.h"
 #include "capture/simulate.h"
 #include "core/image_io.h"
 
 namespace mesocap::app {
 namespace {
-
-struct SimulateArgs {
-  SimulateOptions session;
-  bool true_btf = false;
-  TrueBtfRequest btf;
-  bool no_progress = false;
-};
 
 int RunTrueBtf(const SimulateArgs& a) {
   auto material = Material::Create(a.session.rig.material);
@@ -42,45 +38,13 @@ int RunTrueBtf(const SimulateArgs& a) {
 
 }  // namespace
 
-Command SimulateCommand() {
-  auto args = std::make_shared<SimulateArgs>();
-  Command c;
-  c.name = "simulate";
-  c.setup = [args](CLI::App& app) {
-    CLI::App* sub = app.add_subcommand("simulate", "Render a virtual capture session with known ground truth");
-    SimulateOptions& o = args->session;
-    sub->add_option("--out", o.out, "Output session folder (must not exist or be empty); with --true-btf an .exr file")->required();
-    std::string names;
-    for (const auto& m : MaterialCatalog()) names += (names.empty() ? "" : ", ") + m.name;
-    sub->add_option("--material", o.rig.material, "Material: " + names)->capture_default_str();
-    sub->add_option("--shots", o.rig.shots, "Flash shots")->capture_default_str();
-    sub->add_option("--calib-shots", o.rig.calib_shots, "Checkerboard shots")->capture_default_str();
-    sub->add_option("--seed", o.rig.seed, "Random seed: same seed, same bytes")->capture_default_str();
-    sub->add_option("--width", o.rig.width, "Image width in pixels")->capture_default_str();
-    sub->add_option("--height", o.rig.height, "Image height in pixels")->capture_default_str();
-    sub->add_option("--format", o.image_format, "Shot files: jpg (8-bit sRGB), png (16-bit linear), exr (float linear)")
-        ->capture_default_str();
-    sub->add_option("--samples-per-axis", o.render.samples_per_axis, "Anti-aliasing samples per pixel axis")
-        ->capture_default_str();
-    sub->add_option("--threads", o.render.num_threads, "Threads (-1: all cores)")->capture_default_str();
-    sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
-    sub->add_flag("--true-btf", args->true_btf, "Render one true BTF slice of --material to --out (.exr)");
-    sub->add_option("--theta-i", args->btf.theta_i_deg, "True BTF: light zenith angle, degrees");
-    sub->add_option("--phi-i", args->btf.phi_i_deg, "True BTF: light azimuth, degrees");
-    sub->add_option("--theta-o", args->btf.theta_o_deg, "True BTF: view zenith angle, degrees");
-    sub->add_option("--phi-o", args->btf.phi_o_deg, "True BTF: view azimuth, degrees");
-    sub->add_option("--size", args->btf.size, "True BTF: texels per side")->capture_default_str();
-  };
-  c.run = [args]() {
-    if (args->true_btf) return RunTrueBtf(*args);
-    if (std::string why = args->session.Check(); !why.empty()) return Fail("simulate", why, kExitUsage);
-    ProgressBar bar("simulate", !args->no_progress);
-    auto report = SimulateSession(args->session, bar.AsCallback());
-    if (!report.ok()) return Fail("simulate", report.status().message());
-    std::printf("%s\n", report->Brief().c_str());
-    return kExitOk;
-  };
-  return c;
+int RunSimulate(SimulateArgs& a) {
+  if (a.true_btf) return RunTrueBtf(a);
+  if (std::string why = a.session.Check(); !why.empty()) return Fail("simulate", why, kExitUsage);
+  ProgressBar bar("simulate", !a.no_progress);
+  auto report = SimulateSession(a.session, bar.AsCallback());
+  if (!report.ok()) return Fail("simulate", report.status().message());
+  std::printf("%s\n", report->Brief().c_str());
+  return kExitOk;
 }
-
 }  // namespace mesocap::app

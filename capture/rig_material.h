@@ -9,17 +9,10 @@
 
 #include <Eigen/Core>
 
+#include "capture/material_catalog.h"
 #include "core/status.h"
 
 namespace mesocap {
-
-struct MaterialInfo {
-  std::string name;
-  std::string description;
-};
-
-// The materials `--material` accepts.
-const std::vector<MaterialInfo>& MaterialCatalog();
 
 class Material {
  public:

@@ -60,21 +60,6 @@ Eigen::Matrix3f DecorrelatingColourBasis(std::span<const Image> images) {
   return basis.cast<float>();
 }
 
-std::string ColourSpaceName(ColourSpace space) {
-  switch (space) {
-    case ColourSpace::kRgb: return "rgb";
-    case ColourSpace::kPrincipalAxes: return "pca";
-    case ColourSpace::kChromaticity: return "chromaticity";
-  }
-  return "unknown";
-}
-
-std::optional<ColourSpace> ParseColourSpace(const std::string& name) {
-  for (ColourSpace s : kColourSpaces)
-    if (ColourSpaceName(s) == name) return s;
-  return std::nullopt;
-}
-
 ColourChannels ColourChannels::For(ColourSpace space, std::span<const Image> top_slices) {
   ColourChannels c;
   c.space_ = space;

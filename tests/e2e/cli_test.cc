@@ -86,6 +86,22 @@ TEST(Cli, OpenImageIoIsLoadedOnlyByAnImageThatNeedsIt) {
   EXPECT_NE(png.find("libOpenImageIO"), std::string::npos);
 }
 
+// The front parses the command line alone (app/commands.h): help and version open none of the
+// libraries the commands need, and the commands module only once a command runs.
+TEST(Cli, HelpAndVersionLoadOnlyTheFront) {
+  for (const std::string args : {"--version", "--help", "process --help", "synth --help"}) {
+    const std::string loaded = LoadedLibraries(args);
+    ASSERT_NE(loaded.find("libc.so"), std::string::npos) << "LD_DEBUG gave no list: " << loaded;
+    for (const char* library : {"libmesocap_commands", "libopencv", "libceres", "libgphoto2", "libtbb", "libapriltag"})
+      EXPECT_EQ(loaded.find(library), std::string::npos) << args << " loads " << library;
+  }
+  const auto dir = testing::MakeTempDir();
+  const std::string run = LoadedLibraries("relight " + (dir / "missing.ptm").string() + " --out " +
+                                          (dir / "x.jpg").string() + " --light 0,0,1");
+  EXPECT_NE(run.find("libmesocap_commands"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "x.jpg"));
+}
+
 TEST(Cli, BadSimulateOptionsFailWithOneLine) {
   const auto dir = testing::MakeTempDir();
   std::string out;

@@ -1,0 +1,26 @@
+// mesocap process: the options, parsed by the front executable (app/main.cc), and the run
+// (app/process_cmd.cc), which the front reaches through the commands module once it is chosen.
+#pragma once
+
+#include <string>
+
+#include "app/process.h"
+
+namespace CLI {
+class App;
+}
+
+namespace mesocap::app {
+
+struct ProcessArgs {
+  ProcessOptions options;
+  std::string synth_size = "512x512";
+  bool no_brdf_smoothing = false;
+  std::string ptm_format = "rgb";
+  bool no_progress = false;
+};
+
+CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args);
+int RunProcess(ProcessArgs& a);
+
+}  // namespace mesocap::app

@@ -1,0 +1,94 @@
+#include "app/synth_args.h"
+
+#include <CLI/CLI.hpp>
+
+namespace mesocap::app {
+namespace {
+
+void AddCommonOptions(CLI::App* sub, SynthArgs& a, bool needs_size) {
+  sub->add_option("--input", a.input, "Exemplar: an image, a BTF folder or index.json, a session (its slices), or a .ptm")
+      ->required();
+  sub->add_option("--out", a.out, "Output folder (must not exist or be empty)")->required();
+  if (needs_size) sub->add_option("--size", a.size, "Output texels, WxH")->capture_default_str();
+  sub->add_option("--slices", a.slices, "BTF: slice indices to write, comma-separated, or all")->capture_default_str();
+  sub->add_option("--board", a.exemplar.board, "Session slices: the board to use (-1: the most head-on)")->capture_default_str();
+  sub->add_option("--threads", a.threads, "Threads (-1: all cores)")->capture_default_str();
+  sub->add_flag("--no-progress", a.no_progress, "Do not draw progress bars");
+}
+
+void AddQuiltOptions(CLI::App* sub, SynthArgs& a) {
+  sub->add_option("--seed", a.seed, "Random seed (same seed and threads, same map)")->capture_default_str();
+  sub->add_option("--patch-radius", a.quilt.patch_radius, "Work-window radius r_w (0: min(32, sample/4))")->capture_default_str();
+  sub->add_option("--rotations", a.quilt.rotations, "Rotated copies of the sample to match (Zhou: 72; 1: none)")->capture_default_str();
+  sub->add_option("--seam-threshold", a.quilt.seam_threshold, "T_c as a multiple of the sample's neighbour step")->capture_default_str();
+  sub->add_option("--randomness", a.quilt.randomness, "Kwatra's stochastic placement temperature (0: least cost)")->capture_default_str();
+  sub->add_option("--svd-components", a.exemplar.svd_components, "BTF: geometry maps kept from the SVD (Zhou: 40)")->capture_default_str();
+}
+
+void AddTextonOptions(CLI::App* sub, SynthArgs& a) {
+  sub->add_option("--k", a.texton.k, "texton: k of the k-coherence search (Tong: 11; 1 is Ashikhmin's method)")->capture_default_str();
+  sub->add_option("--neighbourhood", a.texton.neighbourhood, "texton: N, the N x N neighbourhood at a texel's level")
+      ->capture_default_str();
+  sub->add_option("--parent-neighbourhood", a.texton.parent_neighbourhood, "texton: P x P neighbourhood at the level above")
+      ->capture_default_str();
+  sub->add_option("--passes", a.texton.passes, "texton: resynthesis passes per level (Tong: 1)")->capture_default_str();
+  sub->add_option("--textons", a.texton_analysis.textons, "texton: n_t, textons at the finest level (a quarter per level above)")
+      ->capture_default_str();
+  sub->add_option("--representative-slices", a.texton_analysis.representative_slices,
+                  "texton: n_s, slices chosen by K-means whose filter responses are clustered")
+      ->capture_default_str();
+  sub->add_option("--levels", a.texton_analysis.levels, "texton: pyramid levels")->capture_default_str();
+  sub->add_option("--texton-dimensions", a.texton_analysis.dimensions,
+                  "texton: principal directions kept of the concatenated filter responses")
+      ->capture_default_str();
+  sub->add_option("--analysis", a.analysis, "texton: reuse a saved analysis (textons.exr of an earlier run on this exemplar)");
+  sub->add_option("--audit", a.texton.audit_fraction,
+                  "texton: share of queries also answered by the full search (reports how often both agree)")
+      ->capture_default_str();
+}
+
+}  // namespace
+
+CLI::App* AddSynthOptions(CLI::App& app, SynthArgs* args) {
+  CLI::App* sub = app.add_subcommand(
+      "synth", "Enlarge a material: a texture-coordinate map by the BTF roller, graphcut quilting, block synthesis (ptm-block) "
+               "or 3D textons with k-coherence search (texton)");
+  sub->add_option("--method", args->method, "roller, quilt, ptm-block or texton")->capture_default_str();
+  AddCommonOptions(sub, *args, true);
+  AddQuiltOptions(sub, *args);
+  sub->add_option("--tiles", args->roller.tiles, "Roller: tiles with identical borders")->capture_default_str();
+  sub->add_option("--block", args->block.block, "ptm-block: block side in texels (the paper: 30)")->capture_default_str();
+  sub->add_option("--overlap", args->block.overlap, "ptm-block: overlap of neighbouring blocks (0: block / 6)")->capture_default_str();
+  sub->add_option("--tolerance", args->block.tolerance,
+                  "ptm-block: blocks within (1 + tolerance) of the best neighbourhood distance are drawn from at random")
+      ->capture_default_str();
+  sub->add_option("--projections", args->block.projections, "ptm-block: basis vectors of the rejection search's lower bounds")
+      ->capture_default_str();
+  sub->add_flag("--brute-force", args->brute_force,
+                "ptm-block: compute every candidate's distance (same result, slower); texton: the full search");
+  sub->add_option("--bound-basis", args->block_basis,
+                  "ptm-block: basis of the lower bounds: principal (the neighbourhoods' SVD) or walsh (Walsh-Hadamard)")
+      ->capture_default_str();
+  AddTextonOptions(sub, *args);
+  return sub;
+}
+
+CLI::App* AddSynthApplyOptions(CLI::App& app, SynthArgs* args) {
+  CLI::App* sub = app.add_subcommand("synth-apply", "Apply a synthesis map to another exemplar of the same sample");
+  sub->add_option("--map", args->map, "map.exr written by synth or paint")->required();
+  AddCommonOptions(sub, *args, false);
+  return sub;
+}
+
+CLI::App* AddPaintOptions(CLI::App& app, SynthArgs* args) {
+  CLI::App* sub = app.add_subcommand("paint", "Graphcut texture painting: put the sample's feature where a target mask says");
+  AddCommonOptions(sub, *args, true);
+  AddQuiltOptions(sub, *args);
+  sub->add_option("--feature-mask", args->feature_mask, "Sample-size mask, white = the feature")->required();
+  sub->add_option("--target-mask", args->target_mask, "Output-size mask, white = where the feature goes")->required();
+  sub->add_option("--transition", args->paint.transition_width, "Width of m0's linear transition zone (texels)")->capture_default_str();
+  sub->add_flag("--verbatim", args->paint.verbatim, "Copy the whole feature once instead of synthesizing it");
+  return sub;
+}
+
+}  // namespace mesocap::app
