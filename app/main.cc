@@ -12,10 +12,12 @@
 
 namespace {
 
+// Only the module beside the executable (installed together, or both in build/app/): a front never
+// runs a module of another build, whose options structs could differ from its own.
 int RunInModule(const mesocap::app::CommandOptions& command, const mesocap::app::GlobalOptions& globals, int argc,
                 char** argv) {
   using namespace mesocap::app;
-  auto run = mesocap::LoadModuleSymbol(kCommandsModuleName, MESOCAP_COMMANDS_BUILD_PATH, kRunCommandSymbol);
+  auto run = mesocap::LoadModuleSymbol(kCommandsModuleName, "", kRunCommandSymbol);
   if (!run.ok()) {
     std::fprintf(stderr, "mesocap: %s\n", run.status().message().c_str());
     return kExitInternal;

@@ -1,3 +1,12 @@
+# Modules are bound lazily (core/module_loader.h): every symbol must resolve when the module is
+# linked, so none can be missing mid-run. Not in sanitizer builds, whose modules take the
+# sanitizer runtime from the executable.
+function(mesocap_module_resolves_all_symbols target)
+  if(MESOCAP_SANITIZE STREQUAL "" AND NOT MESOCAP_FUZZ)
+    target_link_options(${target} PRIVATE -Wl,-z,defs)
+  endif()
+endfunction()
+
 # mesocap_test(NAME stage/foo_test SOURCES foo_test.cc LIBS lib... [LABELS ...] [TIMEOUT s])
 # Builds one GoogleTest binary and registers it in ctest under the name given.
 function(mesocap_test)

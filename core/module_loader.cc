@@ -42,6 +42,7 @@ StatusOr<void*> LoadModuleSymbol(const std::string& module_name, const std::stri
       continue;
     }
     if (void* address = dlsym(module, symbol)) return address;
+    dlclose(module);  // not ours: no second copy stays loaded beside the next candidate
     tried += " " + candidate.string() + " (no " + symbol + ");";
   }
   return Status::Error("cannot load the module " + module_name + ":" + tried + " reinstall mesocap");

@@ -28,7 +28,8 @@ void ReleaseCachedPixelMemory();
 // The same for the libraries' own buffers (AprilTag's per-image union-find, JPEG decoding,
 // OpenCV's): glibc serves allocations up to kHeapServedBytes from its heap instead of mapping each
 // afresh, and keeps up to kHeapKeptBytes of freed heap before giving it back. The calibrate stage
-// of the demo session: 13.0 -> 8.4 s wall, sys 6.7 -> 2.4 s; peak memory +7%. Call once, first.
+// of the demo session: 13.0 -> 8.4 s wall, sys 6.7 -> 2.4 s; peak memory +7%. Call once, before
+// the work allocates (the commands module does, as a command starts).
 inline constexpr size_t kHeapServedBytes = size_t(128) << 20;
 inline constexpr size_t kHeapKeptBytes = size_t(512) << 20;
 void KeepLargeLibraryBuffersInHeap();
