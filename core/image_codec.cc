@@ -4,6 +4,8 @@
 
 namespace mesocap {
 
+// Where the build made the module, tried after the executable's folder: tests, benchmarks and
+// fuzzers run from other folders.
 #ifdef MESOCAP_IMAGE_CODEC_BUILD_PATH
 static constexpr const char* kBuildPath = MESOCAP_IMAGE_CODEC_BUILD_PATH;
 #else

@@ -64,17 +64,17 @@ std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardL
 }
 
 std::vector<double> BoardWeights(const std::vector<BoardLights>& boards) {
-  std::vector<double> weights(boards.size(), 1.0);
+  const std::vector<double> alike(boards.size(), 1.0);
   std::vector<Eigen::Vector3d> views;
   for (const BoardLights& b : boards) views.push_back(b.LightFrom(Eigen::Vector3d::Zero()));  // toward the camera
   const StatisticalBtfOptions reconstruction;  // its view rings
   auto rings = ViewInterpolator::Create(views, reconstruction.ring_gap_deg, reconstruction.max_view_extrapolation);
-  if (!rings.ok()) return weights;
-  std::fill(weights.begin(), weights.end(), 0.0);
+  if (!rings.ok()) return alike;
+  std::vector<double> weights(boards.size(), 0.0);
   double total = 0;
   for (const Eigen::Vector3d& view : BonnDirections())
     for (const WeightedIndex& w : rings->Weights(view)) weights[size_t(w.index)] += std::abs(w.weight), total += std::abs(w.weight);
-  if (!(total > 0)) return std::vector<double>(boards.size(), 1.0);
+  if (!(total > 0)) return alike;
   for (double& w : weights) w *= double(boards.size()) / total;
   return weights;
 }
