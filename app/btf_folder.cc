@@ -9,6 +9,7 @@
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
+#include "core/slice_attributes.h"
 #include "core/text_format.h"
 
 namespace mesocap::app {
@@ -71,11 +72,8 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
     const std::string name = BtfSliceName(p);
     ImageWriteOptions w;
     w.format = PixelFormat::kHalf;
-    w.attributes["mesocap:theta_i_deg"] = float(p[0]);
-    w.attributes["mesocap:phi_i_deg"] = float(p[1]);
-    w.attributes["mesocap:theta_o_deg"] = float(p[2]);
-    w.attributes["mesocap:phi_o_deg"] = float(p[3]);
-    w.attributes["mesocap:quantity"] = std::string("BTF: radiance per unit perpendicular irradiance (includes cos theta_i)");
+    SetSliceAngles(&w.attributes, p[0], p[1], p[2], p[3]);
+    w.attributes["mesocap:quantity"] = kBtfSliceQuantity;
     w.attributes["mesocap:method"] = std::string(pixel_only ? "statistical (pixel histogram)" : "statistical (Ngan & Durand 2006)");
     if (Status st = WriteImage(folder / name, slice, w); !st.ok()) errors[k] = st.message();
     entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};

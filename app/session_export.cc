@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/slice_attributes.h"
 #include "core/slice_index.h"
 #include "core/text_format.h"
 #include "export/ggx_fit.h"
@@ -106,10 +107,7 @@ Status WriteBtfMultiPart(const SliceIndex& index, const fs::path& path) {
     part.options.format = PixelFormat::kHalf;
     part.options.channel_names = first->channel_names;
     part.options.channel_names.resize(size_t(part.channels));
-    part.options.attributes["mesocap:theta_i_deg"] = float(e.theta_i_deg);
-    part.options.attributes["mesocap:phi_i_deg"] = float(e.phi_i_deg);
-    part.options.attributes["mesocap:theta_o_deg"] = float(e.theta_o_deg);
-    part.options.attributes["mesocap:phi_o_deg"] = float(e.phi_o_deg);
+    SetSliceAngles(&part.options.attributes, e.theta_i_deg, e.phi_i_deg, e.theta_o_deg, e.phi_o_deg);
     part.options.attributes["mesocap:file"] = e.file.filename().string();
     parts.push_back(std::move(part));
   }

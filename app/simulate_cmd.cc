@@ -4,10 +4,11 @@
 #include <cstdio>
 
 #include "app/commands.h"
-#include "core/progress.h"
 #include "capture/btf_render.h"
 #include "capture/simulate.h"
 #include "core/image_io.h"
+#include "core/progress.h"
+#include "core/slice_attributes.h"
 
 namespace mesocap::app {
 namespace {
@@ -24,12 +25,9 @@ int RunTrueBtf(const SimulateArgs& a) {
   ImageWriteOptions w;
   w.format = PixelFormat::kFloat;
   w.attributes["mesocap:material"] = a.session.rig.material;
-  w.attributes["mesocap:theta_i_deg"] = float(r.theta_i_deg);
-  w.attributes["mesocap:phi_i_deg"] = float(r.phi_i_deg);
-  w.attributes["mesocap:theta_o_deg"] = float(r.theta_o_deg);
-  w.attributes["mesocap:phi_o_deg"] = float(r.phi_o_deg);
+  SetSliceAngles(&w.attributes, r.theta_i_deg, r.phi_i_deg, r.theta_o_deg, r.phi_o_deg);
   w.attributes["mesocap:patch_m"] = float(r.patch_m);
-  w.attributes["mesocap:quantity"] = std::string("BTF: radiance per unit perpendicular irradiance (includes cos theta_i)");
+  w.attributes["mesocap:quantity"] = kBtfSliceQuantity;
   if (Status st = WriteImage(a.session.out, slice, w); !st.ok()) return Fail("simulate", st.message());
   std::printf("true BTF slice %s (%dx%d) -> %s\n", a.session.rig.material.c_str(), r.size, r.size,
               a.session.out.string().c_str());

@@ -10,6 +10,7 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/provenance.h"
+#include "core/slice_attributes.h"
 #include "export/previews.h"
 #include "export/ptm_file.h"
 #include "synth/map_apply.h"
@@ -138,10 +139,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
       const std::string name = "slices/" + s.file.filename().string();
       ImageWriteOptions w;
       w.format = PixelFormat::kHalf;
-      w.attributes["mesocap:theta_i_deg"] = float(s.theta_i_deg);
-      w.attributes["mesocap:phi_i_deg"] = float(s.phi_i_deg);
-      w.attributes["mesocap:theta_o_deg"] = float(s.theta_o_deg);
-      w.attributes["mesocap:phi_o_deg"] = float(s.phi_o_deg);
+      SetSliceAngles(&w.attributes, s.theta_i_deg, s.phi_i_deg, s.theta_o_deg, s.phi_o_deg);
       w.attributes["mesocap:method"] = "synthesized (" + map.method + ")";
       MESOCAP_RETURN_IF_ERROR(WriteImage(staging / name, slice, w));
       std::lock_guard<std::mutex> lock(mutex);

@@ -364,13 +364,10 @@ std::string IntrinsicsReport::Brief() const {
                 "median %.3f px max %.3f px, in %.1f s (detection %.1f s, solve %.1f s)",
                 images_used, images_total, corners_used, rms_reprojection_px, initial_rms_px, median_image_rms_px,
                 max_image_rms_px, total_s, detect_s, solve_s);
-  std::string text = buf;
-  constexpr size_t kMaxListed = 20;  // the JSON report has them all
-  for (size_t i = 0; i < rejected.size() && i < kMaxListed; ++i)
-    text += "\n  rejected " + rejected[i].file.filename().string() + ": " + rejected[i].reason;
-  if (rejected.size() > kMaxListed)
-    text += "\n  ... and " + std::to_string(rejected.size() - kMaxListed) + " more (see the JSON report)";
-  return text;
+  // The JSON report lists them all.
+  return buf + ListedLines(rejected, 20, "the JSON report", [](const RejectedImage& r) {
+           return "rejected " + r.file.filename().string() + ": " + r.reason;
+         });
 }
 
 Json IntrinsicsResult::ToJson() const {

@@ -10,13 +10,14 @@
 #include <set>
 #include <tuple>
 
-#include "core/directions.h"
 #include "core/atomic_file.h"
+#include "core/directions.h"
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/slice_attributes.h"
 #include "core/text_format.h"
 
 namespace mesocap {
@@ -384,11 +385,10 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
         wo.format = PixelFormat::kHalf;
         wo.exr_compression = "piz";  // as small as zip on noisy photographs, several times faster
         const SliceRecord& r = p.record;
-        wo.attributes = {{"mesocap:theta_i_deg", float(r.theta_i_deg)}, {"mesocap:phi_i_deg", float(r.phi_i_deg)},
-                         {"mesocap:theta_o_deg", float(r.theta_o_deg)}, {"mesocap:phi_o_deg", float(r.phi_o_deg)},
-                         {"mesocap:patch_m", float(patch_m[p.board_index])}, {"mesocap:material", material},
-                         {"mesocap:board", r.board}, {"mesocap:shot", r.shot}, {"mesocap:scale", float(r.scale)},
-                         {"mesocap:light_distance_m", float(r.light_distance_m)}};
+        SetSliceAngles(&wo.attributes, r.theta_i_deg, r.phi_i_deg, r.theta_o_deg, r.phi_o_deg);
+        wo.attributes.insert({{"mesocap:patch_m", float(patch_m[p.board_index])}, {"mesocap:material", material},
+                              {"mesocap:board", r.board}, {"mesocap:shot", r.shot}, {"mesocap:scale", float(r.scale)},
+                              {"mesocap:light_distance_m", float(r.light_distance_m)}});
         const auto t_write = std::chrono::steady_clock::now();
         std::error_code ec;
         fs::create_directories((slices_dir / r.file).parent_path(), ec);

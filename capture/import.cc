@@ -281,12 +281,10 @@ std::string ImportReport::Brief() const {
   std::snprintf(buf, sizeof buf, "imported %d shots + %d calibration shots (%d hard-linked, %d copied), skipped %d "
                 "files, in %.1f s -> %s", shots_imported, calib_shots_imported, hardlinked, copied,
                 int(skipped.size()), total_s, out.string().c_str());
-  std::string text = buf;
-  constexpr size_t kMaxListed = 20;  // the JSON report has them all
-  for (size_t i = 0; i < skipped.size() && i < kMaxListed; ++i)
-    text += "\n  skipped " + skipped[i].source.filename().string() + ": " + skipped[i].reason;
-  if (skipped.size() > kMaxListed)
-    text += "\n  ... and " + std::to_string(skipped.size() - kMaxListed) + " more (see import_report.json)";
+  // import_report.json lists them all.
+  std::string text = buf + ListedLines(skipped, 20, "import_report.json", [](const SkippedFile& f) {
+                       return "skipped " + f.source.filename().string() + ": " + f.reason;
+                     });
   for (const auto& w : warnings) text += "\n  warning: " + w;
   return text;
 }

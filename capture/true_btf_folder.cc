@@ -8,6 +8,7 @@
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/provenance.h"
+#include "core/slice_attributes.h"
 
 namespace mesocap {
 
@@ -29,10 +30,7 @@ Status WriteTrueBtfFolder(const Material& material, const std::vector<std::pair<
                   request.phi_i_deg, request.theta_o_deg, request.phi_o_deg);
     ImageWriteOptions w;
     w.format = PixelFormat::kFloat;
-    w.attributes["mesocap:theta_i_deg"] = float(request.theta_i_deg);
-    w.attributes["mesocap:phi_i_deg"] = float(request.phi_i_deg);
-    w.attributes["mesocap:theta_o_deg"] = float(request.theta_o_deg);
-    w.attributes["mesocap:phi_o_deg"] = float(request.phi_o_deg);
+    SetSliceAngles(&w.attributes, request.theta_i_deg, request.phi_i_deg, request.theta_o_deg, request.phi_o_deg);
     w.attributes["mesocap:patch_m"] = float(options.patch_m);
     w.attributes["mesocap:material"] = material.name();
     w.attributes["mesocap:method"] = std::string("true BTF (virtual rig)");

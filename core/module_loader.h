@@ -1,6 +1,6 @@
 // Parts of mesocap built as modules and loaded with dlopen when first needed, so that the
 // libraries they bring are mapped only by the runs that use them: the image codec over
-// OpenImageIO (core/image_codec.h) and the commands' bodies (app/main.cc).
+// OpenImageIO (core/image_codec.h) and the commands' runs (app/commands_module.cc).
 #pragma once
 
 #include <string>

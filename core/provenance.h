@@ -11,7 +11,7 @@ namespace mesocap {
 // Version string from the build ("0.1.0").
 const char* Version();
 
-// The command line of this run, set once by app/main.cc.
+// The command line of this run, set once by the commands module (app/commands_module.cc).
 void SetCommandLine(int argc, char** argv);
 const std::string& CommandLine();
 

@@ -55,7 +55,7 @@ class StatusOr {
 };
 
 // A broken precondition (programming error, impossible option that slipped past Check()).
-// Thrown, and caught only in app/main.cc.
+// Thrown, and caught only where the commands module runs a command (app/commands_module.cc).
 #define MESOCAP_CHECK(cond, msg)                                                          \
   do {                                                                                    \
     if (!(cond))                                                                          \

@@ -31,4 +31,14 @@ inline std::string Trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
 }
 
+// A brief report's list of skipped or rejected inputs: a line "\n  " + line_of(item) for each of
+// the first `most` items, then "\n  ... and N more (see WHERE)" for the rest.
+template <typename Items, typename LineOf>
+std::string ListedLines(const Items& items, size_t most, const std::string& where, const LineOf& line_of) {
+  std::string text;
+  for (size_t i = 0; i < items.size() && i < most; ++i) text += "\n  " + line_of(items[i]);
+  if (items.size() > most) text += "\n  ... and " + std::to_string(items.size() - most) + " more (see " + where + ")";
+  return text;
+}
+
 }  // namespace mesocap

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 namespace mesocap {
 namespace {
 
@@ -21,6 +24,14 @@ TEST(Text, LowerAndTrim) {
   EXPECT_EQ(Trim("  \tCanon EOS R5 \r\n"), "Canon EOS R5");
   EXPECT_EQ(Trim(" \t\n"), "");
   EXPECT_EQ(Trim(""), "");
+}
+
+TEST(Text, ListedLinesStopsAtMostAndCountsTheRest) {
+  const auto line = [](int k) { return "item " + std::to_string(k); };
+  EXPECT_EQ(ListedLines(std::vector<int>{}, 2, "x.json", line), "");
+  EXPECT_EQ(ListedLines(std::vector<int>{1, 2}, 2, "x.json", line), "\n  item 1\n  item 2");
+  EXPECT_EQ(ListedLines(std::vector<int>{1, 2, 3, 4, 5}, 2, "x.json", line),
+            "\n  item 1\n  item 2\n  ... and 3 more (see x.json)");
 }
 
 }  // namespace
