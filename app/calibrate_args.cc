@@ -17,6 +17,8 @@ CLI::App* AddCalibrateOptions(CLI::App& app, CalibrateArgs* args) {
   sub->add_flag("--no-resample", args->no_resample, "Calibrate only; do not write SESSION/slices/");
   sub->add_flag("--no-brdf-smoothing", args->no_brdf_smoothing,
                 "Do not rescale slices to the smoothed per-view average BRDF (absorbs flash-power error)");
+  sub->add_flag("--no-chroma-detail", args->no_chroma_detail,
+                "Resample JPEG shots with their colour as stored at half resolution, instead of restoring its detail from the brightness");
   sub->add_option("--brdf-smoothing-deg", args->resample.brdf_smoothing_deg,
                   "Gaussian width over light directions of the BRDF smoothing")->capture_default_str();
   sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");

@@ -16,7 +16,7 @@ namespace mesocap::app {
 struct CalibrateArgs {
   CalibrateOptions options;
   ResampleOptions resample;
-  bool no_resample = false, no_brdf_smoothing = false;
+  bool no_resample = false, no_brdf_smoothing = false, no_chroma_detail = false;
   std::filesystem::path camera_file, layout_file;
   bool no_progress = false;
 };

@@ -24,6 +24,7 @@ int RunCalibrate(CalibrateArgs& a) {
   stage.progress = !a.no_progress;
   if (std::string why = a.options.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
   a.resample.brdf_smoothing = !a.no_brdf_smoothing;
+  a.resample.restore_chroma_detail = !a.no_chroma_detail;
   a.resample.num_threads = a.options.num_threads;
   if (std::string why = a.resample.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
   auto calibrated = RunCalibrateStage(stage);

@@ -15,6 +15,8 @@ CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
   sub->add_option("--marked-corners", args->options.calibrate.calibrate.marked_corners, "Hand-marked board corners (docs/formats.md)");
   sub->add_option("--slice-size", args->options.resample.slice_size, "Texels per side of each measured BTF slice")->capture_default_str();
   sub->add_flag("--no-brdf-smoothing", args->no_brdf_smoothing, "Do not rescale slices to the smoothed average BRDF");
+  sub->add_flag("--no-chroma-detail", args->no_chroma_detail,
+                "Resample JPEG shots with their colour as stored at half resolution, instead of restoring its detail from the brightness");
   sub->add_option("--ptm-format", args->ptm_format, "PTM of each board: rgb or lrgb")->capture_default_str();
   sub->add_option("--btf-size", args->options.reconstruct.slices.size, "Texels per side of the reconstructed BTF (power of two)")
       ->capture_default_str();

@@ -15,7 +15,7 @@ namespace mesocap::app {
 struct ProcessArgs {
   ProcessOptions options;
   std::string synth_size = "512x512";
-  bool no_brdf_smoothing = false;
+  bool no_brdf_smoothing = false, no_chroma_detail = false;
   std::string ptm_format = "rgb";
   bool no_progress = false;
 };

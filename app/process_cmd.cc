@@ -21,6 +21,7 @@ int RunProcess(ProcessArgs& a) {
   if (!StringToPtmFormat(a.ptm_format, &a.options.ptm.format))
     return Fail(verb, "--ptm-format must be lrgb or rgb, not '" + a.ptm_format + "'", kExitUsage);
   a.options.resample.brdf_smoothing = !a.no_brdf_smoothing;
+  a.options.resample.restore_chroma_detail = !a.no_chroma_detail;
   a.options.progress = !a.no_progress;
   if (!ParseSize(a.synth_size, &a.options.synth.width, &a.options.synth.height))
     return Fail(verb, "--synth-size '" + a.synth_size + "' is not WxH (1..32768 each)", kExitUsage);

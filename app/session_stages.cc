@@ -132,11 +132,15 @@ namespace {
 // colour detail finer than two pixels, which the statistical BTF's colour needs (on a virtual
 // weave session, 100 shots: chromaticity won on 31% of held-out pairs from JPEG shots, 83% from
 // 16-bit PNG; bench/calibrated_session_bench.sh), most on the tilted boards, whose patches span
-// the fewest pixels. reconstruct therefore takes their colour from the top view.
+// the fewest pixels. Resampling restores what follows the brightness (core/chroma_detail.h);
+// reconstruct still takes the colour from the top view.
 std::string ColourResolutionNote(const ResampleReport& slices) {
   if (!slices.chroma_subsampled_shots) return "";
+  const std::string loss = slices.chroma_detail_restored
+                               ? "colour detail finer than 2 pixels was restored from the brightness where it follows it"
+                               : "the slices lose colour detail finer than 2 pixels";
   return "the shots are JPEGs with colour at half resolution (" + fs::path(slices.slices.front().shot).filename().string() +
-         "): the slices lose colour detail finer than 2 pixels, so reconstruct takes the colour from the top board "
+         "): " + loss + ", and reconstruct takes the colour from the top board "
          "(--chroma-from-views overrides); shoot RAW or 16-bit TIFF where the material's colour matters";
 }
 

@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "core/atomic_file.h"
+#include "core/chroma_detail.h"
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
@@ -39,6 +40,7 @@ Json ResampleOptions::ToJson() const {
           {"supersample", supersample},
           {"brdf_smoothing", brdf_smoothing},
           {"brdf_smoothing_deg", brdf_smoothing_deg},
+          {"restore_chroma_detail", restore_chroma_detail},
           {"keep_mean_power_shots", keep_mean_power_shots},
           {"saturation_level", saturation_level},
           {"max_saturated_fraction", max_saturated_fraction},
@@ -68,7 +70,7 @@ Json ResampleReport::IndexJson() const {
             {"supersample", supersample}, {"seconds_total", seconds_total}, {"seconds_read", seconds_read},
             {"seconds_sample", seconds_sample}, {"seconds_write", seconds_write},
             {"scale_min", scale_min}, {"scale_max", scale_max}, {"scale_rms_deviation", scale_rms_deviation},
-            {"chroma_subsampled_shots", chroma_subsampled_shots}};
+            {"chroma_subsampled_shots", chroma_subsampled_shots}, {"chroma_detail_restored", chroma_detail_restored}};
   j["slices"] = Json::array();
   for (const auto& s : slices) j["slices"].push_back(s.ToJson());
   j["skipped"] = Json::array();
@@ -198,6 +200,22 @@ std::vector<double> BrdfSmoothingScales(const std::vector<double>& mean, const s
 }
 
 namespace {
+
+// A shot as linear floats. A JPEG keeping its colour at half resolution gets the colour detail it
+// dropped restored from its brightness (with `restore_chroma`): the tilted boards' patches span
+// few pixels, and their slices would otherwise come out greyer than the material.
+StatusOr<Image> ReadShot(const fs::path& path, bool restore_chroma) {
+  if (restore_chroma) {
+    auto jpeg = JpegRowReader::Open(path, 3);
+    if (!jpeg.ok()) return jpeg.status();
+    if (*jpeg && (*jpeg)->channels() == 3 && ChromaDetailRestorable((*jpeg)->chroma_factors())) {
+      auto srgb = (*jpeg)->ReadAll();
+      if (!srgb.ok()) return srgb.status();
+      return LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors());
+    }
+  }
+  return ReadImage(path);
+}
 
 std::string SliceFile(int board, const std::string& shot) {
   char dir[32];
@@ -351,7 +369,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
         return;
       }
       auto t_read = std::chrono::steady_clock::now();
-      auto photo = ReadImage(session / calibration.shots[s].file);
+      auto photo = ReadShot(session / calibration.shots[s].file, options.restore_chroma_detail);
       ns_read += since(t_read);
       if (!photo.ok()) {
         shot_error[s] = photo.status().message();
@@ -446,6 +464,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
     }
     report.scale_rms_deviation = std::sqrt(sq / report.slices.size());
     report.chroma_subsampled_shots = IsChromaSubsampledJpeg(session / report.slices.front().shot);
+    report.chroma_detail_restored = report.chroma_subsampled_shots && options.restore_chroma_detail;
   }
 
   report.seconds_read = 1e-9 * double(ns_read);

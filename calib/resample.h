@@ -27,6 +27,9 @@ struct ResampleOptions {
   // photo, ceil(footprint px), so a texel larger than a pixel averages every pixel under it.
   int supersample = 0;
   bool brdf_smoothing = true;       // rescale slices to a smoothed per-view average BRDF
+  // JPEG shots that keep their colour at half resolution get the colour detail restored from
+  // their brightness before resampling (core/chroma_detail.h).
+  bool restore_chroma_detail = true;
   double brdf_smoothing_deg = 5.0;  // Gaussian sigma on the angle between light directions
   // Shots whose grey cards were all shadowed get the session's mean power. The paper keeps
   // them and lets the BRDF smoothing correct them; by default they are skipped.
@@ -72,6 +75,8 @@ struct ResampleReport {
   // The shots are JPEGs that keep colour at half resolution (judged by the first slice's shot):
   // the slices' colour is blurred over two pixels (StatisticalBtfOptions::chromaticity_from_top_view).
   bool chroma_subsampled_shots = false;
+  // ...and their colour detail was restored from their brightness (ResampleOptions::restore_chroma_detail).
+  bool chroma_detail_restored = false;
   double seconds_total = 0;
   // Summed over threads: decoding photos, sampling and normalising, encoding and writing slices.
   double seconds_read = 0, seconds_sample = 0, seconds_write = 0;

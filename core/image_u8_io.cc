@@ -219,6 +219,8 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
     const jpeg_component_info* c = d.cinfo.comp_info;
     for (int k = 1; k < 3; ++k)
       reader->chroma_subsampled_ |= c[k].h_samp_factor < c[0].h_samp_factor || c[k].v_samp_factor < c[0].v_samp_factor;
+    if (c[1].h_samp_factor > 0 && c[1].v_samp_factor > 0)
+      reader->chroma_factors_ = {c[0].h_samp_factor / c[1].h_samp_factor, c[0].v_samp_factor / c[1].v_samp_factor};
   }
   const bool grey = d.cinfo.jpeg_color_space == JCS_GRAYSCALE || max_channels < 3;
   d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;

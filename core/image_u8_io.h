@@ -6,6 +6,7 @@
 // OpenImageIO. Files that are not 8-bit are an error: read them with ReadImage (core/image_io.h).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -89,6 +90,9 @@ class JpegRowReader {
   // True when the file keeps its colour (Cb, Cr) at a lower resolution than its brightness
   // (4:2:0, 4:2:2 ... as cameras write JPEGs).
   bool chroma_subsampled() const { return chroma_subsampled_; }
+  // How many luma samples share one chroma sample across and down: {2, 2} for 4:2:0, {2, 1} for
+  // 4:2:2, {1, 1} when the colour is at full resolution (or the image is grey).
+  std::array<int, 2> chroma_factors() const { return chroma_factors_; }
   // Decodes the next `count` rows into rows[0..count), each width() * channels() bytes. Corrupt
   // data (libjpeg's warnings included, as in ReadImage) is an error naming the file.
   Status ReadRows(int count, uint8_t* const* rows);
@@ -102,6 +106,7 @@ class JpegRowReader {
   std::unique_ptr<Decoder> decoder_;
   int width_ = 0, height_ = 0, channels_ = 0, next_row_ = 0;
   bool chroma_subsampled_ = false;
+  std::array<int, 2> chroma_factors_ = {1, 1};
 };
 
 // True when `path` is a JPEG that keeps its colour at a lower resolution than its brightness
