@@ -1,6 +1,9 @@
 // 8-bit images through core/image_u8_io.h ReadImageU8, the fast path of fit-ptm: JPEG decoded by
 // libjpeg(-turbo) from memory (colour, and converted to grey when fewer than 3 channels are
-// asked for), anything else through OpenImageIO. Inputs are named .jpg, as RTI photos are.
+// asked for), anything else through OpenImageIO; and a JPEG with subsampled colour through
+// calibrate's shot reading, its colour detail restored (core/chroma_detail.h). Inputs are named
+// .jpg, as RTI photos are.
+#include "core/chroma_detail.h"
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "fuzz/fuzz_support.h"
@@ -25,6 +28,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!colour.ok()) return;
     auto grey = mesocap::ReadImageU8(path, 1);
     mesocap::fuzz::Explain("ReadImageU8(grey)", grey.status());
+    auto jpeg = mesocap::JpegRowReader::Open(path, 3);
+    if (!jpeg.ok() || !*jpeg || (*jpeg)->channels() != 3 || !mesocap::ChromaDetailRestorable((*jpeg)->chroma_factors())) return;
+    auto srgb = (*jpeg)->ReadAll();
+    if (srgb.ok()) mesocap::LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors());
   });
   return 0;
 }
