@@ -184,8 +184,7 @@ Image LinearWithChromaDetail(const ImageU8& srgb, std::array<int, 2> chroma_fact
   MESOCAP_CHECK(srgb.channels() == 3, "LinearWithChromaDetail needs 3 channels");
   Image out = Image::Uninitialized(srgb.width(), srgb.height(), 3);
   if (!ChromaDetailRestorable(chroma_factors)) {
-    float linear[256];
-    for (int v = 0; v < 256; ++v) linear[v] = SrgbToLinear(v / 255.0f);
+    const auto& linear = SrgbDecodeTable();
     for (size_t i = 0; i < srgb.size(); ++i) out.data()[i] = linear[srgb.data()[i]];
     return out;
   }

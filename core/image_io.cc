@@ -27,24 +27,23 @@ float LinearToSrgb(float v) {
   return v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
+const std::array<float, 256>& SrgbDecodeTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0f);
+    return t;
+  }();
+  return table;
+}
+
 namespace {
 
-// 256-entry decode table: 8-bit sRGB code -> linear.
 // Encode table: linear value quantised to 1/65535 -> 8-bit sRGB code. Exact to the 8-bit
 // result except where a value sits within 1/131070 of a rounding boundary.
 const std::array<uint8_t, 65536>& SrgbEncodeTable() {
   static const std::array<uint8_t, 65536> table = [] {
     std::array<uint8_t, 65536> t{};
     for (int i = 0; i < 65536; ++i) t[i] = uint8_t(std::lround(LinearToSrgb(i / 65535.0f) * 255.0f));
-    return t;
-  }();
-  return table;
-}
-
-const std::array<float, 256>& SrgbDecodeTable() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[i] = SrgbToLinear(i / 255.0f);
     return t;
   }();
   return table;

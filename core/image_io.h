@@ -4,6 +4,7 @@
 // hold linear values. Reading returns linear floats in [0,1] for integer files unless asked not to.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -94,5 +95,7 @@ PixelFormat DefaultFormatFor(const std::filesystem::path& path);
 // sRGB transfer curve (IEC 61966-2-1), per value.
 float SrgbToLinear(float v);
 float LinearToSrgb(float v);
+// SrgbToLinear of every 8-bit code v / 255.
+const std::array<float, 256>& SrgbDecodeTable();
 
 }  // namespace mesocap
