@@ -463,8 +463,11 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
       sq += (r.scale - 1) * (r.scale - 1);
     }
     report.scale_rms_deviation = std::sqrt(sq / report.slices.size());
-    report.chroma_subsampled_shots = IsChromaSubsampledJpeg(session / report.slices.front().shot);
-    report.chroma_detail_restored = report.chroma_subsampled_shots && options.restore_chroma_detail;
+    // Judged by the first slice's shot, as ReadShot treated it.
+    auto first = JpegRowReader::Open(session / report.slices.front().shot);
+    report.chroma_subsampled_shots = first.ok() && *first && (*first)->chroma_subsampled();
+    report.chroma_detail_restored = report.chroma_subsampled_shots && options.restore_chroma_detail &&
+                                    ChromaDetailRestorable((*first)->chroma_factors());
   }
 
   report.seconds_read = 1e-9 * double(ns_read);

@@ -172,11 +172,6 @@ struct JpegRowReader::Decoder {
 JpegRowReader::JpegRowReader(fs::path path) : path_(std::move(path)), decoder_(std::make_unique<Decoder>()) {}
 JpegRowReader::~JpegRowReader() = default;
 
-bool IsChromaSubsampledJpeg(const fs::path& path) {
-  auto jpeg = JpegRowReader::Open(path);
-  return jpeg.ok() && *jpeg && (*jpeg)->chroma_subsampled();
-}
-
 StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels, int min_width) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");

@@ -109,10 +109,6 @@ class JpegRowReader {
   std::array<int, 2> chroma_factors_ = {1, 1};
 };
 
-// True when `path` is a JPEG that keeps its colour at a lower resolution than its brightness
-// (JpegRowReader::chroma_subsampled); false for any other file, or one that cannot be read.
-bool IsChromaSubsampledJpeg(const std::filesystem::path& path);
-
 // For a file starting with a JPEG's SOI marker: CheckImageSize on the frame header libjpeg
 // finds, before any decoder opens it (libjpeg inside OpenImageIO allocates a progressive JPEG's
 // whole coefficient buffer while opening, and tolerates junk after the marker). Ok otherwise.
