@@ -15,8 +15,12 @@ CLI::App* AddEvaluateOptions(CLI::App& app, EvaluateArgs* args) {
   sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
   sub->add_option("--size", args->size, "Texels per side of every slice (power of two)")->capture_default_str();
   sub->add_option("--pairs", args->pairs, "Score this many held-out pairs, evenly spread (-1: all)")->capture_default_str();
-  sub->add_option("--samples-per-axis", args->samples_per_axis, "True slices: samples per texel axis (area average)")
-      ->capture_default_str();
+  sub->add_option("--samples-per-axis", args->samples_per_axis,
+                  "True slices: samples per texel axis (area average); 0: 2 with --material (inputs and targets "
+                  "alike), with --session as many as the rig rendered the material's patch with (512 / --size, at "
+                  "least 2), the finest detail its shots hold")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
   sub->add_flag("--pixel-only", args->pixel_only, "Match the pixel histogram only (no subbands), for comparison");
   sub->add_option("--max-view-extrapolation", args->max_view_extrapolation,
                   "Extrapolate view statistics at most this many ring spacings beyond the outer ring")

@@ -19,7 +19,7 @@ struct EvaluateArgs {
   std::filesystem::path out;
   int size = 128;
   int pairs = -1;
-  int samples_per_axis = 2;
+  int samples_per_axis = 0;  // 0: TruthSamplesPerAxis
   bool pixel_only = false;
   double max_view_extrapolation = 1e9;
   BtfMethodArgs method;
