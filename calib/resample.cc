@@ -126,6 +126,11 @@ PatchSampler MakePatchSampler(const CameraModel& camera, const BoardPose& pose, 
           // OpenCV pixel centres are integers; Image::SampleBilinear puts them at +0.5.
           s.pixels[((size_t(j) * size + i) * k + b) * k + a] = Eigen::Vector2f(float(px.x() + 0.5), float(px.y() + 0.5));
         }
+  // SampleBilinear reads the pixels floor(x - 0.5) and the one after it.
+  Eigen::Vector2f lo = s.pixels.front(), hi = s.pixels.front();
+  for (const Eigen::Vector2f& p : s.pixels) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  s.reach = {int(std::floor(lo.x() - 0.5f)), int(std::floor(lo.y() - 0.5f)), int(std::floor(hi.x() - 0.5f)) + 2,
+             int(std::floor(hi.y() - 0.5f)) + 2};
   return s;
 }
 
@@ -204,14 +209,16 @@ namespace {
 // A shot as linear floats. A JPEG keeping its colour at half resolution gets the colour detail it
 // dropped restored from its brightness (with `restore_chroma`): the tilted boards' patches span
 // few pixels, and their slices would otherwise come out greyer than the material.
-StatusOr<Image> ReadShot(const fs::path& path, bool restore_chroma) {
+// The shot as linear RGB; with `restore_chroma`, a JPEG's colour detail is restored where the
+// patches read it (`patches`: their samplers' reach).
+StatusOr<Image> ReadShot(const fs::path& path, bool restore_chroma, std::span<const PixelRect> patches) {
   if (restore_chroma) {
     auto jpeg = JpegRowReader::Open(path, 3);
     if (!jpeg.ok()) return jpeg.status();
     if (*jpeg && (*jpeg)->channels() == 3 && ChromaDetailRestorable((*jpeg)->chroma_factors())) {
       auto srgb = (*jpeg)->ReadAll();
       if (!srgb.ok()) return srgb.status();
-      return LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors());
+      return LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors(), 64, patches);
     }
   }
   return ReadImage(path);
@@ -369,7 +376,9 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
         return;
       }
       auto t_read = std::chrono::steady_clock::now();
-      auto photo = ReadShot(session / calibration.shots[s].file, options.restore_chroma_detail);
+      std::vector<PixelRect> patches;
+      for (const Plan& p : plans[s]) patches.push_back(samplers[p.board_index].reach);
+      auto photo = ReadShot(session / calibration.shots[s].file, options.restore_chroma_detail, patches);
       ns_read += since(t_read);
       if (!photo.ok()) {
         shot_error[s] = photo.status().message();

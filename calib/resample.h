@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "calib/calibrate.h"
+#include "core/chroma_detail.h"
 #include "core/image.h"
 #include "core/json.h"
 #include "core/progress.h"
@@ -95,6 +96,7 @@ struct PatchSampler {
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector2f> pixels;  // texel-major, then sub-samples row by row; Image::SampleBilinear coordinates
   double footprint_px = 0;              // largest texel side seen in the photo, pixels
+  PixelRect reach;                      // the photo's pixels the sub-samples read (unclipped)
 };
 
 // supersample = 0 chooses it from the footprint.

@@ -11,9 +11,10 @@ namespace {
 
 constexpr int kWindowRadius = 2;  // 5x5: 3 and 7 did no better on the virtual materials
 constexpr float kEps = 1e-4f;     // on values in [0, 1]; 1e-3 restores less of weave's detail
-// Rows beyond a band its output depends on: the pair average and the triangle filter reach 3
-// rows, the window 2 more. Even, so the band's first row starts a chroma pair as the image's does.
-constexpr int kHaloRows = 8;
+// Rows (and columns) beyond a band its output depends on: the pair average and the triangle
+// filter reach 3, the window 2 more. Even, so the band's first row starts a chroma pair as the
+// image's does (its first column is rounded down to even for the same reason).
+constexpr int kHalo = 8;
 // The window means the slopes need: of the low-passed luma, its square, the chroma, and their
 // products.
 enum Mean { kLow, kLow2, kCb, kLowCb, kCr, kLowCr, kMeans };
@@ -33,9 +34,9 @@ struct Workspace {
   }
 };
 
-void ToYCbCr(const ImageU8& srgb, int first_row, Workspace& ws) {
+void ToYCbCr(const ImageU8& srgb, int first_row, int first_column, Workspace& ws) {
   for (int r = 0; r < ws.rows; ++r) {
-    const uint8_t* src = srgb.row(first_row + r);
+    const uint8_t* src = srgb.row(first_row + r) + 3 * size_t(first_column);
     float *y = ws.Row(ws.y, r), *cb = ws.Row(ws.cb, r), *cr = ws.Row(ws.cr, r);
     for (int x = 0; x < ws.width; ++x) {
       const float red = src[3 * x] * (1 / 255.0f), green = src[3 * x + 1] * (1 / 255.0f), blue = src[3 * x + 2] * (1 / 255.0f);
@@ -145,22 +146,24 @@ class LinearTable {
   float table_[kSegments + 1];
 };
 
-// Rows [y0, y1) of the result from the band of rows around them.
-void RestoreBand(const ImageU8& srgb, std::array<int, 2> factors, int y0, int y1, const LinearTable& linear, Image* out) {
+// The result's pixels in `band` (its y0 even) from the band of pixels around them.
+void RestoreBand(const ImageU8& srgb, std::array<int, 2> factors, const PixelRect& band, const LinearTable& linear,
+                 Image* out) {
   thread_local Workspace ws;
-  const int first = std::max(0, y0 - kHaloRows), last = std::min(srgb.height(), y1 + kHaloRows);
-  ws.Resize(srgb.width(), last - first);
-  ToYCbCr(srgb, first, ws);
+  const int first = std::max(0, band.y0 - kHalo), last = std::min(srgb.height(), band.y1 + kHalo);
+  const int first_column = std::max(0, band.x0 - kHalo) & ~1, last_column = std::min(srgb.width(), band.x1 + kHalo);
+  ws.Resize(last_column - first_column, last - first);
+  ToYCbCr(srgb, first, first_column, ws);
   LowpassLuma(factors, ws);
-  const int out_first = y0 - first, out_last = y1 - first;
+  const int out_first = band.y0 - first, out_last = band.y1 - first;
   WindowMeans(out_first, out_last, ws);
   for (int r = out_first; r < out_last; ++r) {
     const float *y = ws.Row(ws.y, r), *low = ws.Row(ws.low, r), *cb = ws.Row(ws.cb, r), *cr = ws.Row(ws.cr, r);
     const float *m_low = ws.Row(ws.means[kLow], r), *m_low2 = ws.Row(ws.means[kLow2], r);
     const float *m_cb = ws.Row(ws.means[kCb], r), *m_low_cb = ws.Row(ws.means[kLowCb], r);
     const float *m_cr = ws.Row(ws.means[kCr], r), *m_low_cr = ws.Row(ws.means[kLowCr], r);
-    float* dst = out->row(first + r);
-    for (int x = 0; x < ws.width; ++x) {
+    float* dst = out->row(first + r) + 3 * size_t(first_column);
+    for (int x = band.x0 - first_column; x < band.x1 - first_column; ++x) {
       // The chroma's missing detail: the luma's, times the local slope of chroma against luma.
       const float variance = std::max(0.0f, m_low2[x] - m_low[x] * m_low[x]);
       const float detail = (y[x] - low[x]) / (variance + kEps);
@@ -180,20 +183,38 @@ bool ChromaDetailRestorable(std::array<int, 2> chroma_factors) {
   return supported(chroma_factors[0]) && supported(chroma_factors[1]) && chroma_factors != std::array<int, 2>{1, 1};
 }
 
-Image LinearWithChromaDetail(const ImageU8& srgb, std::array<int, 2> chroma_factors, int band_rows) {
+Image LinearWithChromaDetail(const ImageU8& srgb, std::array<int, 2> chroma_factors, int band_rows,
+                             std::span<const PixelRect> only) {
   MESOCAP_CHECK(srgb.channels() == 3, "LinearWithChromaDetail needs 3 channels");
   Image out = Image::Uninitialized(srgb.width(), srgb.height(), 3);
-  if (!ChromaDetailRestorable(chroma_factors)) {
+  const bool restorable = ChromaDetailRestorable(chroma_factors);
+  if (!restorable || !only.empty()) {
     const auto& linear = SrgbDecodeTable();
     for (size_t i = 0; i < srgb.size(); ++i) out.data()[i] = linear[srgb.data()[i]];
-    return out;
   }
+  if (!restorable) return out;
   MESOCAP_CHECK(band_rows > 0 && band_rows % 2 == 0, "bands must start chroma pairs");
   static const LinearTable linear;
-  const int bands = (srgb.height() + band_rows - 1) / band_rows;
-  ParallelFor(0, bands, [&](int band) {
-    RestoreBand(srgb, chroma_factors, band * band_rows, std::min(srgb.height(), (band + 1) * band_rows), linear, &out);
-  });
+  const PixelRect whole{0, 0, srgb.width(), srgb.height()};
+  if (only.empty()) only = std::span<const PixelRect>(&whole, 1);
+  // Each band of rows restores the union of the rectangles' columns across it: pieces that do not
+  // overlap (threads never write the same pixel), at most a band's rows beyond a rectangle.
+  std::vector<PixelRect> pieces;
+  for (int y = 0; y < whole.y1; y += band_rows) {
+    const int y_end = std::min(whole.y1, y + band_rows);
+    std::vector<std::pair<int, int>> columns;
+    for (const PixelRect& r : only)
+      if (r.y0 < y_end && r.y1 > y && std::max(r.x0, 0) < std::min(r.x1, whole.x1))
+        columns.push_back({std::max(r.x0, 0), std::min(r.x1, whole.x1)});
+    std::sort(columns.begin(), columns.end());
+    for (size_t k = 0; k < columns.size(); ++k) {
+      if (!pieces.empty() && pieces.back().y0 == y && columns[k].first <= pieces.back().x1)
+        pieces.back().x1 = std::max(pieces.back().x1, columns[k].second);
+      else
+        pieces.push_back({columns[k].first, y, columns[k].second, y_end});
+    }
+  }
+  ParallelFor(0, int(pieces.size()), [&](int p) { RestoreBand(srgb, chroma_factors, pieces[p], linear, &out); });
   return out;
 }
 

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 
 #include "core/image.h"
 #include "core/image_u8_io.h"
@@ -24,11 +25,21 @@ namespace mesocap {
 // across and down, not both 1.
 bool ChromaDetailRestorable(std::array<int, 2> chroma_factors);
 
+// Pixels [x0, x1) x [y0, y1).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 // A decoded JPEG's stored (sRGB) values, 3 channels, as linear floats (what ReadImage returns)
 // with the colour detail its chroma subsampling `chroma_factors` dropped restored. Factors it
 // cannot undo (ChromaDetailRestorable) give the plain linear values. Uses all cores on large
 // images, in bands of `band_rows` rows (even; memory: a few rows of planes per band, beyond the
 // result), which do not change the result.
-Image LinearWithChromaDetail(const ImageU8& srgb, std::array<int, 2> chroma_factors, int band_rows = 64);
+// With `only`, the detail is restored inside those rectangles (clipped to the image), exactly as
+// the whole image's restoration has it there, and elsewhere (but for up to `band_rows` rows
+// beside them) the plain linear values are kept: a photo's few regions of interest cost about
+// what they cover.
+Image LinearWithChromaDetail(const ImageU8& srgb, std::array<int, 2> chroma_factors, int band_rows = 64,
+                             std::span<const PixelRect> only = {});
 
 }  // namespace mesocap

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "core/image_io.h"
 #include "tests/testing.h"
@@ -102,6 +103,39 @@ TEST(ChromaDetail, BandsDoNotChangeTheResult) {
   const auto factors = (*jpeg)->chroma_factors();
   const Image whole = LinearWithChromaDetail(*srgb, factors, 134);
   for (int band_rows : {2, 16, 64}) EXPECT_EQ(MaxDifference(LinearWithChromaDetail(*srgb, factors, band_rows), whole), 0.0) << band_rows;
+}
+
+TEST(ChromaDetail, RegionsGetTheWholeImagesRestorationAndTheRestStaysPlain) {
+  const auto dir = testing::MakeTempDir();
+  auto jpeg = WriteJpeg(dir / "shot.jpg", TwoColourDetail(151, 133));
+  ASSERT_TRUE(jpeg.ok() && *jpeg);
+  auto srgb = (*jpeg)->ReadAll();
+  ASSERT_TRUE(srgb.ok());
+  const auto factors = (*jpeg)->chroma_factors();
+  const Image whole = LinearWithChromaDetail(*srgb, factors), plain = PlainLinear(*srgb);
+  // Odd corners, overlapping, one past the image's edges, one empty.
+  const std::vector<PixelRect> regions = {{13, 21, 40, 58}, {31, 45, 77, 50}, {120, 101, 200, 170}, {5, 5, 5, 9}};
+  const Image part = LinearWithChromaDetail(*srgb, factors, 16, regions);
+  int restored = 0, kept = 0;
+  for (int y = 0; y < whole.height(); ++y)
+    for (int x = 0; x < whole.width(); ++x) {
+      const bool inside = std::any_of(regions.begin(), regions.end(), [&](const PixelRect& r) {
+        return x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+      });
+      for (int c = 0; c < 3; ++c) {
+        if (inside) {
+          ASSERT_EQ(part.at(x, y, c), whole.at(x, y, c)) << x << "," << y;
+          continue;
+        }
+        // Outside: the plain decode (the linear table's 1e-6), or a band's spill of the restoration.
+        const bool as_plain = std::abs(part.at(x, y, c) - plain.at(x, y, c)) < 1e-5f;
+        ASSERT_TRUE(as_plain || part.at(x, y, c) == whole.at(x, y, c)) << x << "," << y;
+        if (c == 0) kept += as_plain && whole.at(x, y, c) != part.at(x, y, c);
+      }
+      restored += inside;
+    }
+  EXPECT_GT(restored, 2000);
+  EXPECT_GT(kept, 5000) << "most of the image outside the regions should keep the plain decode";
 }
 
 TEST(ChromaDetail, FullResolutionColourIsOnlyLinearised) {

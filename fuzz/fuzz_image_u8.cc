@@ -31,7 +31,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     auto jpeg = mesocap::JpegRowReader::Open(path, 3);
     if (!jpeg.ok() || !*jpeg || (*jpeg)->channels() != 3 || !mesocap::ChromaDetailRestorable((*jpeg)->chroma_factors())) return;
     auto srgb = (*jpeg)->ReadAll();
-    if (srgb.ok()) mesocap::LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors());
+    if (!srgb.ok()) return;
+    mesocap::LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors());
+    // Regions as resampling asks for them: partly outside the image, overlapping, empty.
+    const int w = srgb->width(), h = srgb->height();
+    const mesocap::PixelRect regions[] = {{-3, -5, w / 2 + 1, h / 3 + 1}, {w / 3, h / 4, w + 7, h + 2}, {w, h, w + 2, h + 2}};
+    mesocap::LinearWithChromaDetail(*srgb, (*jpeg)->chroma_factors(), 4, regions);
   });
   return 0;
 }
