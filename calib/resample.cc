@@ -208,9 +208,8 @@ namespace {
 
 // A shot as linear floats. A JPEG keeping its colour at half resolution gets the colour detail it
 // dropped restored from its brightness (with `restore_chroma`): the tilted boards' patches span
-// few pixels, and their slices would otherwise come out greyer than the material.
-// The shot as linear RGB; with `restore_chroma`, a JPEG's colour detail is restored where the
-// patches read it (`patches`: their samplers' reach).
+// few pixels, and their slices would otherwise come out greyer than the material. Only where the
+// patches read it (`patches`: their samplers' reach), 11% of a virtual session's shot.
 StatusOr<Image> ReadShot(const fs::path& path, bool restore_chroma, std::span<const PixelRect> patches) {
   if (restore_chroma) {
     auto jpeg = JpegRowReader::Open(path, 3);
