@@ -170,17 +170,18 @@ int RunEvaluate(const EvaluateArgs& a) {
   if (!eval.ok())
     return Fail("evaluate", eval.status().message(), eval.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
 
+  const int truth_samples = TruthSamplesPerAxis(a, bool(scene));
   Json j = eval->ToJson();
   j["material"] = material_name;
   j["size"] = a.size;
-  j["truth_samples_per_axis"] = TruthSamplesPerAxis(a, bool(scene));
+  j["truth_samples_per_axis"] = truth_samples;
   if (scene) j["session"] = a.session.string();
   j["chroma_from_top"] = model->options().chromaticity_from_top_view;
   j["white_lobe"] = model->white_lobe().ToJson();
   j["mean_model"] = model->mean_model_check().ToJson();
   Json settings = a.method.ToJson();
   settings.update({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs},
-                   {"samples_per_axis", TruthSamplesPerAxis(a, bool(scene))},
+                   {"samples_per_axis", truth_samples},
                    {"pixel_only", a.pixel_only}});
   j["provenance"] = MakeProvenance(settings);
   if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
@@ -210,7 +211,7 @@ int RunEvaluate(const EvaluateArgs& a) {
   report.Paragraph(Format("Statistical BTF reconstruction (Ngan & Durand 2006) %s, scored on %zu held-out pairs of the "
                           "81 x 81 Bonn grid at %d x %d texels (true slices: the mean of %d x %d samples a texel).",
                           source.c_str(), eval->pairs.size(), model->width(), model->height(),
-                          TruthSamplesPerAxis(a, bool(scene)), TruthSamplesPerAxis(a, bool(scene))));
+                          truth_samples, truth_samples));
   const auto rmse = eval->Median(&PairScore::rmse), wp = eval->Median(&PairScore::wasserstein_pixels),
              wb = eval->Median(&PairScore::wasserstein_bands), wc = eval->Median(&PairScore::wasserstein_chromaticity),
              saturation = eval->MedianSaturationError(), worst = eval->WorstSaturationError();

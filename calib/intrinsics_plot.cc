@@ -111,9 +111,8 @@ Image PlotIntrinsicsResiduals(const IntrinsicsResult& result, const ResidualPlot
   cv::Mat rgb;
   cv::cvtColor(canvas, rgb, cv::COLOR_BGR2RGB);
   Image out = Image::FromMat(rgb);
-  float lut[256];
-  for (int v = 0; v < 256; ++v) lut[v] = SrgbToLinear(v / 255.0f);
-  for (size_t i = 0; i < out.size(); ++i) out.data()[i] = lut[std::clamp(int(std::lround(out.data()[i] * 255.0f)), 0, 255)];
+  const auto& linear = SrgbDecodeTable();
+  for (size_t i = 0; i < out.size(); ++i) out.data()[i] = linear[std::clamp(int(std::lround(out.data()[i] * 255.0f)), 0, 255)];
   return out;
 }
 
