@@ -48,15 +48,13 @@ Image PictureSheet(const StatisticalBtf& btf, const TrueSliceFn& truth) {
   return ContactSheet(cells, labels, 4, 200);
 }
 
-// Samples per texel axis of the true slices (--samples-per-axis 0 chooses). From the rig's
-// shots the truth is the texel's average over what the rig rendered: it shades each material
-// patch on a grid of RigRenderOptions::patch_texels points a side, so finer truth holds detail no
-// shot can, and coarser (2 at 64 texels) leaves the truth's histograms wider than any texel
-// average's (pixel W1 0.0009-0.0057 from the converged one on the three materials).
+// Samples per texel axis of the true slices (--samples-per-axis 0 chooses): from a session's
+// shots, what the rig's camera can see (RigTruthSamplesPerAxis); from the true BTF's views, 2 x 2
+// as the inputs are rendered.
 int TruthSamplesPerAxis(const EvaluateArgs& a, bool session) {
   if (a.samples_per_axis > 0) return a.samples_per_axis;
   if (!session) return 2;  // inputs and targets alike: a consistent camera
-  return std::max(2, RigRenderOptions{}.patch_texels / std::max(1, a.size));
+  return RigTruthSamplesPerAxis(a.size);
 }
 
 // The material and layout a virtual session was rendered with, from its truth.json.

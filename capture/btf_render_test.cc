@@ -1,9 +1,13 @@
 #include "capture/btf_render.h"
 #include "capture/true_btf_renderer.h"
+#include "capture/rig_render.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "core/directions.h"
 #include "core/parallel.h"
@@ -112,6 +116,39 @@ TEST(TrueBtfRenderer, ThreadsAskingForOneViewTraceItOnce) {
                                                                       DirectionFromAnglesDeg(30, 60), 16), 1);
     for (size_t i = 0; i < direct.size(); ++i) ASSERT_EQ(slices[k].data()[i], direct.data()[i]);
   }
+}
+
+// Pixel W1 between two slices: the mean gap of their sorted values, over the channels.
+double PixelWasserstein(const Image& a, const Image& b) {
+  double total = 0;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float> va, vb;
+    for (int y = 0; y < a.height(); ++y)
+      for (int x = 0; x < a.width(); ++x) va.push_back(a.at(x, y, c)), vb.push_back(b.at(x, y, c));
+    std::sort(va.begin(), va.end());
+    std::sort(vb.begin(), vb.end());
+    for (size_t k = 0; k < va.size(); ++k) total += std::abs(double(va[k]) - vb[k]);
+  }
+  return total / (3.0 * a.pixel_count());
+}
+
+TEST(TrueBtf, TheRigsTruthSamplingConvergesTheTexelAverage) {
+  // The rig shades each patch on 512 points a side: a 64-texel truth averages 8 x 8 of them.
+  EXPECT_EQ(RigTruthSamplesPerAxis(64), 8);
+  EXPECT_EQ(RigTruthSamplesPerAxis(128), 4);
+  EXPECT_EQ(RigTruthSamplesPerAxis(1024), 2);
+  EXPECT_EQ(RigTruthSamplesPerAxis(64, {.patch_texels = 256}), 4);
+  // Against a 16 x 16 reference, that truth's histograms sit far nearer than 2 x 2's.
+  auto weave = Material::Create("weave");
+  ASSERT_TRUE(weave.ok());
+  const auto render = [&](int samples) {
+    TrueBtfRequest request{45, 30, 30, 200, 64};
+    request.samples_per_axis = samples;
+    return RenderTrueBtfSlice(*weave, request);
+  };
+  const Image reference = render(16);
+  const double coarse = PixelWasserstein(render(2), reference), rule = PixelWasserstein(render(RigTruthSamplesPerAxis(64)), reference);
+  EXPECT_LT(rule, coarse / 3) << "2 x 2: " << coarse << ", 8 x 8: " << rule;
 }
 
 TEST(Materials, UnknownNameListsTheChoices) {

@@ -85,6 +85,8 @@ std::string RigRenderOptions::Check() const {
   return "";
 }
 
+int RigTruthSamplesPerAxis(int size, const RigRenderOptions& rig) { return std::max(2, rig.patch_texels / std::max(1, size)); }
+
 RigRenderer::RigRenderer(const RigScene& scene, const Material& material, const RigRenderOptions& options)
     : scene_(scene), material_(material), options_(options) {
   int max_id = 0;
