@@ -38,7 +38,7 @@ using LitFn = std::function<bool(int board, const Eigen::Vector3d& position_cam)
 //   kNear    each covers most still-uncovered targets.
 // On virtual sessions continued from 24 hand-held shots to 70, kSpread's reconstructions beat both
 // baselines about as often as those from 100 hand-held shots, kNear's as those from 70
-// (bench/session_coverage_bench --guided 24 --objective; README, mesocap coverage).
+// (bench/session_coverage_bench --guided 24 --objective; docs/reconstruction.md, capture guidance).
 enum class CoverageObjective { kSpread, kNear };
 
 struct CoverageOptions {

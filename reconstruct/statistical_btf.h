@@ -66,7 +66,7 @@ struct StatisticalBtfOptions {
   // the view's smoother difference is interpolated. Chromaticity channels blend as measured.
   // With true slices of 100-shot virtual sessions (held-out seeds 14-20, mean model on) this wins
   // 1.0 (weave) and 2.2 (stones) more points of pairs beating both baselines and loses 0.4
-  // (corduroy), but from a calibrated session's slices it loses (seed 21, README): off until
+  // (corduroy), but from a calibrated session's slices it loses (seed 21, docs/reconstruction.md): off until
   // that is understood. false: the paper's blend.
   bool blend_change_from_top = false;
   // The channels that do not scale with radiance (the chromaticities of kChromaticity) take the
