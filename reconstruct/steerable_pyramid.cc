@@ -34,6 +34,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/fftw_planner.h"
+
 namespace mesocap {
 namespace {
 
@@ -105,8 +107,11 @@ const Grid* GetGridLocked(Cache& cache, int width, int height) {
   float* real = fftwf_alloc_real(grid->real_size());
   fftwf_complex* spectrum = fftwf_alloc_complex(grid->spectrum_size());
   if (!real || !spectrum) throw std::bad_alloc();
-  grid->forward = fftwf_plan_dft_r2c_2d(height, width, real, spectrum, FFTW_ESTIMATE);
-  grid->inverse = fftwf_plan_dft_c2r_2d(height, width, spectrum, real, FFTW_ESTIMATE);
+  {
+    std::lock_guard<std::mutex> planning(FftwPlannerMutex());  // also against synth's planning
+    grid->forward = fftwf_plan_dft_r2c_2d(height, width, real, spectrum, FFTW_ESTIMATE);
+    grid->inverse = fftwf_plan_dft_c2r_2d(height, width, spectrum, real, FFTW_ESTIMATE);
+  }
   fftwf_free(real);
   fftwf_free(spectrum);
   if (!grid->forward || !grid->inverse) throw std::runtime_error("FFTW could not plan a steerable pyramid transform");

@@ -1,6 +1,5 @@
-// FFTW's aligned buffers as owning types, and the one lock around its planner (planning is not
-// thread-safe; executing a plan with the new-array functions is). Shared by the FFT-based
-// patch matching and the texton filter bank.
+// FFTW's aligned buffers as owning types, shared by the FFT-based patch matching and the texton
+// filter bank; both plan under core's FftwPlannerMutex.
 #pragma once
 
 #include <algorithm>
@@ -10,6 +9,8 @@
 #include <utility>
 
 #include <fftw3.h>
+
+#include "core/fftw_planner.h"
 
 namespace mesocap {
 
@@ -38,10 +39,5 @@ struct FftComplexBuffer {
   ~FftComplexBuffer() { fftwf_free(data); }
   fftwf_complex* fftw() const { return reinterpret_cast<fftwf_complex*>(data); }
 };
-
-inline std::mutex& FftwPlannerMutex() {
-  static std::mutex m;
-  return m;
-}
 
 }  // namespace mesocap
