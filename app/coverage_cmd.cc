@@ -48,14 +48,9 @@ int RunCoverage(CoverageArgs a) {
   if (a.options.near_deg <= 0 || a.options.near_deg > 90 || a.options.suggestions < 0 || a.options.suggestions > 100)
     return Fail(verb, "--near-deg must be in (0, 90] and --suggest in [0, 100]", kExitUsage);
   const fs::path rig_file = a.session / "calibration" / "rig.json";
-  auto rig = ReadJsonFile(rig_file);
-  if (!rig.ok()) return Fail(verb, rig.status().message() + " (run `mesocap calibrate` first)");
-  CalibrationResult calibration;
-  try {
-    calibration = CalibrationResult::FromRigJson(*rig);
-  } catch (const JsonFieldError& e) {
-    return Fail(verb, rig_file.string() + ": " + e.what());
-  }
+  auto loaded = LoadSessionCalibration(a.session);
+  if (!loaded.ok()) return Fail(verb, loaded.status().message());
+  const CalibrationResult& calibration = *loaded;
   const BoardPose* top = TopBoardPose(calibration);
   if (!top) return Fail(verb, rig_file.string() + ": no board was posed, so there is no hemisphere to cover");
   std::vector<Eigen::Vector3d> flashes;

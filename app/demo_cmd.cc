@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/demo_reconstruct.h"
 #include "app/process.h"
+#include "app/session_stages.h"
 #include "app/demo_synthesis.h"
 #include "app/stage_clock.h"
 #include "calib/calibrate.h"
@@ -77,12 +78,11 @@ void AddTiming(const StageClock& clock, Report* report) {
 // Calibration from session/calibration/ against truth.json.
 Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, const std::vector<StageOutcome>& outcomes,
                             Report* report) {
-  auto rig = ReadJsonFile(session_dir / "calibration" / "rig.json");
-  if (!rig.ok()) return rig.status();
+  auto cal = LoadSessionCalibration(session_dir);
+  if (!cal.ok()) return cal.status();
   auto calibration_report = ReadJsonFile(session_dir / "calibration" / "report.json");
   if (!calibration_report.ok()) return calibration_report.status();
-  const CalibrationResult cal = CalibrationResult::FromRigJson(*rig);
-  const CalibrationScore score = ScoreAgainstTruth(cal, truth);
+  const CalibrationScore score = ScoreAgainstTruth(*cal, truth);
   const Json& intrinsics = (*calibration_report)["intrinsics"];
   const std::string intrinsics_rms =
       intrinsics.contains("report") ? Format("RMS %.3f px", intrinsics["report"]["rms_reprojection_px"].get<double>()) : "given";

@@ -41,10 +41,6 @@ namespace fs = std::filesystem;
 // measure of the work than wall time.
 double ProcessCpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // 16-bit PNG/TIFF hold linear values, so writing with kUint16Linear stores the values as they are.
 ImageWriteOptions StoredValueOptions(const fs::path& path) {
   ImageWriteOptions o;

@@ -39,6 +39,19 @@ StatusOr<RigLayout> LoadSessionLayout(const fs::path& session, const fs::path& l
   return layout;
 }
 
+StatusOr<CalibrationResult> LoadSessionCalibration(const fs::path& session) {
+  const fs::path rig_file = session / "calibration" / "rig.json";
+  if (!fs::exists(rig_file))
+    return Status::Error(rig_file.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
+  auto rig = ReadJsonFile(rig_file);
+  if (!rig.ok()) return rig.status();
+  try {
+    return CalibrationResult::FromRigJson(*rig);
+  } catch (const std::exception& e) {
+    return Status::Error(rig_file.string() + ": " + e.what());
+  }
+}
+
 StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout& layout, Json* intrinsics_report,
                                 Image* residual_plot) {
   if (!o.camera_file.empty()) {
@@ -151,19 +164,10 @@ StatusOr<StageSummary> RunResampleStage(const fs::path& session, const fs::path&
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
   auto layout = LoadSessionLayout(session, layout_file);
   if (!layout.ok()) return layout.status();
-  const fs::path rig_file = session / "calibration" / "rig.json";
-  if (!fs::exists(rig_file))
-    return Status::Error(rig_file.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
-  auto rig = ReadJsonFile(rig_file);
-  if (!rig.ok()) return rig.status();
-  CalibrationResult calibration;
-  try {
-    calibration = CalibrationResult::FromRigJson(*rig);
-  } catch (const std::exception& e) {
-    return Status::Error(rig_file.string() + ": " + e.what());
-  }
+  auto calibration = LoadSessionCalibration(session);
+  if (!calibration.ok()) return calibration.status();
   ProgressBar bar("resample", progress);
-  auto slices = ResampleSession(options, session, *layout, calibration, bar.AsCallback(), WriteBoardLightFiles);
+  auto slices = ResampleSession(options, session, *layout, *calibration, bar.AsCallback(), WriteBoardLightFiles);
   if (!slices.ok()) return slices.status();
   StageSummary summary;
   summary.brief = slices->Brief();

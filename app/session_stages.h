@@ -28,6 +28,9 @@ struct StageSummary {
 // The rig layout: `layout_file`, or SESSION/rig_layout.json when empty.
 std::filesystem::path SessionLayoutFile(const std::filesystem::path& session, const std::filesystem::path& layout_file);
 StatusOr<RigLayout> LoadSessionLayout(const std::filesystem::path& session, const std::filesystem::path& layout_file);
+// The session's calibration, SESSION/calibration/rig.json; the error names the file (and, when it
+// is missing, says to run `mesocap calibrate` first).
+StatusOr<CalibrationResult> LoadSessionCalibration(const std::filesystem::path& session);
 
 struct CalibrateStageOptions {
   CalibrateOptions calibrate;          // calibrate.session is the session folder

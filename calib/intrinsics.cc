@@ -20,16 +20,13 @@
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "core/text_format.h"
 
 namespace mesocap {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 std::string PatternName(const IntrinsicsOptions& o) { return std::to_string(o.cols) + "x" + std::to_string(o.rows); }
 

@@ -8,9 +8,11 @@
 
 #include <Eigen/Core>
 
+#include "calib/projection.h"
+
 namespace mesocap {
 
-// Layout of the shared intrinsics parameter block.
+// Layout of the shared intrinsics parameter block (ProjectWithDistortion's).
 enum IntrinsicsParam { kFx = 0, kFy, kCx, kCy, kK1, kK2, kP1, kP2, kK3, kNumIntrinsics };
 // Per-image pose block: angle-axis rotation (3) then translation (3), X_cam = R X_board + t.
 inline constexpr int kNumPoseParams = 6;
@@ -26,19 +28,10 @@ struct CheckerboardReprojectionCost {
     T point_in_cam[3];
     ceres::AngleAxisRotatePoint(cam_from_board, point, point_in_cam);
     for (int i = 0; i < 3; ++i) point_in_cam[i] += cam_from_board[3 + i];
-    const T x = point_in_cam[0] / point_in_cam[2];
-    const T y = point_in_cam[1] / point_in_cam[2];
-    const T& k1 = intrinsics[kK1];
-    const T& k2 = intrinsics[kK2];
-    const T& p1 = intrinsics[kP1];
-    const T& p2 = intrinsics[kP2];
-    const T& k3 = intrinsics[kK3];
-    const T r2 = x * x + y * y;
-    const T radial = T(1) + r2 * (k1 + r2 * (k2 + r2 * k3));
-    const T xd = x * radial + T(2) * p1 * x * y + p2 * (r2 + T(2) * x * x);
-    const T yd = y * radial + p1 * (r2 + T(2) * y * y) + T(2) * p2 * x * y;
-    residuals[0] = intrinsics[kFx] * xd + intrinsics[kCx] - T(observed_px.x());
-    residuals[1] = intrinsics[kFy] * yd + intrinsics[kCy] - T(observed_px.y());
+    T pixel[2];
+    ProjectWithDistortion(intrinsics, point_in_cam, pixel);
+    residuals[0] = pixel[0] - T(observed_px.x());
+    residuals[1] = pixel[1] - T(observed_px.y());
     return true;
   }
 

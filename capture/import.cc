@@ -12,6 +12,7 @@
 #include "capture/photo_metadata.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
 #include "core/text_format.h"
@@ -20,10 +21,6 @@ namespace mesocap {
 namespace fs = std::filesystem;
 
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Seconds since the epoch of an EXIF date-time "YYYY:MM:DD HH:MM:SS" (any single separators),
 // plus its sub-second digits and "+HH:MM" UTC offset when known. Without an offset the camera's

@@ -7,6 +7,7 @@
 #include "capture/rig_material.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
 
@@ -14,10 +15,6 @@ namespace mesocap {
 namespace fs = std::filesystem;
 
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 }  // namespace
 

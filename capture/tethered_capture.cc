@@ -21,6 +21,7 @@
 #include "capture/photo_metadata.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
+#include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
 #include "core/text_format.h"
@@ -31,8 +32,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void SleepSeconds(double s) {
   if (s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(s));

@@ -11,6 +11,11 @@ namespace mesocap {
 
 using ProgressFn = std::function<bool(int done, int total, const std::string& what)>;
 
+// Wall seconds since `start` (steady clock): every stage's timing figures.
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 inline bool ReportProgress(const ProgressFn& fn, int done, int total, const std::string& what) {
   return fn ? fn(done, total, what) : true;
 }

@@ -9,15 +9,12 @@
 #include "core/directions.h"
 #include "core/median.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "core/text_format.h"
 #include "reconstruct/colour.h"
 
 namespace mesocap {
 namespace {
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 double RmsDifference(const Image& a, const Image& b) {
   double sum = 0;
@@ -243,7 +240,7 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   }, num_threads);
   if (cancelled) return Status::Error("cancelled");
   const int input_slices = int(inputs.size());
-  const double seconds_inputs = Seconds(start);
+  const double seconds_inputs = SecondsSince(start);
 
   // 2. Statistics of every input slice; the top view's slices are the base textures.
   start = std::chrono::steady_clock::now();
@@ -257,7 +254,7 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
   auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights_by_view[top], std::move(measured), options.btf);
   if (!btf.ok()) return btf.status();
   slices.clear();
-  const double seconds_statistics = Seconds(start);
+  const double seconds_statistics = SecondsSince(start);
 
   // 3. Held-out pairs: target views that are not input views, under every target light.
   auto scored = ScoreHeldOutPairs(*btf, truth, options, progress);
@@ -331,7 +328,7 @@ StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueS
     if (!ReportProgress(progress, ++done, int(held_out.size()), "score held-out pairs")) cancelled = true;
   }, options.btf.num_threads);
   if (cancelled) return Status::Error("cancelled");
-  eval.seconds_scoring = Seconds(start);
+  eval.seconds_scoring = SecondsSince(start);
   eval.reconstruct_ms_per_slice = 1e-6 * double(reconstruct_ns) / double(held_out.size());
   return eval;
 }

@@ -9,14 +9,12 @@
 #include <random>
 
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "core/text_format.h"
+#include "synth/feature_distance.h"
 
 namespace mesocap {
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 enum Shape { kLeft = 0, kTop = 1, kBoth = 2 };
 
@@ -273,11 +271,7 @@ std::vector<int> MinimumErrorCut(int length, int width, const std::function<doub
 }
 
 double StepError(const Image& a, int ax, int ay, const Image& b, int bx, int by) {
-  const float* p = a.pixel(ax, ay);
-  const float* q = b.pixel(bx, by);
-  double sum = 0;
-  for (int f = 0; f < a.channels(); ++f) sum += double(p[f] - q[f]) * (p[f] - q[f]);
-  return std::sqrt(sum);
+  return FeatureDistance(a.pixel(ax, ay), b.pixel(bx, by), a.channels());
 }
 
 }  // namespace

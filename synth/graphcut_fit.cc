@@ -5,6 +5,8 @@
 
 #include <maxflow.h>
 
+#include "synth/feature_distance.h"
+
 namespace mesocap {
 
 SynthCanvas::SynthCanvas(int width, int height, const Image& sample, std::string method)
@@ -20,12 +22,6 @@ float SynthCanvas::MaskAt(int x, int y) const {
 }
 
 namespace {
-
-double Distance(const float* a, const float* b, int n) {
-  double s = 0;
-  for (int i = 0; i < n; ++i) s += double(a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(s);
-}
 
 // The value the old patch of output texel (x, y) would have at (x + dx, y + dy): its source
 // stepped in the patch's own orientation (clamped into the sample).
@@ -96,7 +92,8 @@ CutResult FitPatch(const SynthCanvas& c, const PlacedPatch& p, const std::vector
   // material copied a period away) M is ~0 everywhere and the cut would land at an arbitrary
   // phase of the pattern; the second term puts it where the material itself is smooth.
   auto edge_cost = [&](const float* ap, const float* aq, const float* bp, const float* bq) {
-    return Distance(ap, bp, F) + Distance(aq, bq, F) + 0.5 * options.step_weight * (Distance(ap, bq, F) + Distance(bp, aq, F));
+    return FeatureDistance(ap, bp, F) + FeatureDistance(aq, bq, F) +
+           0.5 * options.step_weight * (FeatureDistance(ap, bq, F) + FeatureDistance(bp, aq, F));
   };
   struct Edge {
     int a, b;
@@ -173,8 +170,8 @@ double MeanNeighbourStep(const Image& f) {
   size_t count = 0;
   for (int y = 0; y < f.height(); ++y)
     for (int x = 0; x < f.width(); ++x) {
-      if (x + 1 < f.width()) sum += Distance(f.pixel(x, y), f.pixel(x + 1, y), f.channels()), ++count;
-      if (y + 1 < f.height()) sum += Distance(f.pixel(x, y), f.pixel(x, y + 1), f.channels()), ++count;
+      if (x + 1 < f.width()) sum += FeatureDistance(f.pixel(x, y), f.pixel(x + 1, y), f.channels()), ++count;
+      if (y + 1 < f.height()) sum += FeatureDistance(f.pixel(x, y), f.pixel(x, y + 1), f.channels()), ++count;
     }
   return count ? sum / count : 0.0;
 }

@@ -7,6 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/progress.h"
 #include "core/text_format.h"
 #include "synth/graphcut_fit.h"
 #include "synth/patch_matching.h"
@@ -66,10 +67,6 @@ double FeatureVariance(const Image& f) {
   return v / double(f.pixel_count());
 }
 
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
 class Quilter {
  public:
   Quilter(const Image& sample, const QuiltOptions& options, const Image* sample_mask, const Image* target,
@@ -123,7 +120,7 @@ class Quilter {
       patch.u0 = match.u, patch.v0 = match.v;
       const auto start = std::chrono::steady_clock::now();
       const CutResult cut = FitPatch(canvas_, patch, DefaultFreedom(canvas_, patch), fit);
-      report_.seconds_cutting += Seconds(start);
+      report_.seconds_cutting += SecondsSince(start);
       const bool last_try = r <= options_.min_patch_radius;
       if (cut.mean_seam_cost() <= options_.seam_threshold * report_.sample_neighbour_step || last_try) {
         if (cut.new_texels == 0) return 0;
@@ -172,7 +169,7 @@ class Quilter {
     const auto start = std::chrono::steady_clock::now();
     const double uniform = std::uniform_real_distribution<double>(0, 1)(rng_);
     MatchResult m = matcher_->ChooseMatch(w, options_.randomness * variance_, uniform);
-    report_.seconds_matching += Seconds(start);
+    report_.seconds_matching += SecondsSince(start);
     return m;
   }
 
@@ -228,7 +225,7 @@ StatusOr<SynthMap> QuiltSynthesis(const Image& sample, const QuiltOptions& optio
   rep = {};
   Quilter quilter(sample, options, nullptr, nullptr, 0, &rep);
   if (!quilter.FillAll({}, progress)) return Status::Error("cancelled");
-  rep.seconds = Seconds(start);
+  rep.seconds = SecondsSince(start);
   if (built) *built = quilter.canvas().features;
   return std::move(quilter.canvas().map);
 }
@@ -318,7 +315,7 @@ StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask,
         given_up[size_t(vy) * options.width + vx] = 1;
     }
   }
-  rep.seconds = Seconds(start);
+  rep.seconds = SecondsSince(start);
   if (built) *built = canvas.features;
   return std::move(canvas.map);
 }

@@ -11,6 +11,7 @@
 #include "core/median.h"
 #include "core/parallel.h"
 #include "core/text_format.h"
+#include "synth/feature_distance.h"
 #include "synth/graphcut_fit.h"
 #include "synth/patch_matching.h"
 
@@ -62,12 +63,6 @@ bool DominantFrequencies(const Image& lum, double* rows, double* columns, std::s
 
 namespace {
 
-double SquaredDistance(const float* a, const float* b, int n) {
-  double s = 0;
-  for (int i = 0; i < n; ++i) s += double(a[i] - b[i]) * (a[i] - b[i]);
-  return s;
-}
-
 // A candidate rectangle: origin in the sample, tile period, overlaps.
 struct Rectangle {
   int x0 = 0, y0 = 0, tile_w = 0, tile_h = 0, h = 0, v = 0;
@@ -90,10 +85,10 @@ OverlapErrors ErrorsOf(const Image& f, const Rectangle& r) {
   const int F = f.channels();
   for (int t = 0; t < e.rows_h; ++t)
     for (int c = 0; c < e.cols_h; ++c)
-      e.psi_h[size_t(t) * e.cols_h + c] = SquaredDistance(f.pixel(r.x0 + c, r.y0 + t), f.pixel(r.x0 + c, r.y0 + t + r.tile_h), F);
+      e.psi_h[size_t(t) * e.cols_h + c] = FeatureDistanceSquared(f.pixel(r.x0 + c, r.y0 + t), f.pixel(r.x0 + c, r.y0 + t + r.tile_h), F);
   for (int t = 0; t < e.rows_v; ++t)
     for (int u = 0; u < e.cols_v; ++u)
-      e.psi_v[size_t(t) * e.cols_v + u] = SquaredDistance(f.pixel(r.x0 + u, r.y0 + t), f.pixel(r.x0 + u + r.tile_w, r.y0 + t), F);
+      e.psi_v[size_t(t) * e.cols_v + u] = FeatureDistanceSquared(f.pixel(r.x0 + u, r.y0 + t), f.pixel(r.x0 + u + r.tile_w, r.y0 + t), F);
   return e;
 }
 

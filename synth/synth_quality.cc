@@ -5,16 +5,11 @@
 #include <random>
 
 #include "reconstruct/slice_statistics.h"
+#include "synth/feature_distance.h"
 
 namespace mesocap {
 
 namespace {
-
-double Step(const float* a, const float* b, int n) {
-  double s = 0;
-  for (int i = 0; i < n; ++i) s += double(a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(s);
-}
 
 // True when output texel q continues the source of p (q's source is p's source stepped by the
 // same offset in p's patch orientation).
@@ -36,8 +31,8 @@ SeamMeasure MeasureSeams(const SynthMap& map, const Image& output, const Image& 
   long sample_pairs[2] = {0, 0};
   for (int y = 0; y < sample.height(); ++y)
     for (int x = 0; x < sample.width(); ++x) {
-      if (x + 1 < sample.width()) sample_step[0] += Step(sample.pixel(x, y), sample.pixel(x + 1, y), C), ++sample_pairs[0];
-      if (y + 1 < sample.height()) sample_step[1] += Step(sample.pixel(x, y), sample.pixel(x, y + 1), C), ++sample_pairs[1];
+      if (x + 1 < sample.width()) sample_step[0] += FeatureDistance(sample.pixel(x, y), sample.pixel(x + 1, y), C), ++sample_pairs[0];
+      if (y + 1 < sample.height()) sample_step[1] += FeatureDistance(sample.pixel(x, y), sample.pixel(x, y + 1), C), ++sample_pairs[1];
     }
   for (int d = 0; d < 2; ++d) sample_step[d] = sample_pairs[d] ? sample_step[d] / sample_pairs[d] : 0;
 
@@ -54,7 +49,7 @@ SeamMeasure MeasureSeams(const SynthMap& map, const Image& output, const Image& 
           qx %= W, qy %= H;
         }
         if (Continues(map, x, y, qx, qy, dx, dy)) continue;
-        sum += Step(output.pixel(x, y), output.pixel(qx, qy), C);
+        sum += FeatureDistance(output.pixel(x, y), output.pixel(qx, qy), C);
         expected += sample_step[d];
         ++m.cut_pairs;
       }
