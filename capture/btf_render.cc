@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "core/directions.h"
+#include "core/ggx.h"
 #include "core/parallel.h"
 #include "core/pbr_brdf.h"
 
@@ -67,13 +68,9 @@ Eigen::Vector3f ReflectedRadiance(const Material& m, const MaterialHit& hit, con
     const double cos_o = std::max(n.dot(wo), 1e-3);
     const double a2 = m.roughness() * m.roughness();
     const Eigen::Vector3d h = (wi + wo).normalized();
-    const double nh = std::max(n.dot(h), 0.0);
-    const double denom = nh * nh * (a2 - 1) + 1;
-    const double D = a2 / (std::numbers::pi * denom * denom);
-    auto g1 = [&](double c) { return 2 * c / (c + std::sqrt(a2 + (1 - a2) * c * c)); };
-    const double G = g1(cos_i) * g1(cos_o);
-    const double c = 1 - std::clamp(wi.dot(h), 0.0, 1.0), c2 = c * c;  // Schlick's (1 - cos)^5
-    const double F = m.specular_f0() + (1 - m.specular_f0()) * (c2 * c2 * c);
+    const double D = GgxDistribution(std::max(n.dot(h), 0.0), a2);
+    const double G = SmithG1(cos_i, a2) * SmithG1(cos_o, a2);
+    const double F = SchlickFresnel(m.specular_f0(), wi.dot(h));
     f += Eigen::Vector3f::Constant(float(F * D * G / (4 * cos_i * cos_o)));
   }
   return f * float(cos_i);

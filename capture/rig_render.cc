@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/ggx.h"
 #include "core/parallel.h"
 #include "core/splitmix.h"
 
@@ -402,12 +403,10 @@ Eigen::Vector3f RigRenderer::Shade(const Sample& s, const RigShot& shot, const s
       const Eigen::Vector3d wo = (-p).normalized();
       const double cos_o = std::max(n.dot(wo), 1e-4);
       const Eigen::Vector3d h = (wi + wo).normalized();
-      const double a2 = sp.coat_roughness * sp.coat_roughness, nh = std::max(n.dot(h), 0.0);
-      const double den = nh * nh * (a2 - 1) + 1;
-      const double D = a2 / (std::numbers::pi * den * den);
-      auto g1 = [&](double c) { return 2 * c / (c + std::sqrt(a2 + (1 - a2) * c * c)); };
-      const double F = sp.coat_f0 + (1 - sp.coat_f0) * std::pow(1 - std::clamp(wi.dot(h), 0.0, 1.0), 5);
-      const double spec = F * D * g1(cos_i) * g1(cos_o) / (4 * cos_i * cos_o);
+      const double a2 = sp.coat_roughness * sp.coat_roughness;
+      const double D = GgxDistribution(std::max(n.dot(h), 0.0), a2);
+      const double F = SchlickFresnel(sp.coat_f0, wi.dot(h));
+      const double spec = F * D * SmithG1(cos_i, a2) * SmithG1(cos_o, a2) / (4 * cos_i * cos_o);
       const Eigen::Vector3f base = (sp.base_rgb * ((1 - F) / std::numbers::pi)).cast<float>();
       return (base + Eigen::Vector3f::Constant(float(spec))) * float(E * cos_i);
     }

@@ -2,17 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <Eigen/Dense>
+
+#include "core/ggx.h"
 
 namespace mesocap {
 namespace {
 
 constexpr double kDielectricF0 = 0.04;  // glass, plastics, fibres, stone: the lobe's Fresnel shape
 constexpr double kMinCos = 0.05;
-
-double SmithG1(double cosine, double a2) { return 2 * cosine / (cosine + std::sqrt(a2 + (1 - a2) * cosine * cosine)); }
 
 // The body colour: the mean chromaticity of the most saturated twentieth of the samples, whose
 // white part is the least (taken as none).
@@ -49,11 +48,8 @@ double WhiteLobe::Shape(const Eigen::Vector3d& light, const Eigen::Vector3d& vie
   const double cos_i = light.z(), cos_o = view.z();
   if (cos_i <= 0 || cos_o <= 0) return 0;
   const Eigen::Vector3d h = (light + view).normalized();
-  const double a2 = alpha * alpha, nh = h.z();
-  const double denom = nh * nh * (a2 - 1) + 1;
-  const double d = a2 / (std::numbers::pi * denom * denom);
-  const double c = 1 - std::clamp(light.dot(h), 0.0, 1.0), c2 = c * c;  // Schlick's (1 - cos)^5
-  const double f = kDielectricF0 + (1 - kDielectricF0) * c2 * c2 * c;
+  const double a2 = alpha * alpha;
+  const double d = GgxDistribution(h.z(), a2), f = SchlickFresnel(kDielectricF0, light.dot(h));
   return d * f * SmithG1(cos_i, a2) * SmithG1(cos_o, a2) / (4 * std::max(cos_o, kMinCos));
 }
 
