@@ -111,12 +111,7 @@ std::string SettingsSummary(const Json& settings) {
 
 std::string FileTimeUtc(const fs::path& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return "";
-  std::tm tm{};
-  ::gmtime_r(&st.st_mtime, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
+  return ::stat(path.c_str(), &st) == 0 ? UtcIso8601(st.st_mtime) : "";
 }
 
 ShotRecord RecordFor(int index, const std::string& kind, const std::string& file, const fs::path& path) {

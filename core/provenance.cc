@@ -25,14 +25,15 @@ void SetCommandLine(int argc, char** argv) {
 
 const std::string& CommandLine() { return CommandLineStorage(); }
 
-std::string UtcNowIso8601() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+std::string UtcIso8601(std::time_t time) {
   std::tm tm{};
-  gmtime_r(&now, &tm);
+  gmtime_r(&time, &tm);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
 }
+
+std::string UtcNowIso8601() { return UtcIso8601(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())); }
 
 Json MakeProvenance(const Json& options) {
   return {{"program", "mesocap"}, {"version", Version()}, {"command_line", CommandLine()},

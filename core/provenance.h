@@ -2,6 +2,7 @@
 // program version and time.
 #pragma once
 
+#include <ctime>
 #include <string>
 
 #include "core/json.h"
@@ -16,6 +17,8 @@ void SetCommandLine(int argc, char** argv);
 const std::string& CommandLine();
 
 std::string UtcNowIso8601();
+// A time (seconds since the epoch) as ISO 8601 UTC, "2026-12-05T10:00:00Z".
+std::string UtcIso8601(std::time_t time);
 
 // {"program": "mesocap", "version", "command_line", "time_utc", "options": options}
 Json MakeProvenance(const Json& options);

@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -296,15 +295,9 @@ Status WritePtmFile(const fs::path& path, const PtmRowSource& rows, const PtmWri
 
 StatusOr<Ptm> ReadPtmFile(const fs::path& path, PtmQuantization* quantization) {
   const std::string name = path.string();
-  std::string bytes;
-  {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) return Status::Error(name + ": cannot open PTM file");
-    std::ostringstream ss;
-    ss << file.rdbuf();
-    if (file.bad()) return Status::Error(name + ": read failed");
-    bytes = ss.str();
-  }
+  auto read = ReadTextFile(path);
+  if (!read.ok()) return read.status();
+  const std::string bytes = std::move(*read);
   HeaderReader reader(bytes);
   std::string line;
   if (!reader.Line(&line) || line != kMagic)
