@@ -12,6 +12,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->chromaticity_from_top_view = chroma_from_top;
   btf->white_specular_colour = !no_white_specular;
   btf->mean_model = !no_mean_model;
+  btf->view_blend_even_at_pole = !linear_from_top_view;
   btf->far_light_falloff_deg = far_light_falloff_deg;
   return true;
 }
@@ -28,6 +29,7 @@ Json BtfMethodArgs::ToJson() const {
           {"chroma_from_top", chroma_from_top ? "on" : chroma_from_views ? "off" : "by the shots"},
           {"white_specular_colour", !no_white_specular},
           {"mean_model", !no_mean_model},
+          {"view_blend_even_at_pole", !linear_from_top_view},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

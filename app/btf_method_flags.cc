@@ -40,6 +40,9 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
                     "Keep the blended statistics' mean brightness where a light lies beyond the measured lights, instead of "
                     "scaling to a model of the mean fitted to every measured slice (used only if it predicts each tilted "
                     "view's slices, fitted without them, better than the top view does)");
+  command->add_flag(prefix + "linear-from-top-view", linear_from_top_view,
+                    "Interpolate a view between the top view and the first view ring linearly in incidence (the "
+                    "paper) instead of in 1 - cos(incidence), in which statistics even through the pole change linearly");
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
                     "fitted to the top view's mean radiance against cos(theta_i)");

@@ -106,7 +106,8 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
 // With `predict_shadows`, the guidance knows which positions shadow which board (as `mesocap
 // capture --guide` predicts them from the calibrated rig).
 std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total, bool predict_shadows,
-                                     CoverageObjective objective, double spread_cap_deg, bool board_weights) {
+                                     CoverageObjective objective, double spread_cap_deg, bool board_weights,
+                                     bool even_at_pole) {
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
@@ -119,6 +120,7 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     options.objective = objective;
     options.spread_cap_deg = spread_cap_deg;
     options.weigh_boards_by_use = board_weights;
+    options.view_blend_even_at_pole = even_at_pole;
     options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
     LitFn lit;
     if (predict_shadows)
@@ -240,6 +242,7 @@ int Run(int argc, char** argv) {
   bool mean_model = StatisticalBtfOptions().mean_model;
   double mean_onset = StatisticalBtfOptions().mean_model_onset_deg;
   double max_view_extrapolation = StatisticalBtfOptions().max_view_extrapolation;
+  bool even_at_pole = StatisticalBtfOptions().view_blend_even_at_pole;
   bool list_lights = false, top_view_prior = true;
   double far_light_falloff = StatisticalBtfOptions().far_light_falloff_deg;
   bool cosine = StatisticalBtfOptions().cosine_weighted_lights, fit_falloff = StatisticalBtfOptions().fit_light_falloff;
@@ -277,6 +280,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--mean-model") mean_model = value == "1";
     else if (flag == "--mean-onset") mean_onset = std::stod(value);
     else if (flag == "--max-view-extrapolation") max_view_extrapolation = std::stod(value);
+    else if (flag == "--even-at-pole") even_at_pole = value == "1";
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
     else if (flag == "--board-weights") board_weights = value == "1";
@@ -316,10 +320,12 @@ int Run(int argc, char** argv) {
         options.btf.mean_model = mean_model;
         options.btf.mean_model_onset_deg = mean_onset;
         options.btf.max_view_extrapolation = max_view_extrapolation;
+        options.btf.view_blend_even_at_pole = even_at_pole;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
-            Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg, board_weights);
+            Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg, board_weights,
+                      even_at_pole);
         const std::vector<BoardInputs> measured = MeasuredLights(*scene, renderer, flashes);
         for (const BoardInputs& board : measured) {
           if (list_lights) {
@@ -365,7 +371,7 @@ int Run(int argc, char** argv) {
         }
         const auto w = eval->Median(&PairScore::wasserstein_pixels);
         auto wins = [&](LightCoverage c) { return 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels, c); };
-        std::printf("%-9s %5s %4s %5zu %6d |  %3.0f%%  %3.0f%%  %3.0f%%  %3.0f%% | %3d/%3d/%3d | %.5f / %.5f | %3.0f%%\n",
+        std::printf("%-9s %5s %4s %5zu %6d | %5.1f%% %5.1f%% %5.1f%% %5.1f%% | %3d/%3d/%3d | %.5f / %.5f | %3.0f%%\n",
                     material_name.c_str(), shot_count.c_str(), seed.c_str(), options.input_views.size(), eval->input_slices,
                     100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels), wins(LightCoverage::kInside),
                     wins(LightCoverage::kNear), wins(LightCoverage::kFar), eval->CountWith(LightCoverage::kInside),

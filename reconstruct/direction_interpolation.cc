@@ -107,7 +107,7 @@ std::vector<WeightedIndex> LightInterpolator::Weights(const Eigen::Vector3d& dir
 }
 
 StatusOr<ViewInterpolator> ViewInterpolator::Create(const std::vector<Eigen::Vector3d>& directions, double ring_gap_deg,
-                                                    double max_extrapolation) {
+                                                    double max_extrapolation, bool even_at_pole) {
   if (directions.empty()) return Status::Error("no view directions");
   std::vector<Eigen::Vector2d> angles;
   for (const auto& d : directions) angles.push_back(AnglesDegFromDirection(d));
@@ -116,6 +116,7 @@ StatusOr<ViewInterpolator> ViewInterpolator::Create(const std::vector<Eigen::Vec
   std::sort(order.begin(), order.end(), [&](int a, int b) { return angles[a].x() < angles[b].x(); });
   ViewInterpolator interp;
   interp.max_extrapolation_ = std::max(0.0, max_extrapolation);
+  interp.even_at_pole_ = even_at_pole;
   for (size_t k = 0; k < order.size(); ++k) {
     if (k == 0 || angles[order[k]].x() - angles[order[k - 1]].x() > ring_gap_deg) interp.rings_.emplace_back();
     interp.rings_.back().views.push_back(order[k]);
@@ -163,9 +164,13 @@ std::vector<WeightedIndex> ViewInterpolator::Weights(const Eigen::Vector3d& dire
   // The pair of neighbouring rings that brackets theta; the end pairs extrapolate.
   int r = 0;
   while (r + 2 < rings && theta > ring_theta[r + 1]) ++r;
-  const double span = ring_theta[r + 1] - ring_theta[r];
-  const double s = std::clamp(std::abs(span) > 1e-9 ? (theta - ring_theta[r]) / span : 0.0, -max_extrapolation_,
-                              1.0 + max_extrapolation_);
+  // The coordinate incidence is interpolated in: theta, or 1 - cos(theta) from a top view.
+  constexpr double kTopViewDeg = 5.0;
+  const bool from_pole = even_at_pole_ && r == 0 && ring_theta[0] < kTopViewDeg;
+  const auto coordinate = [&](double deg) { return from_pole ? 1.0 - std::cos(DegToRad(deg)) : deg; };
+  const double span = coordinate(ring_theta[r + 1]) - coordinate(ring_theta[r]);
+  const double s = std::clamp(std::abs(span) > 1e-12 ? (coordinate(theta) - coordinate(ring_theta[r])) / span : 0.0,
+                              -max_extrapolation_, 1.0 + max_extrapolation_);
   std::vector<WeightedIndex> out;
   for (const auto& w : along[r]) out.push_back({w.index, (1 - s) * w.weight});
   for (const auto& w : along[r + 1]) out.push_back({w.index, s * w.weight});

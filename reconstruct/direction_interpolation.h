@@ -4,7 +4,7 @@
 //    the hull is first moved radially onto the hull.
 //  - View directions: grouped into rings of similar incidence (top, ~30, ~60 deg); each ring is a
 //    closed polyline in azimuth; a query interpolates along the two rings that bracket its
-//    incidence, then linearly in incidence between them, extrapolating (negative weights) above
+//    incidence, then linearly in incidence (or, from a top view, in 1 - cos) between them, extrapolating (negative weights) above
 //    the outermost ring or below the innermost.
 // Weights always sum to one.
 #pragma once
@@ -54,8 +54,13 @@ class ViewInterpolator {
   // Beyond the outermost (or innermost) ring, extrapolation goes at most `max_extrapolation`
   // ring spacings further (larger infinite: the paper's plain linear extrapolation; 0: hold
   // the outer ring's statistics).
+  // `even_at_pole`: between a top view (incidence under 5 deg) and the first ring, interpolate
+  // in 1 - cos(theta) instead of theta. A texture that looks alike from opposite azimuths has
+  // statistics even in theta through the pole, so near it they change as theta^2 ~ 2 (1 - cos
+  // theta), not linearly: at 15 deg the 30 deg ring weighs 0.254, not 0.5. false: the paper's.
   static StatusOr<ViewInterpolator> Create(const std::vector<Eigen::Vector3d>& directions,
-                                           double ring_gap_deg = 10.0, double max_extrapolation = 1e9);
+                                           double ring_gap_deg = 10.0, double max_extrapolation = 1e9,
+                                           bool even_at_pole = false);
   std::vector<WeightedIndex> Weights(const Eigen::Vector3d& direction) const;
   int ring_count() const { return static_cast<int>(rings_.size()); }
 
@@ -69,6 +74,7 @@ class ViewInterpolator {
   std::vector<WeightedIndex> AlongRing(const Ring& ring, double phi_deg, double* theta_deg) const;
   std::vector<Ring> rings_;
   double max_extrapolation_ = 1e9;
+  bool even_at_pole_ = false;
 };
 
 // Adds equal indices together and drops zero weights.

@@ -1,5 +1,6 @@
 #include "reconstruct/direction_interpolation.h"
 
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -111,6 +112,22 @@ TEST(ViewInterpolator, BilinearInRingsAndExtrapolatesBeyondTheOuterRing) {
   ASSERT_EQ(w.size(), 2u);
   EXPECT_NEAR(w[0].weight, 0.5, 1e-9);
   EXPECT_NEAR(w[1].weight, 0.5, 1e-9);
+  // Even through the pole: from the top, in 1 - cos(theta); further out unchanged.
+  auto even = ViewInterpolator::Create(views, 10.0, 1e9, /*even_at_pole=*/true);
+  ASSERT_TRUE(even.ok());
+  const double ring_share = (1 - std::cos(DegToRad(15))) / (1 - std::cos(DegToRad(30)));  // 0.2543
+  w = even->Weights(DirectionFromAnglesDeg(15, 0));
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0].index, 0);
+  EXPECT_NEAR(w[0].weight, 1 - ring_share, 1e-9);
+  EXPECT_NEAR(w[1].weight, ring_share, 1e-9);
+  EXPECT_NEAR(ring_share, 0.2543, 1e-4);
+  for (const double theta : {0.0, 30.0, 45.0, 75.0}) {
+    const std::vector<WeightedIndex> linear = interp->Weights(DirectionFromAnglesDeg(theta, 20)),
+                                     from_pole = even->Weights(DirectionFromAnglesDeg(theta, 20));
+    ASSERT_EQ(linear.size(), from_pole.size()) << theta;
+    for (size_t k = 0; k < linear.size(); ++k) EXPECT_NEAR(linear[k].weight, from_pole[k].weight, 1e-9) << theta;
+  }
   // 45 deg, phi 45: midway along both rings (30-deg ring between phi 0 and 90), midway in theta.
   w = interp->Weights(DirectionFromAnglesDeg(45, 45));
   EXPECT_NEAR(WeightSum(w), 1.0, 1e-12);

@@ -63,12 +63,13 @@ std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardL
   return Format("%s, %s (%.0f deg above the target's plane)", kSectors[sector], height, elevation);
 }
 
-std::vector<double> BoardWeights(const std::vector<BoardLights>& boards) {
+std::vector<double> BoardWeights(const std::vector<BoardLights>& boards, bool view_blend_even_at_pole) {
   const std::vector<double> alike(boards.size(), 1.0);
   std::vector<Eigen::Vector3d> views;
   for (const BoardLights& b : boards) views.push_back(b.LightFrom(Eigen::Vector3d::Zero()));  // toward the camera
   const StatisticalBtfOptions reconstruction;  // its view rings
-  auto rings = ViewInterpolator::Create(views, reconstruction.ring_gap_deg, reconstruction.max_view_extrapolation);
+  auto rings = ViewInterpolator::Create(views, reconstruction.ring_gap_deg, reconstruction.max_view_extrapolation,
+                                        view_blend_even_at_pole);
   if (!rings.ok()) return alike;
   std::vector<double> weights(boards.size(), 0.0);
   double total = 0;
@@ -133,7 +134,7 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
     for (int k = 0; k < int(targets.size()); ++k)
       for (const Eigen::Vector3d& light : boards[b].lights) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
   const std::vector<double> board_weight =
-      spread && options.weigh_boards_by_use ? BoardWeights(boards) : std::vector<double>(boards.size(), 1.0);
+      spread && options.weigh_boards_by_use ? BoardWeights(boards, options.view_blend_even_at_pole) : std::vector<double>(boards.size(), 1.0);
   const auto gain_of = [&](size_t c) {
     double gain = 0;
     if (!spread) {

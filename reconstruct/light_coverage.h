@@ -50,6 +50,8 @@ struct CoverageOptions {
   // 0.4 (stones) and 0.6 (corduroy) more points of pairs beating both baselines than every board
   // alike (bench_session_coverage --guided 24 --board-weights 0|1).
   bool weigh_boards_by_use = true;
+  // The reconstruction's view blend the board weights follow (StatisticalBtfOptions).
+  bool view_blend_even_at_pole = true;
   double near_deg = 15.0;  // a target within this of a measured light is covered
   // Flash positions considered for the next shots: elevations (above the top board's plane) and
   // azimuths on a sphere about the top board's centre, at `flash_distance_m`.
@@ -93,9 +95,9 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
 // How much the statistical BTF's reconstruction of the held-out views (the Bonn directions)
 // borrows from each board's statistics: the sum of the absolute weights its view gets in their view
 // interpolation (reconstruct/direction_interpolation.h), scaled to a mean of 1 over the boards.
-// Each board's view is the direction to the camera in its frame. All 1 when the views form no
-// interpolator.
-std::vector<double> BoardWeights(const std::vector<BoardLights>& boards);
+// Each board's view is the direction to the camera in its frame; `view_blend_even_at_pole` as the
+// reconstruction's (StatisticalBtfOptions). All 1 when the views form no interpolator.
+std::vector<double> BoardWeights(const std::vector<BoardLights>& boards, bool view_blend_even_at_pole = true);
 
 // Where a flash position lies, in words for the operator holding it: seen from the camera
 // (left/right, toward the top or bottom of the picture) and how high above the target.

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include "core/directions.h"
 #include "reconstruct/btf_evaluation.h"
@@ -94,10 +96,12 @@ TEST(LightCoverage, WordsSayWhereTheFlashGoesAsSeenFromTheCamera) {
 }
 
 // The rig's 13 boards (top, 4 at 30 deg, 8 at 60 deg; reconstruct/btf_evaluation.h): the 81 Bonn
-// views interpolate their rings by incidence, 0 and 15 deg from the top and the 30 deg ring (15 at
-// weight 1/2 each), 30 from the 30 deg ring, 45 and 60 between the outer rings, 75 extrapolated
-// (weights -1/2 and 3/2). Summed over the Bonn views' incidences (1, 6, 12, 18, 20, 24 views):
-// the top 1 + 3 = 4, the 30 deg ring 3 + 12 + 9 + 12 = 36, the 60 deg ring 9 + 20 + 36 = 65.
+// views interpolate their rings by incidence, 0 and 15 deg from the top and the 30 deg ring, 30 from
+// the 30 deg ring, 45 and 60 between the outer rings, 75 extrapolated (weights -1/2 and 3/2).
+// Summed over the Bonn views' incidences (1, 6, 12, 18, 20, 24 views), with the 15 deg views' weight
+// w on the 30 deg ring: the top 1 + 6 (1 - w), the 30 deg ring 6 w + 12 + 9 + 12, the 60 deg ring
+// 9 + 20 + 36 = 65. In 1 - cos(theta) from the top (the default) w = (1 - cos 15) / (1 - cos 30);
+// linearly in theta (the paper) w = 1/2.
 TEST(LightCoverage, BoardWeightsAreWhatTheHeldOutViewsBorrowFromEachBoard) {
   std::vector<BoardLights> boards;
   for (const Eigen::Vector3d& view : RigViewDirections()) {
@@ -105,15 +109,19 @@ TEST(LightCoverage, BoardWeightsAreWhatTheHeldOutViewsBorrowFromEachBoard) {
     b.t = -view;  // the camera 1 m along the board's view direction
     boards.push_back(b);
   }
-  const std::vector<double> weights = BoardWeights(boards);
-  ASSERT_EQ(weights.size(), 13u);
-  const double scale = 13.0 / (4 + 36 + 65);
-  EXPECT_NEAR(weights[0], 4 * scale, 1e-9);
-  double ring30 = 0, ring60 = 0;
-  for (int b = 1; b <= 4; ++b) ring30 += weights[size_t(b)];
-  for (int b = 5; b <= 12; ++b) ring60 += weights[size_t(b)];
-  EXPECT_NEAR(ring30, 36 * scale, 1e-9);
-  EXPECT_NEAR(ring60, 65 * scale, 1e-9);
+  const double even_w = (1 - std::cos(DegToRad(15))) / (1 - std::cos(DegToRad(30)));
+  for (const auto& [even_at_pole, w] : {std::pair{true, even_w}, std::pair{false, 0.5}}) {
+    SCOPED_TRACE(even_at_pole ? "1 - cos(theta) from the top" : "linear in theta");
+    const std::vector<double> weights = BoardWeights(boards, even_at_pole);
+    ASSERT_EQ(weights.size(), 13u);
+    const double scale = 13.0 / (1 + 6 + 33 + 65);
+    EXPECT_NEAR(weights[0], (1 + 6 * (1 - w)) * scale, 1e-9);
+    double ring30 = 0, ring60 = 0;
+    for (int b = 1; b <= 4; ++b) ring30 += weights[size_t(b)];
+    for (int b = 5; b <= 12; ++b) ring60 += weights[size_t(b)];
+    EXPECT_NEAR(ring30, (6 * w + 33) * scale, 1e-9);
+    EXPECT_NEAR(ring60, 65 * scale, 1e-9);
+  }
   // One board: every view borrows from it alone.
   EXPECT_EQ(BoardWeights({boards[5]}), std::vector<double>{1.0});
 }

@@ -57,7 +57,8 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   if (views.empty()) return Status::Error("no measured views");
   std::vector<Eigen::Vector3d> view_dirs;
   for (const MeasuredView& v : views) view_dirs.push_back(v.view);
-  auto rings = ViewInterpolator::Create(view_dirs, options.ring_gap_deg, options.max_view_extrapolation);
+  auto rings = ViewInterpolator::Create(view_dirs, options.ring_gap_deg, options.max_view_extrapolation,
+                                        options.view_blend_even_at_pole);
   if (!rings.ok()) return rings.status();
 
   StatisticalBtf btf(std::move(*top), std::move(*rings));
