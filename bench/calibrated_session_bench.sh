@@ -12,6 +12,8 @@
 # At 3000x2000 a 60 deg board's patch spans about 115 pixels up its slope: SIZE above 64 scores
 # the camera's blur more than the reconstruction. FORMAT png (16-bit linear shots) shows what the
 # JPEGs' 8 bits and halved chroma resolution cost.
+# EVALUATE_ARGS (environment) is passed to every `mesocap evaluate`, e.g. "--linear-from-top-view"
+# for the paper's view blend next to the default.
 set -euo pipefail
 BUILD=${1:-build}
 WORK=${2:-/tmp/mesocap_calibrated_sessions}
@@ -41,12 +43,13 @@ for material in "${MATERIALS[@]}"; do
           { cat "$WORK/calibrate.log" >&2; exit 1; }
       fi
       rm -rf "$session/evaluation"
-      "$MESOCAP" evaluate --session "$session" --out "$session/evaluation" --size "$SIZE" --pairs 240 --no-progress >/dev/null
+      "$MESOCAP" evaluate --session "$session" --out "$session/evaluation" --size "$SIZE" --pairs 240 --no-progress \
+        ${EVALUATE_ARGS:-} >/dev/null
       true_slices=$("$COVERAGE" --shots "$shots" --seeds "$seed" --materials "$material" --size "$SIZE" |
         awk -v m="$material" '$1 == m { print $7 }')
       node -e '
         const j = JSON.parse(require("fs").readFileSync(process.argv[1]));
-        const pc = x => `${(100 * x).toFixed(0)}%`.padStart(5);
+        const pc = x => `${(100 * x).toFixed(1)}%`.padStart(6);
         const c = j.by_light_coverage, st = j.methods.statistical, top = j.methods.top_view;
         console.log(`${process.argv[2].padEnd(9)} ${process.argv[3].padStart(5)} ${process.argv[4].padStart(4)} |` +
           `                      ${pc(j.fraction_beating_both_wasserstein_pixels)} ${pc(c.inside.fraction_beating_both_wasserstein_pixels)}` +
