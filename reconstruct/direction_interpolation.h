@@ -4,8 +4,8 @@
 //    the hull is first moved radially onto the hull.
 //  - View directions: grouped into rings of similar incidence (top, ~30, ~60 deg); each ring is a
 //    closed polyline in azimuth; a query interpolates along the two rings that bracket its
-//    incidence, then linearly in incidence (or, from a top view, in 1 - cos) between them, extrapolating (negative weights) above
-//    the outermost ring or below the innermost.
+//    incidence, then linearly in incidence (or, from a top view, in 1 - cos) between them,
+//    extrapolating (negative weights) above the outermost ring or below the innermost.
 // Weights always sum to one.
 #pragma once
 
