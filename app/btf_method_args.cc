@@ -19,6 +19,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
 
 bool BtfMethodArgs::ApplyTo(SliceSetOptions* slices) const {
   if (chroma_from_top || chroma_from_views) slices->chroma_from_top = chroma_from_top;
+  slices->remove_chroma_noise = !keep_chroma_noise;
   return ApplyTo(&slices->btf);
 }
 
@@ -30,6 +31,7 @@ Json BtfMethodArgs::ToJson() const {
           {"white_specular_colour", !no_white_specular},
           {"mean_model", !no_mean_model},
           {"view_blend_even_at_pole", !linear_from_top_view},
+          {"remove_chroma_noise", !keep_chroma_noise},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

@@ -40,6 +40,9 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
                     "Keep the blended statistics' mean brightness where a light lies beyond the measured lights, instead of "
                     "scaling to a model of the mean fitted to every measured slice (used only if it predicts each tilted "
                     "view's slices, fitted without them, better than the top view does)");
+  command->add_flag(prefix + "keep-chroma-noise", keep_chroma_noise,
+                    "Keep each session slice's noise in its chromaticity statistics instead of taking out the variance "
+                    "measured against the slice of the same view at the nearest light");
   command->add_flag(prefix + "linear-from-top-view", linear_from_top_view,
                     "Interpolate a view between the top view and the first view ring linearly in incidence (the "
                     "paper) instead of in 1 - cos(incidence), in which statistics even through the pole change linearly");

@@ -32,6 +32,20 @@ Image ResampleSquare(const Image& image, int size) {
 
 bool IsPowerOfTwo(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
+// For each slice, the slice of the same view whose light is nearest its own (-1 if none).
+std::vector<int> NearestLightOfSameView(const std::vector<const IndexedSlice*>& slices, const std::vector<int>& view_of) {
+  std::vector<int> partner(slices.size(), -1);
+  for (size_t k = 0; k < slices.size(); ++k) {
+    double nearest = 1e9;
+    for (size_t j = 0; j < slices.size(); ++j)
+      if (j != k && view_of[j] == view_of[k]) {
+        const double angle = AngleBetweenDeg(slices[k]->light, slices[j]->light);
+        if (angle < nearest) nearest = angle, partner[k] = int(j);
+      }
+  }
+  return partner;
+}
+
 }  // namespace
 
 bool SliceSetOptions::Check() const { return btf.Check() && (size == 0 || IsPowerOfTwo(size)) && duplicate_light_deg >= 0; }
@@ -97,31 +111,43 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   std::vector<std::string> errors(all.size());
   std::atomic<int> done = 0;
   std::atomic<bool> cancelled = false;
-  auto read = [&](int k) -> Image {
+  auto load = [&](int k, std::string* error) -> Image {
     auto image = ReadImage(all[k]->file);
     if (!image.ok()) {
-      errors[k] = image.status().message();
+      *error = image.status().message();
       return {};
     }
     Image slice = ResampleSquare(*image, options.size);
     if (!IsPowerOfTwo(slice.width()) || slice.width() != slice.height()) {
-      errors[k] = "slice is " + std::to_string(slice.width()) + "x" + std::to_string(slice.height()) +
-                  ", not a power-of-two square (use --size)";
+      *error = "slice is " + std::to_string(slice.width()) + "x" + std::to_string(slice.height()) +
+               ", not a power-of-two square (use --size)";
       return {};
     }
     return slice;
   };
+  auto read = [&](int k) { return load(k, &errors[k]); };
   ParallelFor(0, top_count, [&](int k) { images[k] = read(k); }, options.btf.num_threads);
   // (An unreadable slice is an empty image, which the basis skips.)
   StatisticalBtfOptions btf_options = WithColourChannels(options.btf, std::span(images.data(), top_count));
   btf_options.chromaticity_from_top_view = options.chroma_from_top.value_or(index->chroma_subsampled_shots);
   rep.chroma_from_top = btf_options.chromaticity_from_top_view;
+  const bool remove_noise = options.remove_chroma_noise && btf_options.colour.space() == ColourSpace::kChromaticity;
+  const std::vector<int> partner = remove_noise ? NearestLightOfSameView(all, view_of) : std::vector<int>(all.size(), -1);
   ParallelFor(0, int(all.size()), [&](int k) {
     if (cancelled) return;
     const Image slice = k < top_count ? Image() : read(k);
     const Image& measured = k < top_count ? images[k] : slice;
     if (errors[k].empty()) {
-      stats[k] = ComputeSliceStatistics(btf_options.colour.Forward(measured), btf_options.statistics);
+      const Image channels = btf_options.colour.Forward(measured);
+      stats[k] = ComputeSliceStatistics(channels, btf_options.statistics);
+      if (partner[k] >= 0) {
+        std::string ignored;  // the partner's own pass reports its errors
+        const Image other = partner[k] < top_count ? images[partner[k]] : load(partner[k], &ignored);
+        if (other.width() == measured.width() && other.height() == measured.height() && other.channels() == measured.channels()) {
+          const Image noise = NoiseDifference(channels, btf_options.colour.Forward(other));
+          RemoveNoiseVariance(&stats[k], ComputeSliceStatistics(noise, btf_options.statistics), /*first_channel=*/1);
+        }
+      }
       if (measured.channels() == 3) mean_rgb[k] = MeanRgb(measured);  // else unused (no colour)
     }
     if (!ReportProgress(progress, ++done, int(all.size()), "slice statistics")) cancelled = true;

@@ -1,5 +1,8 @@
 #include "reconstruct/slice_statistics.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/status.h"
 
 namespace mesocap {
@@ -32,6 +35,44 @@ SliceStatistics ComputeSliceStatistics(const Image& slice, const SliceStatistics
     for (const PyramidBand& band : pyramid.bands) stats.bands.push_back(InverseCdfOf(band.values, options.quantiles));
   }
   return stats;
+}
+
+Image NoiseDifference(const Image& a, const Image& b) {
+  MESOCAP_CHECK(a.width() == b.width() && a.height() == b.height() && a.channels() == b.channels(),
+                "noise difference of slices of different sizes");
+  Image diff(a.width(), a.height(), a.channels());
+  const float inv_sqrt2 = float(1 / std::sqrt(2.0));
+  for (size_t i = 0; i < a.pixel_count() * size_t(a.channels()); ++i) diff.data()[i] = (a.data()[i] - b.data()[i]) * inv_sqrt2;
+  return diff;
+}
+
+namespace {
+
+double Variance(const InverseCdf& q) {
+  double mean = 0, square = 0;
+  for (float v : q.values) mean += v, square += double(v) * v;
+  mean /= double(q.values.size());
+  return std::max(0.0, square / double(q.values.size()) - mean * mean);
+}
+
+void ShrinkBy(InverseCdf* q, const InverseCdf& noise) {
+  const double variance = Variance(*q);
+  if (!(variance > 0) || noise.empty()) return;
+  const double factor = std::sqrt(std::max(0.05, 1.0 - Variance(noise) / variance));
+  const double mean = q->Mean();
+  for (float& v : q->values) v = float(mean + (v - mean) * factor);
+}
+
+}  // namespace
+
+void RemoveNoiseVariance(SliceStatistics* measured, const SliceStatistics& noise, int first_channel) {
+  MESOCAP_CHECK(noise.channels == measured->channels && noise.band_count == measured->band_count,
+                "noise statistics of a different pyramid");
+  for (int c = std::max(0, first_channel); c < measured->channels; ++c) {
+    ShrinkBy(&measured->pixels[size_t(c)], noise.pixels[size_t(c)]);
+    for (int b = 0; b < measured->band_count; ++b)
+      ShrinkBy(&measured->bands[size_t(c) * measured->band_count + b], noise.band(c, b));
+  }
 }
 
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights) {

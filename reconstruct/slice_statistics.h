@@ -32,6 +32,17 @@ struct SliceStatistics {
 // Statistics of one slice (any size the pyramid accepts).
 SliceStatistics ComputeSliceStatistics(const Image& slice, const SliceStatisticsOptions& options = {});
 
+// A measured slice's noise widens its histograms, and blending histograms (unlike blending
+// pixels) keeps that width: statistics of noisy slices make a reconstruction noisier, and more
+// colourful where the material's colour barely varies. Two slices of one view at nearby lights
+// share their signal but not their noise, so (a - b) / sqrt(2) (per texel, same size) is an image
+// of one slice's noise.
+Image NoiseDifference(const Image& a, const Image& b);
+// Takes the variance of `noise` (statistics of a noise image, same pyramid) out of `measured`'s
+// channels [first_channel, channels): every pixel and subband inverse CDF is shrunk about its
+// mean by sqrt(1 - var_noise / var), at least by sqrt(0.05).
+void RemoveNoiseVariance(SliceStatistics* measured, const SliceStatistics& noise, int first_channel);
+
 // Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
 // The same with weights per channel: `weights_by_channel[c]` blends channel c.
