@@ -32,11 +32,13 @@ Image ResampleSquare(const Image& image, int size) {
 
 bool IsPowerOfTwo(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
-// For each slice, the slice of the same view whose light is nearest its own (-1 if none).
-std::vector<int> NearestLightOfSameView(const std::vector<const IndexedSlice*>& slices, const std::vector<int>& view_of) {
+// For each slice, the slice of the same view whose light is nearest its own, if within
+// `max_deg` (else -1: further apart their signals differ, and the difference is not noise).
+std::vector<int> NearestLightOfSameView(const std::vector<const IndexedSlice*>& slices, const std::vector<int>& view_of,
+                                        double max_deg) {
   std::vector<int> partner(slices.size(), -1);
   for (size_t k = 0; k < slices.size(); ++k) {
-    double nearest = 1e9;
+    double nearest = max_deg;
     for (size_t j = 0; j < slices.size(); ++j)
       if (j != k && view_of[j] == view_of[k]) {
         const double angle = AngleBetweenDeg(slices[k]->light, slices[j]->light);
@@ -132,7 +134,8 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   btf_options.chromaticity_from_top_view = options.chroma_from_top.value_or(index->chroma_subsampled_shots);
   rep.chroma_from_top = btf_options.chromaticity_from_top_view;
   const bool remove_noise = options.remove_chroma_noise && btf_options.colour.space() == ColourSpace::kChromaticity;
-  const std::vector<int> partner = remove_noise ? NearestLightOfSameView(all, view_of) : std::vector<int>(all.size(), -1);
+  const std::vector<int> partner =
+      remove_noise ? NearestLightOfSameView(all, view_of, kNearHullDeg) : std::vector<int>(all.size(), -1);
   ParallelFor(0, int(all.size()), [&](int k) {
     if (cancelled) return;
     const Image slice = k < top_count ? Image() : read(k);
