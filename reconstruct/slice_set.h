@@ -35,7 +35,7 @@ struct SliceSetOptions {
   // statistics (RemoveNoiseVariance), the noise measured against the slice of the same view at the
   // nearest light (NoiseDifference), if within kNearHullDeg. Calibrated 100-shot JPEG sessions,
   // seeds 21-24: stones' 95th-percentile saturation off by 3.7-4.4% at the median pair instead of
-  // 4.9-6.1%, corduroy's 1.3-1.5% instead of 1.6-1.8%, weave's 8.2-8.5% instead of 7.5-7.7% (its
+  // 4.9-6.1%, corduroy's 1.3-1.5% instead of 1.6-1.8%, weave's 8.2-8.4% instead of 7.5-7.7% (its
   // slices are blurred, which this does not undo). Reads each slice twice.
   bool remove_chroma_noise = true;
   bool Check() const;
