@@ -134,7 +134,8 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
     for (int k = 0; k < int(targets.size()); ++k)
       for (const Eigen::Vector3d& light : boards[b].lights) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
   const std::vector<double> board_weight =
-      spread && options.weigh_boards_by_use ? BoardWeights(boards, options.view_blend_even_at_pole) : std::vector<double>(boards.size(), 1.0);
+      spread && options.weigh_boards_by_use ? BoardWeights(boards, options.view_blend_even_at_pole)
+                                            : std::vector<double>(boards.size(), 1.0);
   const auto gain_of = [&](size_t c) {
     double gain = 0;
     if (!spread) {

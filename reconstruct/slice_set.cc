@@ -145,8 +145,10 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
       stats[k] = ComputeSliceStatistics(channels, btf_options.statistics);
       if (partner[k] >= 0) {
         std::string ignored;  // the partner's own pass reports its errors
-        const Image other = partner[k] < top_count ? images[partner[k]] : load(partner[k], &ignored);
-        if (other.width() == measured.width() && other.height() == measured.height() && other.channels() == measured.channels()) {
+        const Image loaded = partner[k] < top_count ? Image() : load(partner[k], &ignored);
+        const Image& other = partner[k] < top_count ? images[partner[k]] : loaded;  // top slices: no copy
+        if (other.width() == measured.width() && other.height() == measured.height() &&
+            other.channels() == measured.channels()) {
           const Image noise = NoiseDifference(channels, btf_options.colour.Forward(other));
           RemoveNoiseVariance(&stats[k], ComputeSliceStatistics(noise, btf_options.statistics), /*first_channel=*/1);
         }
