@@ -89,7 +89,8 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
   Json j = {{"format", "mesocap-btf"}, {"width", btf.width()}, {"height", btf.height()},
             {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
             {"slices_used", loaded.slices_used}, {"chroma_from_top", loaded.chroma_from_top},
-            {"white_lobe", btf.white_lobe().ToJson()}, {"mean_model", btf.mean_model_check().ToJson()}, {"skipped", loaded.skipped}, {"warnings", loaded.warnings},
+            {"white_lobe", btf.white_lobe().ToJson()}, {"mean_model", btf.mean_model_check().ToJson()},
+            {"mirror_symmetry", btf.symmetry_check().ToJson()}, {"skipped", loaded.skipped}, {"warnings", loaded.warnings},
             {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", report.seconds},
             {"ms_per_slice", report.ms_per_slice}, {"slices", entries}};
   j["provenance"] = MakeProvenance(provenance_options);

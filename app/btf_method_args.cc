@@ -13,6 +13,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->white_specular_colour = !no_white_specular;
   btf->mean_model = !no_mean_model;
   btf->view_blend_even_at_pole = !linear_from_top_view;
+  btf->mirror_symmetry = !no_mirror_symmetry;
   btf->far_light_falloff_deg = far_light_falloff_deg;
   return true;
 }
@@ -31,6 +32,7 @@ Json BtfMethodArgs::ToJson() const {
           {"white_specular_colour", !no_white_specular},
           {"mean_model", !no_mean_model},
           {"view_blend_even_at_pole", !linear_from_top_view},
+          {"mirror_symmetry", !no_mirror_symmetry},
           {"remove_chroma_noise", !keep_chroma_noise},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};

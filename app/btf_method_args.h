@@ -23,6 +23,7 @@ struct BtfMethodArgs {
   bool no_white_specular = false;             // StatisticalBtfOptions::white_specular_colour
   bool no_mean_model = false;                 // StatisticalBtfOptions::mean_model
   bool linear_from_top_view = false;          // StatisticalBtfOptions::view_blend_even_at_pole
+  bool no_mirror_symmetry = false;            // StatisticalBtfOptions::mirror_symmetry
   bool keep_chroma_noise = false;             // SliceSetOptions::remove_chroma_noise (sessions' slices)
   // StatisticalBtfOptions::chromaticity_from_top_view: forced on, forced off, or (neither) decided by
   // the slices' shots (SliceSetOptions::chroma_from_top; off for true slices).

@@ -124,6 +124,20 @@ std::string MeanModelSentence(const StatisticalBtf& btf) {
                 100 * std::expm1(check.top_view_error));
 }
 
+// Which images of the material the views borrowed lights from (StatisticalBtfOptions::mirror_symmetry).
+std::string MirrorSymmetrySentence(const StatisticalBtf& btf) {
+  if (!btf.options().mirror_symmetry) return "";
+  const MirrorSymmetryCheck& check = btf.symmetry_check();
+  std::string held, failed;
+  for (size_t k = 0; k < MirrorImages().size(); ++k) {
+    std::string& list = check.holds[k] ? held : failed;
+    list += Format("%s%s (%.2f)", list.empty() ? "" : ", ", MirrorImages()[k].name, check.ratio[k]);
+  }
+  return Format(" Views also borrow the lights of their images under: %s; not under: %s (median distance of imaged "
+                "top-view statistics over the interpolation's own, at most %.1f to hold).",
+                held.empty() ? "none" : held.c_str(), failed.empty() ? "none" : failed.c_str(), kMirrorCheckTolerance);
+}
+
 }  // namespace
 
 int RunEvaluate(const EvaluateArgs& a) {
@@ -177,6 +191,7 @@ int RunEvaluate(const EvaluateArgs& a) {
   j["chroma_from_top"] = model->options().chromaticity_from_top_view;
   j["white_lobe"] = model->white_lobe().ToJson();
   j["mean_model"] = model->mean_model_check().ToJson();
+  j["mirror_symmetry"] = model->symmetry_check().ToJson();
   Json settings = a.method.ToJson();
   settings.update({{"material", material_name}, {"session", a.session.string()}, {"size", a.size}, {"pairs", a.pairs},
                    {"samples_per_axis", truth_samples},
@@ -222,7 +237,7 @@ int RunEvaluate(const EvaluateArgs& a) {
                rows);
   report.Paragraph(Format("The statistical reconstruction beats both baselines on pixel W1 in %.1f%% of pairs, on "
                           "subband W1 in %.1f%% and on chromaticity W1 in %.1f%%. Histograms matched in %s; the "
-                          "chromaticity's statistics taken from %s%s.%s "
+                          "chromaticity's statistics taken from %s%s.%s%s "
                           "Reconstruction %.1f ms per slice (thread time, all three methods).",
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels),
                           100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands),
@@ -230,7 +245,7 @@ int RunEvaluate(const EvaluateArgs& a) {
                           a.method.colour_space.c_str(),
                           model->options().chromaticity_from_top_view ? "the top view" : "every view",
                           WhiteLobeSentence(model->white_lobe()).c_str(), MeanModelSentence(*model).c_str(),
-                          eval->reconstruct_ms_per_slice));
+                          MirrorSymmetrySentence(*model).c_str(), eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
   if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());
   if (Status st = staging->Publish(); !st.ok()) return Fail("evaluate", st.message());

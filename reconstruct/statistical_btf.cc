@@ -8,6 +8,7 @@
 #include "core/directions.h"
 #include "core/median.h"
 #include "core/parallel.h"
+#include "reconstruct/mirror_symmetry.h"
 
 namespace mesocap {
 
@@ -42,6 +43,18 @@ MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::V
   return measured;
 }
 
+namespace {
+
+// "view 3 (theta 30, phi 90 deg): ", to open a message about it.
+std::string DescribeView(size_t v, const MeasuredView& view) {
+  std::ostringstream where;
+  const Eigen::Vector2d a = AnglesDegFromDirection(view.view);
+  where << "view " << v << " (theta " << a.x() << ", phi " << a.y() << " deg): ";
+  return where.str();
+}
+
+}  // namespace
+
 StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, std::vector<Eigen::Vector3d> top_lights,
                                                 std::vector<MeasuredView> views, const StatisticalBtfOptions& options) {
   if (!options.Check()) return Status::Error("invalid statistical BTF options");
@@ -55,34 +68,51 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   auto top = LightInterpolator::Create(top_lights, options.min_light_separation_deg);
   if (!top.ok()) return Status::Error("top view: " + top.status().message());
   if (views.empty()) return Status::Error("no measured views");
-  std::vector<Eigen::Vector3d> view_dirs;
-  for (const MeasuredView& v : views) view_dirs.push_back(v.view);
-  auto rings = ViewInterpolator::Create(view_dirs, options.ring_gap_deg, options.max_view_extrapolation,
-                                        options.view_blend_even_at_pole);
-  if (!rings.ok()) return rings.status();
-
-  StatisticalBtf btf(std::move(*top), std::move(*rings));
-  btf.options_ = options;
-  for (size_t v = 0; v < views.size(); ++v) {
-    std::ostringstream where;
-    const Eigen::Vector2d a = AnglesDegFromDirection(views[v].view);
-    where << "view " << v << " (theta " << a.x() << ", phi " << a.y() << " deg): ";
-    auto lights = LightInterpolator::Create(views[v].lights, options.min_light_separation_deg);
-    if (!lights.ok()) return Status::Error(where.str() + lights.status().message());
+  for (size_t v = 0; v < views.size(); ++v)
     for (const SliceStatistics& s : views[v].statistics)
       if (s.band_count != views[0].statistics.front().band_count || s.channels != top_slices[0].channels())
-        return Status::Error(where.str() + "statistics of slices with a different size or channel count than the top view's");
-    btf.view_lights_.push_back(std::move(*lights));
-  }
-  for (size_t v = 1; v < views.size(); ++v)
-    if (views[v].view.z() > views[btf.top_view_].view.z()) btf.top_view_ = int(v);
+        return Status::Error(DescribeView(v, views[v]) + "statistics of slices with a different size or channel count than the top view's");
+
+  StatisticalBtf btf(std::move(*top));
+  btf.options_ = options;
   btf.views_ = std::move(views);
+  MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
   if (options.fit_light_falloff) btf.light_falloff_exponent_ = btf.FitLightFalloffExponent();
   if (options.white_specular_colour && top_slices.front().channels() == 3) btf.white_lobe_ = btf.FitWhiteLobe();
   if (options.mean_model) btf.mean_model_ = btf.FitMeanModel();
+  // The fits above see only what was measured (the mean model's check holds each view out, which
+  // its mirror images would undo); the blends also borrow the mirror images.
+  if (options.mirror_symmetry) {
+    const int orientations = options.statistics.pyramid.orientations;
+    btf.symmetry_check_ = CheckMirrorSymmetry(btf.views_[btf.top_view_], orientations, options.min_light_separation_deg);
+    const auto& holds = btf.symmetry_check_.holds;
+    if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
+      btf.views_ = WithMirrorImages(btf.views_, holds, orientations, kMirrorPoolDeg, options.min_light_separation_deg);
+      MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
+    }
+  }
   btf.top_slices_ = std::move(top_slices);
   btf.top_lights_dirs_ = top_lights;
   return btf;
+}
+
+Status StatisticalBtf::IndexViews() {
+  std::vector<Eigen::Vector3d> view_dirs;
+  for (const MeasuredView& v : views_) view_dirs.push_back(v.view);
+  auto rings = ViewInterpolator::Create(view_dirs, options_.ring_gap_deg, options_.max_view_extrapolation,
+                                        options_.view_blend_even_at_pole);
+  if (!rings.ok()) return rings.status();
+  view_rings_ = std::move(*rings);
+  view_lights_.clear();
+  for (size_t v = 0; v < views_.size(); ++v) {
+    auto lights = LightInterpolator::Create(views_[v].lights, options_.min_light_separation_deg);
+    if (!lights.ok()) return Status::Error(DescribeView(v, views_[v]) + lights.status().message());
+    view_lights_.push_back(std::move(*lights));
+  }
+  top_view_ = 0;
+  for (size_t v = 1; v < views_.size(); ++v)
+    if (views_[v].view.z() > views_[top_view_].view.z()) top_view_ = int(v);
+  return Status::Ok();
 }
 
 double StatisticalBtf::CosineRatio(const Eigen::Vector3d& target, const Eigen::Vector3d& measured) const {

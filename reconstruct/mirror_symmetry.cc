@@ -1,0 +1,177 @@
+#include "reconstruct/mirror_symmetry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/directions.h"
+#include "core/median.h"
+#include "core/status.h"
+#include "reconstruct/direction_interpolation.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace mesocap {
+
+const std::array<MirrorImage, 3>& MirrorImages() {
+  static const std::array<MirrorImage, 3> images = {{{"mirror_x", Eigen::Vector3d(-1, 1, 1)},
+                                                     {"mirror_y", Eigen::Vector3d(1, -1, 1)},
+                                                     {"half_turn", Eigen::Vector3d(-1, -1, 1)}}};
+  return images;
+}
+
+namespace {
+
+InverseCdf Negated(const InverseCdf& q) {
+  InverseCdf out;
+  out.values.assign(q.values.rbegin(), q.values.rend());
+  for (float& v : out.values) v = -v;
+  return out;
+}
+
+}  // namespace
+
+SliceStatistics ImagedStatistics(const SliceStatistics& statistics, const MirrorImage& image, int orientations) {
+  const bool flips_x = image.sign.x() < 0, flips_y = image.sign.y() < 0;
+  if (!flips_x && !flips_y) return statistics;
+  SliceStatistics imaged = statistics;
+  // bands: the high-pass residual, levels x orientations oriented bands, the low-pass residual.
+  const int levels = (statistics.band_count - 2) / orientations;
+  MESOCAP_CHECK(levels * orientations + 2 == statistics.band_count, "band count does not fit the orientations");
+  const bool odd_power = (orientations - 1) % 2 == 1;
+  for (int c = 0; c < statistics.channels; ++c)
+    for (int l = 0; l < levels; ++l)
+      for (int o = 0; o < orientations; ++o) {
+        const int to = flips_x != flips_y ? (orientations - o) % orientations : o;
+        // The angle turns by pi: x -> -x takes 0 to pi, y -> -y takes the others past pi.
+        const bool turned = (flips_x && o == 0) != (flips_y && o != 0);
+        const InverseCdf& band = statistics.band(c, 1 + l * orientations + o);
+        imaged.bands[size_t(c) * statistics.band_count + 1 + l * orientations + to] =
+            odd_power && turned ? Negated(band) : band;
+      }
+  return imaged;
+}
+
+namespace {
+
+// Channel 0's histograms of `a` against `measured`'s: W1 over the measured one's 10-90% spread, summed.
+double StatisticsDistance(const SliceStatistics& a, const SliceStatistics& measured) {
+  const auto term = [](const InverseCdf& x, const InverseCdf& y) {
+    return WassersteinDistance(x, y) / std::max(double(y.At(0.9) - y.At(0.1)), 1e-9);
+  };
+  double distance = term(a.pixels[0], measured.pixels[0]);
+  for (int k = 0; k < measured.band_count; ++k) distance += term(a.band(0, k), measured.band(0, k));
+  return distance;
+}
+
+// The top view's statistics of lights `indices` blended at `light` by `lights` (their
+// interpolator), or empty when the nearest of them lies further than `max_gap_deg`.
+SliceStatistics InterpolatedAt(const MeasuredView& top, const std::vector<int>& indices,
+                               const LightInterpolator& lights, const Eigen::Vector3d& light, double max_gap_deg) {
+  double nearest = 180;
+  for (int i : indices) nearest = std::min(nearest, AngleBetweenDeg(top.lights[size_t(i)], light));
+  if (nearest > max_gap_deg) return {};
+  std::vector<const SliceStatistics*> stats;
+  std::vector<double> weights;
+  for (const WeightedIndex& w : lights.Weights(light)) {
+    stats.push_back(&top.statistics[size_t(indices[size_t(w.index)])]);
+    weights.push_back(w.weight);
+  }
+  return BlendSliceStatistics(stats, weights);
+}
+
+// The interpolation's own error at light i: its statistics against those blended from the others.
+double LeaveOneOutDistance(const MeasuredView& top, int i, double max_gap_deg, double min_separation_deg) {
+  std::vector<int> others;
+  std::vector<Eigen::Vector3d> other_lights;
+  for (int j = 0; j < int(top.lights.size()); ++j)
+    if (j != i) others.push_back(j), other_lights.push_back(top.lights[size_t(j)]);
+  auto without = LightInterpolator::Create(other_lights, min_separation_deg);
+  if (!without.ok()) return 0;
+  const SliceStatistics blended = InterpolatedAt(top, others, *without, top.lights[size_t(i)], max_gap_deg);
+  return blended.empty() ? 0 : StatisticsDistance(blended, top.statistics[size_t(i)]);
+}
+
+// Adds `light` and its statistics to `view` unless a light it has lies within `min_deg`.
+void AddLight(const Eigen::Vector3d& light, SliceStatistics statistics, const Eigen::Vector3d* mean_rgb, double min_deg,
+              MeasuredView* view) {
+  for (const Eigen::Vector3d& have : view->lights)
+    if (AngleBetweenDeg(have, light) < min_deg) return;
+  view->lights.push_back(light);
+  view->statistics.push_back(std::move(statistics));
+  if (mean_rgb) view->mean_rgb.push_back(*mean_rgb);
+}
+
+}  // namespace
+
+Json MirrorSymmetryCheck::ToJson() const {
+  Json j = {{"tested", tested}};
+  for (size_t k = 0; k < MirrorImages().size(); ++k)
+    j[MirrorImages()[k].name] = {{"holds", holds[k]}, {"median_ratio", ratio[k]}, {"lights", lights[k]}};
+  j["tolerance"] = kMirrorCheckTolerance;
+  return j;
+}
+
+MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg) {
+  constexpr double kMinImageDeg = 10, kMaxGapDeg = 10;
+  MirrorSymmetryCheck check;
+  const int n = int(top.lights.size());
+  auto every = LightInterpolator::Create(top.lights, min_separation_deg);
+  if (!every.ok()) return check;
+  std::vector<int> all;
+  for (int i = 0; i < n; ++i) all.push_back(i);
+  std::array<std::vector<double>, 3> ratios;
+  for (int i = 0; i < n; ++i) {
+    const double own = LeaveOneOutDistance(top, i, kMaxGapDeg, min_separation_deg);
+    if (!(own > 0)) continue;
+    for (size_t k = 0; k < MirrorImages().size(); ++k) {
+      const MirrorImage& image = MirrorImages()[k];
+      const Eigen::Vector3d imaged = top.lights[size_t(i)].cwiseProduct(image.sign);
+      if (AngleBetweenDeg(imaged, top.lights[size_t(i)]) < kMinImageDeg) continue;
+      const SliceStatistics there = InterpolatedAt(top, all, *every, imaged, kMaxGapDeg);
+      if (there.empty()) continue;
+      ratios[k].push_back(StatisticsDistance(there, ImagedStatistics(top.statistics[size_t(i)], image, orientations)) / own);
+    }
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < ratios.size(); ++k) {
+    check.lights[k] = int(ratios[k].size());
+    check.ratio[k] = UpperMedian(ratios[k]);
+    if (!ratios[k].empty()) best = std::min(best, check.ratio[k]);
+  }
+  check.tested = std::isfinite(best);
+  for (size_t k = 0; k < ratios.size() && best <= kMirrorCheckLimit; ++k)
+    check.holds[k] = !ratios[k].empty() && check.ratio[k] <= kMirrorCheckTolerance * std::max(best, 1.0);
+  if (check.holds[0] && check.holds[1]) check.holds[2] = true;  // the half turn is the mirrors' product
+  return check;
+}
+
+std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& views, const std::array<bool, 3>& use,
+                                           int orientations, double pool_deg, double min_separation_deg) {
+  std::vector<MeasuredView> pooled = views;
+  for (const MeasuredView& view : views) {
+    const bool colours = view.mean_rgb.size() == view.lights.size();
+    for (size_t k = 0; k < MirrorImages().size(); ++k) {
+      if (!use[k]) continue;
+      const MirrorImage& image = MirrorImages()[k];
+      const Eigen::Vector3d imaged_view = view.view.cwiseProduct(image.sign);
+      MeasuredView* into = nullptr;
+      double nearest = pool_deg;
+      for (MeasuredView& candidate : pooled)
+        if (const double angle = AngleBetweenDeg(candidate.view, imaged_view); angle < nearest)
+          nearest = angle, into = &candidate;
+      if (!into) {
+        pooled.push_back(MeasuredView{imaged_view, {}, {}, {}});
+        into = &pooled.back();
+      }
+      // Mean colours stay only where every slice of the pooled view has one.
+      const bool keep_colours = colours && into->mean_rgb.size() == into->lights.size();
+      if (!keep_colours) into->mean_rgb.clear();
+      for (size_t l = 0; l < view.lights.size(); ++l)
+        AddLight(view.lights[l].cwiseProduct(image.sign), ImagedStatistics(view.statistics[l], image, orientations),
+                 keep_colours ? &view.mean_rgb[l] : nullptr, min_separation_deg, into);
+    }
+  }
+  return pooled;
+}
+
+}  // namespace mesocap

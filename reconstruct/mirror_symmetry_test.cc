@@ -1,0 +1,164 @@
+#include "reconstruct/mirror_symmetry.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "capture/rig_material.h"
+#include "capture/true_btf_renderer.h"
+#include "core/directions.h"
+#include "reconstruct/quantiles.h"
+#include "reconstruct/statistical_btf.h"
+
+namespace mesocap {
+namespace {
+
+// Diagonal stripes at 30 deg plus noise: a texture whose mirror image differs from it.
+Image SlantedStripes(int size) {
+  Image image(size, size, 1);
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.0f, 0.05f);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      image.data()[size_t(y) * size + x] = 0.5f + 0.3f * float(std::sin(0.7 * (x * 0.866 + y * 0.5))) + noise(rng);
+  return image;
+}
+
+Image Imaged(const Image& image, bool flip_x, bool flip_y) {
+  Image out(image.width(), image.height(), image.channels());
+  const int w = image.width(), h = image.height();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      out.data()[size_t(y) * w + x] = image.data()[size_t(flip_y ? h - 1 - y : y) * w + (flip_x ? w - 1 - x : x)];
+  return out;
+}
+
+TEST(MirrorSymmetry, ImagedStatisticsAreThoseOfTheImagedTexture) {
+  const Image texture = SlantedStripes(64);
+  const SliceStatistics original = ComputeSliceStatistics(texture);
+  for (const MirrorImage& image : MirrorImages()) {
+    // Directions' x runs along the columns and y up the rows: either flip of the image is a flip.
+    const SliceStatistics truth = ComputeSliceStatistics(Imaged(texture, image.sign.x() < 0, image.sign.y() < 0));
+    const SliceStatistics imaged = ImagedStatistics(original, image, 4);
+    ASSERT_EQ(imaged.band_count, truth.band_count);
+    EXPECT_LT(WassersteinDistance(imaged.pixels[0], truth.pixels[0]), 1e-6);
+    double not_imaged = 0;
+    for (int b = 0; b < truth.band_count; ++b) {
+      const double spread = truth.band(0, b).At(0.9) - truth.band(0, b).At(0.1);
+      // The finest scale's bands to round-off; the coarser ones are sampled on a lattice the flip
+      // moves by half a texel, which shifts their histograms by a few percent of their spread.
+      const double tolerance = b <= 4 ? 1e-5 : 0.05;
+      EXPECT_LT(WassersteinDistance(imaged.band(0, b), truth.band(0, b)), tolerance * spread)
+          << image.name << " band " << b;
+      not_imaged = std::max(not_imaged, WassersteinDistance(original.band(0, b), truth.band(0, b)) / spread);
+    }
+    // Left as they were, the bands differ: the test can fail.
+    EXPECT_GT(not_imaged, image.sign.x() == image.sign.y() ? 0.005 : 0.5) << image.name;
+  }
+}
+
+TEST(MirrorSymmetry, ImagesOfABoardPoolWithTheBoardsTheyLandOn) {
+  // Two 30 deg views half a turn apart, each lit from its own side, and one 60 deg view.
+  const auto view_at = [](double theta, double phi, std::vector<Eigen::Vector3d> lights) {
+    MeasuredView view;
+    view.view = DirectionFromAnglesDeg(theta, phi);
+    view.lights = std::move(lights);
+    view.statistics.assign(view.lights.size(), ComputeSliceStatistics(SlantedStripes(32)));
+    return view;
+  };
+  const std::vector<MeasuredView> views = {
+      view_at(30, 0, {DirectionFromAnglesDeg(20, 10), DirectionFromAnglesDeg(40, 0), DirectionFromAnglesDeg(30, 330)}),
+      view_at(30, 181, {DirectionFromAnglesDeg(20, 170), DirectionFromAnglesDeg(45, 200), DirectionFromAnglesDeg(30, 180)}),
+      view_at(60, 90, {DirectionFromAnglesDeg(50, 80), DirectionFromAnglesDeg(60, 100), DirectionFromAnglesDeg(70, 90)})};
+  // The half turn alone: the two 30 deg views pool, the 60 deg view's image becomes a view at 270.
+  const std::vector<MeasuredView> pooled =
+      WithMirrorImages(views, {false, false, true}, 4, kMirrorPoolDeg, /*min_separation_deg=*/0.25);
+  ASSERT_EQ(pooled.size(), 4u);
+  EXPECT_EQ(pooled[0].lights.size(), 6u);
+  EXPECT_EQ(pooled[1].lights.size(), 6u);
+  // The first view's own lights first, then the second's turned half round: (20, 170) -> (20, 350).
+  EXPECT_LT(AngleBetweenDeg(pooled[0].lights[3], DirectionFromAnglesDeg(20, 350)), 1e-9);
+  EXPECT_LT(AngleBetweenDeg(pooled[3].view, DirectionFromAnglesDeg(60, 270)), 1e-9);
+  EXPECT_EQ(pooled[3].lights.size(), 3u);
+  // A mirror image landing on a light a view has adds nothing there: (30, 180) mirrored in y.
+  const std::vector<MeasuredView> mirrored =
+      WithMirrorImages(views, {true, true, true}, 4, kMirrorPoolDeg, /*min_separation_deg=*/0.25);
+  ASSERT_EQ(mirrored.size(), 4u);
+  // Each 30 deg view: its own 3 lights and 5 of the other's and its own images (7 of the 9 land on
+  // a light already there, e.g. (20, 10) mirrored in x on (20, 170)).
+  EXPECT_EQ(mirrored[0].lights.size(), 8u);
+  EXPECT_EQ(mirrored[1].lights.size(), 8u);
+  // The 60 deg view at 90 and its image at 270: 3 lights each and 2 mirrored in x ((70, 90) is its own image).
+  EXPECT_EQ(mirrored[2].lights.size(), 5u);
+  EXPECT_EQ(mirrored[3].lights.size(), 5u);
+}
+
+// 150 lights spread over the hemisphere to 65 deg (a Fibonacci spiral, 9 deg apart).
+std::vector<Eigen::Vector3d> SpreadLights() {
+  std::vector<Eigen::Vector3d> lights;
+  const int n = 150;
+  const double min_z = std::cos(65 * M_PI / 180), golden = M_PI * (3 - std::sqrt(5.0));
+  for (int k = 0; k < n; ++k) {
+    const double z = 1 - (1 - min_z) * (k + 0.5) / n, r = std::sqrt(1 - z * z);
+    lights.emplace_back(r * std::cos(golden * k), r * std::sin(golden * k), z);
+  }
+  return lights;
+}
+
+MeasuredView TopView(const std::vector<Eigen::Vector3d>& lights, const std::vector<Image>& slices) {
+  return MeasureView(Eigen::Vector3d::UnitZ(), lights, slices, WithColourChannels({}, slices));
+}
+
+// True slices of a virtual material seen from the top under SpreadLights, 32 texels over 32 mm
+// (1 mm a texel, as the evaluation's 64 texels on the rig's patch).
+MeasuredView TopViewOf(const std::string& name) {
+  auto material = Material::Create(name);
+  EXPECT_TRUE(material.ok());
+  TrueBtfRequest grid;
+  grid.size = 32;
+  grid.patch_m = 0.032;
+  grid.samples_per_axis = 2;
+  const TrueBtfRenderer renderer(*material, grid);
+  const std::vector<Eigen::Vector3d> lights = SpreadLights();
+  std::vector<Image> slices(lights.size());
+  for (size_t k = 0; k < lights.size(); ++k) slices[k] = renderer.Render(lights[k], Eigen::Vector3d::UnitZ());
+  return TopView(lights, slices);
+}
+
+TEST(MirrorSymmetry, TheCheckFindsTheWeavesTwistAndTheStonesSymmetry) {
+  // The virtual weave's fibres twist one way: turned half round it looks the same, mirrored not.
+  const MirrorSymmetryCheck weave = CheckMirrorSymmetry(TopViewOf("weave"), 4, 0.25);
+  const MirrorSymmetryCheck stones = CheckMirrorSymmetry(TopViewOf("stones"), 4, 0.25);
+  const MirrorSymmetryCheck corduroy = CheckMirrorSymmetry(TopViewOf("corduroy"), 4, 0.25);
+  std::printf("ratios (mirror x, mirror y, half turn): weave %.2f %.2f %.2f, stones %.2f %.2f %.2f, corduroy %.2f %.2f %.2f\n",
+              weave.ratio[0], weave.ratio[1], weave.ratio[2], stones.ratio[0], stones.ratio[1], stones.ratio[2],
+              corduroy.ratio[0], corduroy.ratio[1], corduroy.ratio[2]);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_GT(weave.lights[k], 50);
+    EXPECT_TRUE(stones.holds[k]) << MirrorImages()[k].name;
+    EXPECT_TRUE(corduroy.holds[k]) << MirrorImages()[k].name;
+  }
+  EXPECT_FALSE(weave.holds[0]);
+  EXPECT_FALSE(weave.holds[1]);
+  EXPECT_TRUE(weave.holds[2]);
+}
+
+TEST(MirrorSymmetry, NoImageHoldsForATextureThatFollowsTheLightsAzimuth) {
+  // Stripes whose contrast grows with cos(phi - 30 deg) of the light: no image of the light keeps it.
+  const std::vector<Eigen::Vector3d> lights = SpreadLights();
+  const Image stripes = SlantedStripes(32);
+  std::vector<Image> slices;
+  for (const Eigen::Vector3d& light : lights) {
+    const double contrast = 0.2 + 0.8 * (1 + std::cos(std::atan2(light.y(), light.x()) - M_PI / 6)) / 2;
+    Image slice = stripes;
+    for (size_t i = 0; i < slice.size(); ++i) slice.data()[i] = float(0.5 + contrast * (stripes.data()[i] - 0.5));
+    slices.push_back(slice);
+  }
+  const MirrorSymmetryCheck check = CheckMirrorSymmetry(TopView(lights, slices), 4, 0.25);
+  EXPECT_TRUE(check.tested);
+  for (size_t k = 0; k < 3; ++k) EXPECT_FALSE(check.holds[k]) << MirrorImages()[k].name << " " << check.ratio[k];
+}
+
+}  // namespace
+}  // namespace mesocap
