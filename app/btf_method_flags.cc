@@ -47,8 +47,8 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
                     "Interpolate a view between the top view and the first view ring linearly in incidence (the "
                     "paper) instead of in 1 - cos(incidence), in which statistics even through the pole change linearly");
   command->add_flag(prefix + "no-mirror-symmetry", no_mirror_symmetry,
-                    "Use each view's own measured lights only, instead of also its mirror images' (the half turn, the "
-                    "mirrors about the patch's x and y axes) wherever the top view's own slices show the material looks "
+                    "Use each view's own measured lights only, instead of also its images' under the symmetries of the "
+                    "square (mirrors, half and quarter turns) wherever the top view's own slices show the material looks "
                     "the same imaged");
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "

@@ -12,11 +12,22 @@
 
 namespace mesocap {
 
-const std::array<MirrorImage, 3>& MirrorImages() {
-  static const std::array<MirrorImage, 3> images = {{{"mirror_x", Eigen::Vector3d(-1, 1, 1)},
-                                                     {"mirror_y", Eigen::Vector3d(1, -1, 1)},
-                                                     {"half_turn", Eigen::Vector3d(-1, -1, 1)}}};
+const std::array<MirrorImage, kMirrorImageCount>& MirrorImages() {
+  static const std::array<MirrorImage, kMirrorImageCount> images = {{
+      {"mirror_x", (Eigen::Matrix2d() << -1, 0, 0, 1).finished()},
+      {"mirror_y", (Eigen::Matrix2d() << 1, 0, 0, -1).finished()},
+      {"half_turn", (Eigen::Matrix2d() << -1, 0, 0, -1).finished()},
+      {"quarter_turn", (Eigen::Matrix2d() << 0, -1, 1, 0).finished()},
+      {"three_quarter_turn", (Eigen::Matrix2d() << 0, 1, -1, 0).finished()},
+      {"mirror_diagonal", (Eigen::Matrix2d() << 0, 1, 1, 0).finished()},
+      {"mirror_antidiagonal", (Eigen::Matrix2d() << 0, -1, -1, 0).finished()},
+  }};
   return images;
+}
+
+Eigen::Vector3d MirrorImage::Of(const Eigen::Vector3d& direction) const {
+  const Eigen::Vector2d xy = plane * direction.head<2>();
+  return {xy.x(), xy.y(), direction.z()};
 }
 
 namespace {
@@ -28,26 +39,40 @@ InverseCdf Negated(const InverseCdf& q) {
   return out;
 }
 
+// Where imaged band `to` comes from: the source orientation and whether it is negated. The
+// pyramid's frequency angle runs from f_x toward f_y down the rows, so an image of the patch frame
+// (y up) acts on it as S plane S, S = diag(1, -1). Imaging the texture by a rotation through alpha
+// takes band angle psi to psi + alpha, a reflection about the axis at beta to 2 beta - psi; the
+// filter being cos^(K-1) of the angle from the band's, a band brought back into [0, pi) by pi is
+// negated when K - 1 is odd.
+std::pair<int, bool> SourceBand(const MirrorImage& image, int to, int orientations) {
+  const Eigen::Matrix2d s = Eigen::Vector2d(1, -1).asDiagonal();
+  const Eigen::Matrix2d a = s * image.plane * s;
+  const double angle = std::atan2(a(1, 0), a(0, 0)), step = M_PI / orientations, target = to * step;
+  double psi = a.determinant() > 0 ? target - angle : angle - target;
+  int turns = 0;
+  while (psi < -1e-9) psi += M_PI, ++turns;
+  while (psi >= M_PI - 1e-9) psi -= M_PI, ++turns;
+  const int from = int(std::lround(psi / step)) % orientations;
+  MESOCAP_CHECK(std::abs(psi - from * step) < 1e-6 || std::abs(psi - M_PI) < 1e-6, "image does not map bands onto bands");
+  return {from, turns % 2 == 1 && (orientations - 1) % 2 == 1};
+}
+
 }  // namespace
 
 SliceStatistics ImagedStatistics(const SliceStatistics& statistics, const MirrorImage& image, int orientations) {
-  const bool flips_x = image.sign.x() < 0, flips_y = image.sign.y() < 0;
-  if (!flips_x && !flips_y) return statistics;
   SliceStatistics imaged = statistics;
   // bands: the high-pass residual, levels x orientations oriented bands, the low-pass residual.
   const int levels = (statistics.band_count - 2) / orientations;
   MESOCAP_CHECK(levels * orientations + 2 == statistics.band_count, "band count does not fit the orientations");
-  const bool odd_power = (orientations - 1) % 2 == 1;
-  for (int c = 0; c < statistics.channels; ++c)
-    for (int l = 0; l < levels; ++l)
-      for (int o = 0; o < orientations; ++o) {
-        const int to = flips_x != flips_y ? (orientations - o) % orientations : o;
-        // The angle turns by pi: x -> -x takes 0 to pi, y -> -y takes the others past pi.
-        const bool turned = (flips_x && o == 0) != (flips_y && o != 0);
-        const InverseCdf& band = statistics.band(c, 1 + l * orientations + o);
-        imaged.bands[size_t(c) * statistics.band_count + 1 + l * orientations + to] =
-            odd_power && turned ? Negated(band) : band;
+  for (int to = 0; to < orientations; ++to) {
+    const auto [from, negated] = SourceBand(image, to, orientations);
+    for (int c = 0; c < statistics.channels; ++c)
+      for (int l = 0; l < levels; ++l) {
+        const InverseCdf& band = statistics.band(c, 1 + l * orientations + from);
+        imaged.bands[size_t(c) * statistics.band_count + 1 + l * orientations + to] = negated ? Negated(band) : band;
       }
+  }
   return imaged;
 }
 
@@ -119,13 +144,13 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
   if (!every.ok()) return check;
   std::vector<int> all;
   for (int i = 0; i < n; ++i) all.push_back(i);
-  std::array<std::vector<double>, 3> ratios;
+  std::array<std::vector<double>, kMirrorImageCount> ratios;
   for (int i = 0; i < n; ++i) {
     const double own = LeaveOneOutDistance(top, i, kMaxGapDeg, min_separation_deg);
     if (!(own > 0)) continue;
     for (size_t k = 0; k < MirrorImages().size(); ++k) {
       const MirrorImage& image = MirrorImages()[k];
-      const Eigen::Vector3d imaged = top.lights[size_t(i)].cwiseProduct(image.sign);
+      const Eigen::Vector3d imaged = image.Of(top.lights[size_t(i)]);
       if (AngleBetweenDeg(imaged, top.lights[size_t(i)]) < kMinImageDeg) continue;
       const SliceStatistics there = InterpolatedAt(top, all, *every, imaged, kMaxGapDeg);
       if (there.empty()) continue;
@@ -145,7 +170,7 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
   return check;
 }
 
-std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& views, const std::array<bool, 3>& use,
+std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& views, const MirrorImageSet& use,
                                            int orientations, double pool_deg, double min_separation_deg) {
   std::vector<MeasuredView> pooled = views;
   for (const MeasuredView& view : views) {
@@ -153,7 +178,7 @@ std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& view
     for (size_t k = 0; k < MirrorImages().size(); ++k) {
       if (!use[k]) continue;
       const MirrorImage& image = MirrorImages()[k];
-      const Eigen::Vector3d imaged_view = view.view.cwiseProduct(image.sign);
+      const Eigen::Vector3d imaged_view = image.Of(view.view);
       MeasuredView* into = nullptr;
       double nearest = pool_deg;
       for (MeasuredView& candidate : pooled)
@@ -167,7 +192,7 @@ std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& view
       const bool keep_colours = colours && into->mean_rgb.size() == into->lights.size();
       if (!keep_colours) into->mean_rgb.clear();
       for (size_t l = 0; l < view.lights.size(); ++l)
-        AddLight(view.lights[l].cwiseProduct(image.sign), ImagedStatistics(view.statistics[l], image, orientations),
+        AddLight(image.Of(view.lights[l]), ImagedStatistics(view.statistics[l], image, orientations),
                  keep_colours ? &view.mean_rgb[l] : nullptr, min_separation_deg, into);
     }
   }

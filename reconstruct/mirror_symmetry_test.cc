@@ -25,12 +25,18 @@ Image SlantedStripes(int size) {
   return image;
 }
 
-Image Imaged(const Image& image, bool flip_x, bool flip_y) {
-  Image out(image.width(), image.height(), image.channels());
-  const int w = image.width(), h = image.height();
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      out.data()[size_t(y) * w + x] = image.data()[size_t(flip_y ? h - 1 - y : y) * w + (flip_x ? w - 1 - x : x)];
+// The square image `image` imaged by `image_of` in the patch frame (x along the columns, y up the
+// rows, about the centre): out(p) = image(A^-1 p).
+Image Imaged(const Image& image, const MirrorImage& image_of) {
+  const int n = image.width();
+  const double c = (n - 1) / 2.0;
+  Image out(n, n, image.channels());
+  for (int row = 0; row < n; ++row)
+    for (int col = 0; col < n; ++col) {
+      const Eigen::Vector2d source = image_of.plane.transpose() * Eigen::Vector2d(col - c, c - row);
+      out.data()[size_t(row) * n + col] =
+          image.data()[size_t(std::lround(c - source.y())) * n + size_t(std::lround(source.x() + c))];
+    }
   return out;
 }
 
@@ -38,8 +44,7 @@ TEST(MirrorSymmetry, ImagedStatisticsAreThoseOfTheImagedTexture) {
   const Image texture = SlantedStripes(64);
   const SliceStatistics original = ComputeSliceStatistics(texture);
   for (const MirrorImage& image : MirrorImages()) {
-    // Directions' x runs along the columns and y up the rows: either flip of the image is a flip.
-    const SliceStatistics truth = ComputeSliceStatistics(Imaged(texture, image.sign.x() < 0, image.sign.y() < 0));
+    const SliceStatistics truth = ComputeSliceStatistics(Imaged(texture, image));
     const SliceStatistics imaged = ImagedStatistics(original, image, 4);
     ASSERT_EQ(imaged.band_count, truth.band_count);
     EXPECT_LT(WassersteinDistance(imaged.pixels[0], truth.pixels[0]), 1e-6);
@@ -54,7 +59,8 @@ TEST(MirrorSymmetry, ImagedStatisticsAreThoseOfTheImagedTexture) {
       not_imaged = std::max(not_imaged, WassersteinDistance(original.band(0, b), truth.band(0, b)) / spread);
     }
     // Left as they were, the bands differ: the test can fail.
-    EXPECT_GT(not_imaged, image.sign.x() == image.sign.y() ? 0.005 : 0.5) << image.name;
+    // (The half turn only negates the bands, whose histograms are nearly even.)
+    EXPECT_GT(not_imaged, image.plane.isApprox(-Eigen::Matrix2d::Identity()) ? 0.005 : 0.5) << image.name;
   }
 }
 
@@ -73,7 +79,7 @@ TEST(MirrorSymmetry, ImagesOfABoardPoolWithTheBoardsTheyLandOn) {
       view_at(60, 90, {DirectionFromAnglesDeg(50, 80), DirectionFromAnglesDeg(60, 100), DirectionFromAnglesDeg(70, 90)})};
   // The half turn alone: the two 30 deg views pool, the 60 deg view's image becomes a view at 270.
   const std::vector<MeasuredView> pooled =
-      WithMirrorImages(views, {false, false, true}, 4, kMirrorPoolDeg, /*min_separation_deg=*/0.25);
+      WithMirrorImages(views, {false, false, true, false, false, false, false}, 4, kMirrorPoolDeg, 0.25);
   ASSERT_EQ(pooled.size(), 4u);
   EXPECT_EQ(pooled[0].lights.size(), 6u);
   EXPECT_EQ(pooled[1].lights.size(), 6u);
@@ -83,7 +89,7 @@ TEST(MirrorSymmetry, ImagesOfABoardPoolWithTheBoardsTheyLandOn) {
   EXPECT_EQ(pooled[3].lights.size(), 3u);
   // A mirror image landing on a light a view has adds nothing there: (30, 180) mirrored in y.
   const std::vector<MeasuredView> mirrored =
-      WithMirrorImages(views, {true, true, true}, 4, kMirrorPoolDeg, /*min_separation_deg=*/0.25);
+      WithMirrorImages(views, {true, true, true, false, false, false, false}, 4, kMirrorPoolDeg, 0.25);
   ASSERT_EQ(mirrored.size(), 4u);
   // Each 30 deg view: its own 3 lights and 5 of the other's and its own images (7 of the 9 land on
   // a light already there, e.g. (20, 10) mirrored in x on (20, 170)).
@@ -126,22 +132,27 @@ MeasuredView TopViewOf(const std::string& name) {
   return TopView(lights, slices);
 }
 
-TEST(MirrorSymmetry, TheCheckFindsTheWeavesTwistAndTheStonesSymmetry) {
+TEST(MirrorSymmetry, TheCheckFindsWhichImagesOfTheVirtualMaterialsHold) {
   // The virtual weave's fibres twist one way: turned half round it looks the same, mirrored not.
   const MirrorSymmetryCheck weave = CheckMirrorSymmetry(TopViewOf("weave"), 4, 0.25);
   const MirrorSymmetryCheck stones = CheckMirrorSymmetry(TopViewOf("stones"), 4, 0.25);
   const MirrorSymmetryCheck corduroy = CheckMirrorSymmetry(TopViewOf("corduroy"), 4, 0.25);
-  std::printf("ratios (mirror x, mirror y, half turn): weave %.2f %.2f %.2f, stones %.2f %.2f %.2f, corduroy %.2f %.2f %.2f\n",
-              weave.ratio[0], weave.ratio[1], weave.ratio[2], stones.ratio[0], stones.ratio[1], stones.ratio[2],
-              corduroy.ratio[0], corduroy.ratio[1], corduroy.ratio[2]);
-  for (size_t k = 0; k < 3; ++k) {
+  for (size_t k = 0; k < MirrorImages().size(); ++k)
+    std::printf("%-20s weave %.2f %d, stones %.2f %d, corduroy %.2f %d\n", MirrorImages()[k].name, weave.ratio[k],
+                int(weave.holds[k]), stones.ratio[k], int(stones.holds[k]), corduroy.ratio[k], int(corduroy.holds[k]));
+  for (size_t k = 0; k < MirrorImages().size(); ++k) {
     EXPECT_GT(weave.lights[k], 50);
+    // Stones are isotropic: every image holds.
     EXPECT_TRUE(stones.holds[k]) << MirrorImages()[k].name;
-    EXPECT_TRUE(corduroy.holds[k]) << MirrorImages()[k].name;
+    // Corduroy's wales run along y: the mirrors and the half turn hold, the quarter turns not.
+    EXPECT_EQ(corduroy.holds[k], k < 3) << MirrorImages()[k].name;
+    // The weave's fibres twist one way: the half turn holds, the mirrors about the axes and the
+    // quarter turns not. The mirrors about the diagonals swap warp and weft, which have the same
+    // relief and share the patch alike: the brightness statistics, which keep no tie between
+    // orientation and colour, cannot tell them apart. (From calibrated JPEG sessions they do not
+    // hold: 2.15-2.80, docs/reconstruction.md.)
+    EXPECT_EQ(weave.holds[k], k == 2 || k >= 5) << MirrorImages()[k].name;
   }
-  EXPECT_FALSE(weave.holds[0]);
-  EXPECT_FALSE(weave.holds[1]);
-  EXPECT_TRUE(weave.holds[2]);
 }
 
 TEST(MirrorSymmetry, NoImageHoldsForATextureThatFollowsTheLightsAzimuth) {
@@ -157,7 +168,8 @@ TEST(MirrorSymmetry, NoImageHoldsForATextureThatFollowsTheLightsAzimuth) {
   }
   const MirrorSymmetryCheck check = CheckMirrorSymmetry(TopView(lights, slices), 4, 0.25);
   EXPECT_TRUE(check.tested);
-  for (size_t k = 0; k < 3; ++k) EXPECT_FALSE(check.holds[k]) << MirrorImages()[k].name << " " << check.ratio[k];
+  for (size_t k = 0; k < MirrorImages().size(); ++k)
+    EXPECT_FALSE(check.holds[k]) << MirrorImages()[k].name << " " << check.ratio[k];
 }
 
 }  // namespace

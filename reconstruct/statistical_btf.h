@@ -104,12 +104,13 @@ struct StatisticalBtfOptions {
   // Onsets of 3, 20 and 40 deg did no better than 10 (seeds 11-13).
   bool mean_model = true;
   double mean_model_onset_deg = 10.0;
-  // Each image (the half turn, the mirrors about the patch's x and y axes) under which the top
-  // view's own slices show the material looks statistically the same (CheckMirrorSymmetry) lends
-  // every view its images' lights and statistics (reconstruct/mirror_symmetry.h). Calibrated
-  // 100-shot sessions, seeds 21-24: pairs beating both baselines weave 74.7 -> 76.3% (the half
-  // turn holds, the mirrors do not), stones 78.9 -> 80.1%, corduroy 61.3 -> 62.1%. The mean model
-  // and the white lobe are fitted to the measured slices alone. false: each view's own lights.
+  // Each image of the patch (the square's symmetries: mirrors, half and quarter turns) under which
+  // the top view's own slices show the material looks statistically the same (CheckMirrorSymmetry)
+  // lends every view its images' lights and statistics (reconstruct/mirror_symmetry.h).
+  // Calibrated 100-shot sessions, seeds 21-24: pairs beating both baselines weave 74.7 -> 76.3%
+  // (the half turn holds), stones 78.9 -> 83.0% (all hold), corduroy 61.3 -> 62.1% (the mirrors
+  // about the axes and the half turn). The mean model and the white lobe are fitted to the
+  // measured slices alone. false: each view's own lights.
   bool mirror_symmetry = true;
   int num_threads = -1;
   bool Check() const;
