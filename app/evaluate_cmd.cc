@@ -128,14 +128,18 @@ std::string MeanModelSentence(const StatisticalBtf& btf) {
 std::string MirrorSymmetrySentence(const StatisticalBtf& btf) {
   if (!btf.options().mirror_symmetry) return "";
   const MirrorSymmetryCheck& check = btf.symmetry_check();
+  if (!check.tested) return " No image of the material could be tested (too few top-view lights).";
   std::string held, failed;
   for (size_t k = 0; k < MirrorImages().size(); ++k) {
     std::string& list = check.holds[k] ? held : failed;
-    list += Format("%s%s (%.2f)", list.empty() ? "" : ", ", MirrorImages()[k].name, check.ratio[k]);
+    list += Format("%s%s (%.2f, %.2f)", list.empty() ? "" : ", ", MirrorImages()[k].name, check.ratio[k],
+                   check.against_measured[k]);
   }
-  return Format(" Views also borrow the lights of their images under: %s; not under: %s (median distance of imaged "
-                "top-view statistics over the interpolation's own, at most %.1f to hold).",
-                held.empty() ? "none" : held.c_str(), failed.empty() ? "none" : failed.c_str(), kMirrorCheckTolerance);
+  return Format(" Views also borrow the lights of their images under: %s; not under: %s (top-view statistics imaged "
+                "against those at the imaged light: median distance over the interpolation's own, at most %.1f, and "
+                "over the unimaged statistics', at most %.2f).",
+                held.empty() ? "none" : held.c_str(), failed.empty() ? "none" : failed.c_str(), kMirrorCheckLimit,
+                kMirrorCheckTolerance);
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "core/directions.h"
 #include "core/median.h"
@@ -131,7 +130,9 @@ void AddLight(const Eigen::Vector3d& light, SliceStatistics statistics, const Ei
 Json MirrorSymmetryCheck::ToJson() const {
   Json j = {{"tested", tested}};
   for (size_t k = 0; k < MirrorImages().size(); ++k)
-    j[MirrorImages()[k].name] = {{"holds", holds[k]}, {"median_ratio", ratio[k]}, {"lights", lights[k]}};
+    j[MirrorImages()[k].name] = {{"holds", holds[k]}, {"median_ratio", ratio[k]},
+                                 {"against_measured", against_measured[k]}, {"lights", lights[k]}};
+  j["limit"] = kMirrorCheckLimit;
   j["tolerance"] = kMirrorCheckTolerance;
   return j;
 }
@@ -144,7 +145,7 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
   if (!every.ok()) return check;
   std::vector<int> all;
   for (int i = 0; i < n; ++i) all.push_back(i);
-  std::array<std::vector<double>, kMirrorImageCount> ratios;
+  std::array<std::vector<double>, kMirrorImageCount> ratios, as_measured;
   for (int i = 0; i < n; ++i) {
     const double own = LeaveOneOutDistance(top, i, kMaxGapDeg, min_separation_deg);
     if (!(own > 0)) continue;
@@ -154,18 +155,24 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
       if (AngleBetweenDeg(imaged, top.lights[size_t(i)]) < kMinImageDeg) continue;
       const SliceStatistics there = InterpolatedAt(top, all, *every, imaged, kMaxGapDeg);
       if (there.empty()) continue;
-      ratios[k].push_back(StatisticsDistance(there, ImagedStatistics(top.statistics[size_t(i)], image, orientations)) / own);
+      const SliceStatistics& measured = top.statistics[size_t(i)];
+      const SliceStatistics imaged_statistics = ImagedStatistics(measured, image, orientations);
+      const double imaged_distance = StatisticsDistance(there, imaged_statistics);
+      const double measured_distance = std::max(StatisticsDistance(there, measured), 1e-12);
+      ratios[k].push_back(imaged_distance / own);
+      as_measured[k].push_back(imaged_distance / measured_distance);
     }
   }
-  double best = std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < ratios.size(); ++k) {
     check.lights[k] = int(ratios[k].size());
+    check.tested = check.tested || !ratios[k].empty();
     check.ratio[k] = UpperMedian(ratios[k]);
-    if (!ratios[k].empty()) best = std::min(best, check.ratio[k]);
+    check.against_measured[k] = UpperMedian(as_measured[k]);
+    // The half turn only negates the bands: imaging them tells nothing of the texture's orientations.
+    const bool moves_bands = !MirrorImages()[k].plane.isApprox(-Eigen::Matrix2d::Identity());
+    check.holds[k] = !ratios[k].empty() && check.ratio[k] <= kMirrorCheckLimit &&
+                     (!moves_bands || check.against_measured[k] <= kMirrorCheckTolerance);
   }
-  check.tested = std::isfinite(best);
-  for (size_t k = 0; k < ratios.size() && best <= kMirrorCheckLimit; ++k)
-    check.holds[k] = !ratios[k].empty() && check.ratio[k] <= kMirrorCheckTolerance * std::max(best, 1.0);
   if (check.holds[0] && check.holds[1]) check.holds[2] = true;  // the half turn is the mirrors' product
   return check;
 }
