@@ -22,6 +22,9 @@ CLI::App* AddCoverageOptions(CLI::App& app, CoverageArgs* args) {
                   "targets brought within --near-deg)")
       ->check(CLI::IsMember({"spread", "near"}))
       ->capture_default_str();
+  sub->add_flag("--no-mirror-symmetry", args->no_mirror_symmetry,
+                "Count each board's own lights only, instead of also the images of other boards' lights under the "
+                "material's symmetries that its slices show hold (as the reconstruction borrows them)");
   return sub;
 }
 

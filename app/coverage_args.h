@@ -16,6 +16,7 @@ namespace mesocap::app {
 struct CoverageArgs {
   std::filesystem::path session, out, layout_file;
   std::string objective = "spread";
+  bool no_mirror_symmetry = false;  // CoverageOptions::images from the slices' own check, or none
   CoverageOptions options;
 };
 

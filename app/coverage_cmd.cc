@@ -17,6 +17,7 @@
 #include "core/json.h"
 #include "core/slice_index.h"
 #include "reconstruct/light_coverage.h"
+#include "reconstruct/slice_set.h"
 
 namespace mesocap::app {
 namespace {
@@ -38,6 +39,31 @@ std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibratio
     for (const SliceIndexEntry& e : index->slices)
       if (e.board == b.board) b.lights.push_back(DirectionFromAnglesDeg(e.theta_i_deg, e.phi_i_deg));
   return boards;
+}
+
+// The images of the material its top view's slices show hold (CheckMirrorSymmetry, as
+// `reconstruct` finds them), and in words; none without slices.
+MirrorImageSet ImagesThatHold(const fs::path& session, std::string* words) {
+  const fs::path index = session / "slices" / "index.json";
+  *words = "no slices, so each board's own lights only";
+  if (!fs::exists(index)) return {};
+  SliceSetOptions options;
+  options.size = 64;  // as the reconstruction's evaluation measures it; the check needs no more
+  options.btf.mean_model = false;
+  options.btf.white_specular_colour = false;
+  SliceSetReport report;
+  auto btf = LoadStatisticalBtf(index, options, &report);
+  if (!btf.ok()) {
+    *words = "the slices' symmetry could not be checked (" + btf.status().message() + "), so each board's own lights only";
+    return {};
+  }
+  const MirrorSymmetryCheck& check = btf->symmetry_check();
+  std::string held;
+  for (size_t k = 0; k < MirrorImages().size(); ++k)
+    if (check.holds[k]) held += std::string(held.empty() ? "" : ", ") + MirrorImages()[k].name;
+  *words = held.empty() ? "no image of the material holds, so each board's own lights only"
+                        : "boards also lent their lights' images under " + held;
+  return check.holds;
 }
 
 }  // namespace
@@ -63,17 +89,19 @@ int RunCoverage(CoverageArgs a) {
     lit = ShadowFreeTest(calibration, *layout);
     shadows = "shadows predicted from the layout";
   }
+  std::string images = "each board's own lights only (--no-mirror-symmetry)";
+  if (!a.no_mirror_symmetry) a.options.images = ImagesThatHold(a.session, &images);
   std::string source;
   const CoverageAssessment assessment =
       AssessBoards(MeasuredBoardLights(calibration, flashes, lit, a.session, &source), top->id, flashes, a.options, lit);
   const fs::path out = a.out.empty() ? a.session / "coverage" : a.out;
   if (Status st = WriteCoverageFolder(out, assessment, source,
                                       {{"session", a.session.string()}, {"near_deg", a.options.near_deg}, {"objective", a.objective},
-                                       {"suggestions", a.options.suggestions}});
+                                       {"suggestions", a.options.suggestions}, {"images", images}});
       !st.ok())
     return Fail(verb, st.message());
-  std::printf("%s, lights from %s, %s\n%s\n%s\n-> %s\n", CoverageSummary(assessment).c_str(), source.c_str(),
-              shadows.c_str(), BoardCoverageLines(assessment).c_str(), NextShotLines(assessment).c_str(),
+  std::printf("%s, lights from %s, %s; %s\n%s\n%s\n-> %s\n", CoverageSummary(assessment).c_str(), source.c_str(),
+              shadows.c_str(), images.c_str(), BoardCoverageLines(assessment).c_str(), NextShotLines(assessment).c_str(),
               out.string().c_str());
   return kExitOk;
 }

@@ -21,9 +21,13 @@
 //                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
 //                               [--white-specular 0|1] [--mean-model 0|1] [--mean-onset DEG]
 //                               [--max-view-extrapolation RINGS] [--dump-means FILE]
-//                               [--dump-shapes FILE]
+//                               [--dump-shapes FILE] [--guide-images MASK]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
-// by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time.
+// by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time. With
+// --guide-images MASK (one 0 or 1 per MirrorImages() entry, e.g. 0010000), guidance also counts
+// each board's lights' images under those (CoverageOptions::images), as `mesocap coverage` does
+// with the images a session's slices show hold; the reconstruction's own check on the virtual
+// materials finds weave 0010000, stones 1111111, corduroy 1110000.
 // With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour
 // saturation error (median and worst pair, and which pair); per class of pairs (inside, near,
 // far), which baseline the losses go to; the wins by the view's incidence and by the light's angle
@@ -107,7 +111,7 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
 // capture --guide` predicts them from the calibrated rig).
 std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total, bool predict_shadows,
                                      CoverageObjective objective, double spread_cap_deg, bool board_weights,
-                                     bool even_at_pole) {
+                                     bool even_at_pole, const MirrorImageSet& images) {
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
@@ -121,6 +125,7 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     options.spread_cap_deg = spread_cap_deg;
     options.weigh_boards_by_use = board_weights;
     options.view_blend_even_at_pole = even_at_pole;
+    options.images = images;
     options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
     LitFn lit;
     if (predict_shadows)
@@ -255,6 +260,7 @@ int Run(int argc, char** argv) {
   CoverageObjective objective = CoverageObjective::kSpread;
   double spread_cap_deg = CoverageOptions().spread_cap_deg;
   bool board_weights = CoverageOptions().weigh_boards_by_use;
+  MirrorImageSet guide_images{};
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "--shots") shots = Split(value);
@@ -284,6 +290,9 @@ int Run(int argc, char** argv) {
     else if (flag == "--predict-shadows") predict_shadows = value == "1";
     else if (flag == "--spread-cap") spread_cap_deg = std::stod(value);
     else if (flag == "--board-weights") board_weights = value == "1";
+    else if (flag == "--guide-images") {
+      for (size_t k = 0; k < guide_images.size() && k < value.size(); ++k) guide_images[k] = value[k] == '1';
+    }
     else if (flag == "--objective") objective = value == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
     else {
       std::fprintf(stderr, "unknown option %s\n", flag.c_str());
@@ -325,7 +334,7 @@ int Run(int argc, char** argv) {
         const RigRenderer renderer(*scene, *material);
         const std::vector<Eigen::Vector3d> flashes =
             Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg, board_weights,
-                      even_at_pole);
+                      even_at_pole, guide_images);
         const std::vector<BoardInputs> measured = MeasuredLights(*scene, renderer, flashes);
         for (const BoardInputs& board : measured) {
           if (list_lights) {

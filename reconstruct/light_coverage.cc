@@ -20,17 +20,44 @@ struct GivenLight {
   std::vector<double> target_angles_deg;
 };
 
+// Where each board's lights also count: (board, image) pairs, the identity first (no image).
+struct LightImage {
+  int board = 0;
+  const MirrorImage* image = nullptr;
+  Eigen::Vector3d Of(const Eigen::Vector3d& light) const { return image ? image->Of(light) : light; }
+};
+std::vector<std::vector<LightImage>> LightImages(const std::vector<BoardLights>& boards, const MirrorImageSet& use) {
+  std::vector<Eigen::Vector3d> views;
+  for (const BoardLights& b : boards) views.push_back(b.LightFrom(Eigen::Vector3d::Zero()));  // toward the camera
+  std::vector<std::vector<LightImage>> images(boards.size());
+  for (int b = 0; b < int(boards.size()); ++b) {
+    images[size_t(b)].push_back({b, nullptr});
+    for (size_t k = 0; k < MirrorImages().size(); ++k) {
+      if (!use[k]) continue;
+      const Eigen::Vector3d imaged = MirrorImages()[k].Of(views[size_t(b)]);
+      for (int to = 0; to < int(boards.size()); ++to)
+        if (AngleBetweenDeg(imaged, views[size_t(to)]) < kMirrorPoolDeg) images[size_t(b)].push_back({to, &MirrorImages()[k]});
+    }
+  }
+  return images;
+}
+
 // The lights a flash at `position_cam` gives the boards it lights: above a board's horizon and,
 // by `lit`, with no shadow on its patch.
+// (With its images, through `images`: one entry per board the light counts for.)
 std::vector<GivenLight> LightsGiven(const std::vector<BoardLights>& boards, const Eigen::Vector3d& position_cam,
-                                    const std::vector<Eigen::Vector3d>& targets, const LitFn& lit) {
+                                    const std::vector<Eigen::Vector3d>& targets, const LitFn& lit,
+                                    const std::vector<std::vector<LightImage>>& images) {
   std::vector<GivenLight> given;
   for (int b = 0; b < int(boards.size()); ++b) {
     const Eigen::Vector3d light = boards[b].LightFrom(position_cam);
     if (light.z() <= kHorizonZ || (lit && !lit(boards[b].board, position_cam))) continue;
-    GivenLight g{b, {}};
-    for (const Eigen::Vector3d& target : targets) g.target_angles_deg.push_back(AngleBetweenDeg(light, target));
-    given.push_back(std::move(g));
+    for (const LightImage& image : images[size_t(b)]) {
+      GivenLight g{image.board, {}};
+      const Eigen::Vector3d imaged = image.Of(light);
+      for (const Eigen::Vector3d& target : targets) g.target_angles_deg.push_back(AngleBetweenDeg(imaged, target));
+      given.push_back(std::move(g));
+    }
   }
   return given;
 }
@@ -96,10 +123,16 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
       candidates.push_back(top_board.R * in_top + top_board.t);
       angles.push_back({el, az});
     }
+  const std::vector<std::vector<LightImage>> images = LightImages(boards, options.images);
+  // Each board's measured lights, with those its images lend it.
+  std::vector<std::vector<Eigen::Vector3d>> measured(boards.size());
+  for (int b = 0; b < int(boards.size()); ++b)
+    for (const LightImage& image : images[size_t(b)])
+      for (const Eigen::Vector3d& light : boards[b].lights) measured[size_t(image.board)].push_back(image.Of(light));
   std::vector<std::vector<GivenLight>> gives(candidates.size());
   std::vector<std::vector<std::pair<int, int>>> covers(candidates.size());  // (board, target)
   for (size_t c = 0; c < candidates.size(); ++c) {
-    gives[c] = LightsGiven(boards, candidates[c], targets, lit);
+    gives[c] = LightsGiven(boards, candidates[c], targets, lit, images);
     for (const GivenLight& g : gives[c])
       for (int k = 0; k < int(targets.size()); ++k)
         if (g.target_angles_deg[k] <= options.near_deg) covers[c].push_back({g.board, k});
@@ -109,7 +142,7 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
   std::vector<std::vector<char>> covered(boards.size(), std::vector<char>(targets.size(), 0)), reachable = covered;
   for (int b = 0; b < int(boards.size()); ++b)
     for (int k = 0; k < int(targets.size()); ++k)
-      for (const Eigen::Vector3d& light : boards[b].lights)
+      for (const Eigen::Vector3d& light : measured[size_t(b)])
         if (AngleBetweenDeg(light, targets[k]) <= options.near_deg) covered[b][k] = reachable[b][k] = 1;
   for (const auto& list : covers)
     for (const auto& [b, k] : list) reachable[b][k] = 1;
@@ -132,7 +165,8 @@ CoverageReport AssessCoverage(const std::vector<BoardLights>& boards, int top, c
   std::vector<std::vector<double>> nearest(boards.size(), std::vector<double>(targets.size(), options.spread_cap_deg));
   for (int b = 0; spread && b < int(boards.size()); ++b)
     for (int k = 0; k < int(targets.size()); ++k)
-      for (const Eigen::Vector3d& light : boards[b].lights) nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
+      for (const Eigen::Vector3d& light : measured[size_t(b)])
+        nearest[b][k] = std::min(nearest[b][k], AngleBetweenDeg(light, targets[k]));
   const std::vector<double> board_weight =
       spread && options.weigh_boards_by_use ? BoardWeights(boards, options.view_blend_even_at_pole)
                                             : std::vector<double>(boards.size(), 1.0);

@@ -76,6 +76,29 @@ INSTANTIATE_TEST_SUITE_P(Objectives, LightCoverageObjectives,
                          ::testing::Values(CoverageObjective::kSpread, CoverageObjective::kNear),
                          [](const auto& info) { return info.param == CoverageObjective::kSpread ? "Spread" : "Near"; });
 
+TEST(LightCoverage, ABoardsImagesLendItTheOtherSide) {
+  // Lit from x > 0 only; the material holds under the half turn, which takes every light's azimuth
+  // round by 180 deg: the reconstruction borrows the images, and guidance counts them.
+  BoardLights board = FacingTheCamera();
+  for (double theta : {20.0, 40.0, 60.0})
+    for (double phi : {-60.0, -20.0, 20.0, 60.0}) board.lights.push_back(DirectionFromAnglesDeg(theta, phi));
+  CoverageOptions own, imaged;
+  imaged.images[2] = true;
+  ASSERT_STREQ(MirrorImages()[2].name, "half_turn");
+  const CoverageReport without = AssessCoverage({board}, 0, own), with = AssessCoverage({board}, 0, imaged);
+  // (45, 200) is 5 deg from the image of (40, 20) and far from every measured light.
+  const std::vector<Eigen::Vector3d> targets = BonnDirections();
+  const auto target = std::find_if(targets.begin(), targets.end(), [](const Eigen::Vector3d& t) {
+    return AngleBetweenDeg(t, DirectionFromAnglesDeg(45, 200)) < 1;
+  });
+  ASSERT_NE(target, targets.end());
+  const size_t k = size_t(target - targets.begin());
+  EXPECT_EQ(without.boards[0].targets[k], TargetState::kUncovered);
+  EXPECT_EQ(with.boards[0].targets[k], TargetState::kCovered);
+  EXPECT_GT(with.boards[0].targets_covered, without.boards[0].targets_covered);
+  EXPECT_LE(with.boards[0].targets_covered, 2 * without.boards[0].targets_covered);
+}
+
 TEST(LightCoverage, AFullyLitBoardNeedsNothingMore) {
   BoardLights board = FacingTheCamera();
   board.lights = BonnDirections();
