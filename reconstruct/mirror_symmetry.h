@@ -1,9 +1,9 @@
 // Mirror symmetry of a material's appearance. Many materials look statistically the same turned
 // half round about the normal (plain weaves, corduroy, anything isotropic), many also mirrored
 // about the patch's x or y axis (corduroy, stones; not a weave whose fibres twist one way), and
-// some turned a quarter round (stones, anything isotropic). For
-// such a material a slice measured at (light, view) also stands for the imaged pair
-// (M light, M view), its oriented subbands imaged with it (ImagedStatistics). On the rig every
+// some turned a quarter round (stones, anything isotropic). For such a material a slice measured
+// at (light, view) also stands for the imaged pair (M light, M view), its oriented subbands
+// imaged with it (ImagedStatistics). On the rig every
 // image of a board lands on another board of its ring, so each board's statistics gain the lights
 // the boards it pools with saw (the camera's side of each), from other parts of the material.
 // Whether an image holds is tested on the session's own top view (CheckMirrorSymmetry).
