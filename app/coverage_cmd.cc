@@ -49,8 +49,10 @@ MirrorImageSet ImagesThatHold(const fs::path& session, std::string* words) {
   if (!fs::exists(index)) return {};
   SliceSetOptions options;
   options.size = 64;  // as the reconstruction's evaluation measures it; the check needs no more
+  // The check reads the brightness alone: no fits, and no colour noise measured against a second slice.
   options.btf.mean_model = false;
   options.btf.white_specular_colour = false;
+  options.remove_chroma_noise = false;
   SliceSetReport report;
   auto btf = LoadStatisticalBtf(index, options, &report);
   if (!btf.ok()) {

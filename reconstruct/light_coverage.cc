@@ -26,17 +26,24 @@ struct LightImage {
   const MirrorImage* image = nullptr;
   Eigen::Vector3d Of(const Eigen::Vector3d& light) const { return image ? image->Of(light) : light; }
 };
-std::vector<std::vector<LightImage>> LightImages(const std::vector<BoardLights>& boards, const MirrorImageSet& use) {
+// Each board's view: the direction to the camera in its frame.
+std::vector<Eigen::Vector3d> BoardViews(const std::vector<BoardLights>& boards) {
   std::vector<Eigen::Vector3d> views;
-  for (const BoardLights& b : boards) views.push_back(b.LightFrom(Eigen::Vector3d::Zero()));  // toward the camera
+  for (const BoardLights& b : boards) views.push_back(b.LightFrom(Eigen::Vector3d::Zero()));
+  return views;
+}
+
+// A board's lights count, imaged, for the board its view's image lands on, as the reconstruction
+// pools them (WithMirrorImages).
+std::vector<std::vector<LightImage>> LightImages(const std::vector<BoardLights>& boards, const MirrorImageSet& use) {
+  const std::vector<Eigen::Vector3d> views = BoardViews(boards);
   std::vector<std::vector<LightImage>> images(boards.size());
   for (int b = 0; b < int(boards.size()); ++b) {
     images[size_t(b)].push_back({b, nullptr});
     for (size_t k = 0; k < MirrorImages().size(); ++k) {
       if (!use[k]) continue;
-      const Eigen::Vector3d imaged = MirrorImages()[k].Of(views[size_t(b)]);
-      for (int to = 0; to < int(boards.size()); ++to)
-        if (AngleBetweenDeg(imaged, views[size_t(to)]) < kMirrorPoolDeg) images[size_t(b)].push_back({to, &MirrorImages()[k]});
+      if (const int to = NearestWithin(views, MirrorImages()[k].Of(views[size_t(b)]), kMirrorPoolDeg); to >= 0)
+        images[size_t(b)].push_back({to, &MirrorImages()[k]});
     }
   }
   return images;
@@ -92,8 +99,7 @@ std::string FlashPositionWords(const Eigen::Vector3d& position_cam, const BoardL
 
 std::vector<double> BoardWeights(const std::vector<BoardLights>& boards, bool view_blend_even_at_pole) {
   const std::vector<double> alike(boards.size(), 1.0);
-  std::vector<Eigen::Vector3d> views;
-  for (const BoardLights& b : boards) views.push_back(b.LightFrom(Eigen::Vector3d::Zero()));  // toward the camera
+  const std::vector<Eigen::Vector3d> views = BoardViews(boards);
   const StatisticalBtfOptions reconstruction;  // its view rings
   auto rings = ViewInterpolator::Create(views, reconstruction.ring_gap_deg, reconstruction.max_view_extrapolation,
                                         view_blend_even_at_pole);

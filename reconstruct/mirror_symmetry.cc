@@ -127,6 +127,15 @@ void AddLight(const Eigen::Vector3d& light, SliceStatistics statistics, const Ei
 
 }  // namespace
 
+int NearestWithin(std::span<const Eigen::Vector3d> directions, const Eigen::Vector3d& direction, double within_deg) {
+  int nearest = -1;
+  double nearest_deg = within_deg;
+  for (int i = 0; i < int(directions.size()); ++i)
+    if (const double angle = AngleBetweenDeg(directions[size_t(i)], direction); angle < nearest_deg)
+      nearest_deg = angle, nearest = i;
+  return nearest;
+}
+
 Json MirrorSymmetryCheck::ToJson() const {
   Json j = {{"tested", tested}};
   for (size_t k = 0; k < MirrorImages().size(); ++k)
@@ -186,15 +195,11 @@ std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& view
       if (!use[k]) continue;
       const MirrorImage& image = MirrorImages()[k];
       const Eigen::Vector3d imaged_view = image.Of(view.view);
-      MeasuredView* into = nullptr;
-      double nearest = pool_deg;
-      for (MeasuredView& candidate : pooled)
-        if (const double angle = AngleBetweenDeg(candidate.view, imaged_view); angle < nearest)
-          nearest = angle, into = &candidate;
-      if (!into) {
-        pooled.push_back(MeasuredView{imaged_view, {}, {}, {}});
-        into = &pooled.back();
-      }
+      std::vector<Eigen::Vector3d> pooled_views;
+      for (const MeasuredView& candidate : pooled) pooled_views.push_back(candidate.view);
+      const int nearest = NearestWithin(pooled_views, imaged_view, pool_deg);
+      if (nearest < 0) pooled.push_back(MeasuredView{imaged_view, {}, {}, {}});
+      MeasuredView* into = nearest < 0 ? &pooled.back() : &pooled[size_t(nearest)];
       // Mean colours stay only where every slice of the pooled view has one.
       const bool keep_colours = colours && into->mean_rgb.size() == into->lights.size();
       if (!keep_colours) into->mean_rgb.clear();

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -69,6 +70,10 @@ struct MirrorSymmetryCheck {
   Json ToJson() const;
 };
 MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg);
+
+// The index of the direction in `directions` nearest `direction` if within `within_deg`, else -1:
+// the view an image of a view lands on (WithMirrorImages, and guidance's CoverageOptions::images).
+int NearestWithin(std::span<const Eigen::Vector3d> directions, const Eigen::Vector3d& direction, double within_deg);
 
 // `views` with the images of each that `use` names (per MirrorImages() entry): an image within
 // `pool_deg` of a view (measured or already an image) adds its lights and statistics to the

@@ -8,7 +8,6 @@
 #include "core/directions.h"
 #include "core/median.h"
 #include "core/parallel.h"
-#include "reconstruct/mirror_symmetry.h"
 
 namespace mesocap {
 
