@@ -44,6 +44,13 @@ MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::V
 
 namespace {
 
+template <typename T>
+std::vector<T> Flatten(const std::vector<std::vector<T>>& groups) {
+  std::vector<T> all;
+  for (const std::vector<T>& group : groups) all.insert(all.end(), group.begin(), group.end());
+  return all;
+}
+
 // "view 3 (theta 30, phi 90 deg): ", to open a message about it.
 std::string DescribeView(size_t v, const MeasuredView& view) {
   std::ostringstream where;
@@ -79,8 +86,9 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   if (options.fit_light_falloff) btf.light_falloff_exponent_ = btf.FitLightFalloffExponent();
   if (options.white_specular_colour && top_slices.front().channels() == 3) btf.white_lobe_ = btf.FitWhiteLobe();
   if (options.mean_model) btf.mean_model_ = btf.FitMeanModel();
-  // The fits above see only what was measured (the mean model's check holds each view out, which
-  // its mirror images would undo); the blends also borrow the mirror images.
+  // The checks above see only what was measured (the mean model's holds each view out, which its
+  // mirror images would undo); the blends, and the mean model once it has earned its use, also
+  // borrow the mirror images.
   if (options.mirror_symmetry) {
     const int orientations = options.statistics.pyramid.orientations;
     btf.symmetry_check_ = CheckMirrorSymmetry(btf.views_[btf.top_view_], orientations, options.min_light_separation_deg);
@@ -88,6 +96,7 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
     if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
       btf.views_ = WithMirrorImages(btf.views_, holds, orientations, kMirrorPoolDeg, options.min_light_separation_deg);
       MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
+      if (btf.mean_model_.fitted()) btf.mean_model_ = MeanBrightnessModel::Fit(Flatten(btf.MeanSamplesByView()));
     }
   }
   btf.top_slices_ = std::move(top_slices);
@@ -163,15 +172,17 @@ double StatisticalBtf::SliceBrightness(const Image& slice) const {
   return BrightnessOf(std::vector<double>(channels.data(), channels.data() + channels.channels()));
 }
 
-MeanBrightnessModel StatisticalBtf::FitMeanModel() {
+std::vector<std::vector<MeanBrightnessSample>> StatisticalBtf::MeanSamplesByView() const {
   std::vector<std::vector<MeanBrightnessSample>> by_view(views_.size());
-  std::vector<MeanBrightnessSample> all;
   for (size_t v = 0; v < views_.size(); ++v)
-    for (size_t l = 0; l < views_[v].lights.size(); ++l) {
+    for (size_t l = 0; l < views_[v].lights.size(); ++l)
       by_view[v].push_back({views_[v].lights[l], views_[v].view, Brightness(views_[v].statistics[l])});
-      all.push_back(by_view[v].back());
-    }
-  MeanBrightnessModel model = MeanBrightnessModel::Fit(all);
+  return by_view;
+}
+
+MeanBrightnessModel StatisticalBtf::FitMeanModel() {
+  const std::vector<std::vector<MeanBrightnessSample>> by_view = MeanSamplesByView();
+  MeanBrightnessModel model = MeanBrightnessModel::Fit(Flatten(by_view));
   if (!model.fitted()) return model;
   // Trusted only where it earns it: each tilted view's slices, predicted by the model fitted to the
   // other views, must come nearer their mean (by median log error) than the top view's at the same

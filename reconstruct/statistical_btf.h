@@ -192,6 +192,8 @@ class StatisticalBtf {
   MirrorSymmetryCheck symmetry_check_;
   // To every measured slice's Brightness; unfitted unless it passes the check (MeanModelCheck).
   MeanBrightnessModel FitMeanModel();
+  // Every slice's (light, view, Brightness), view by view; an image of a slice has its mean.
+  std::vector<std::vector<MeanBrightnessSample>> MeanSamplesByView() const;
   // The top view's brightness at `light`: its measured lights' blended with cosine ratios.
   double TopViewBrightness(const Eigen::Vector3d& light) const;
   // The brightness from a slice's channel means in the colour space (options_.colour).
