@@ -224,7 +224,7 @@ void DumpShapes(const std::string& path, const std::string& material, const std:
     return InverseCdfOf(values);
   };
   for (const MeasuredView& view : btf.views())
-    for (size_t i = 0; i < view.lights.size(); ++i)
+    for (size_t i = 0; i < view.statistics.size(); ++i)  // the measured lights (borrowed ones repeat them)
       std::fprintf(out, "M,%s,%s,%s,%s%s\n", material.c_str(), seed.c_str(), Csv(view.view).c_str(), Csv(view.lights[i]).c_str(),
                    levels(view.statistics[i].pixels[0]).c_str());
   for (const PairScore& p : eval.pairs) {

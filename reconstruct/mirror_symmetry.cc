@@ -115,13 +115,14 @@ double LeaveOneOutDistance(const MeasuredView& top, int i, double max_gap_deg, d
   return blended.empty() ? 0 : StatisticsDistance(blended, top.statistics[size_t(i)]);
 }
 
-// Adds `light` and its statistics to `view` unless a light it has lies within `min_deg`.
-void AddLight(const Eigen::Vector3d& light, SliceStatistics statistics, const Eigen::Vector3d* mean_rgb, double min_deg,
-              MeasuredView* view) {
+// Lends `view` the light `borrowed` stands for, imaged to `light`, unless a light it has lies within
+// `min_deg`.
+void AddLight(const Eigen::Vector3d& light, const BorrowedSlice& borrowed, const Eigen::Vector3d* mean_rgb,
+              double min_deg, MeasuredView* view) {
   for (const Eigen::Vector3d& have : view->lights)
     if (AngleBetweenDeg(have, light) < min_deg) return;
   view->lights.push_back(light);
-  view->statistics.push_back(std::move(statistics));
+  view->borrowed.push_back(borrowed);
   if (mean_rgb) view->mean_rgb.push_back(*mean_rgb);
 }
 
@@ -187,9 +188,12 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
 }
 
 std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& views, const MirrorImageSet& use,
-                                           int orientations, double pool_deg, double min_separation_deg) {
+                                           double pool_deg, double min_separation_deg) {
   std::vector<MeasuredView> pooled = views;
-  for (const MeasuredView& view : views) {
+  for (size_t v = 0; v < views.size(); ++v) {
+    const MeasuredView& view = views[v];
+    MESOCAP_CHECK(view.borrowed.empty() && view.statistics.size() == view.lights.size(),
+                  "WithMirrorImages takes measured views");
     const bool colours = view.mean_rgb.size() == view.lights.size();
     for (size_t k = 0; k < MirrorImages().size(); ++k) {
       if (!use[k]) continue;
@@ -198,13 +202,13 @@ std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& view
       std::vector<Eigen::Vector3d> pooled_views;
       for (const MeasuredView& candidate : pooled) pooled_views.push_back(candidate.view);
       const int nearest = NearestWithin(pooled_views, imaged_view, pool_deg);
-      if (nearest < 0) pooled.push_back(MeasuredView{imaged_view, {}, {}, {}});
+      if (nearest < 0) pooled.push_back(MeasuredView{imaged_view, {}, {}, {}, {}});
       MeasuredView* into = nearest < 0 ? &pooled.back() : &pooled[size_t(nearest)];
       // Mean colours stay only where every slice of the pooled view has one.
       const bool keep_colours = colours && into->mean_rgb.size() == into->lights.size();
       if (!keep_colours) into->mean_rgb.clear();
       for (size_t l = 0; l < view.lights.size(); ++l)
-        AddLight(image.Of(view.lights[l]), ImagedStatistics(view.statistics[l], image, orientations),
+        AddLight(image.Of(view.lights[l]), BorrowedSlice{int(v), int(l), int(k)},
                  keep_colours ? &view.mean_rgb[l] : nullptr, min_separation_deg, into);
     }
   }

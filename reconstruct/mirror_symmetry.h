@@ -75,12 +75,12 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
 // the view an image of a view lands on (WithMirrorImages, and guidance's CoverageOptions::images).
 int NearestWithin(std::span<const Eigen::Vector3d> directions, const Eigen::Vector3d& direction, double within_deg);
 
-// `views` with the images of each that `use` names (per MirrorImages() entry): an image within
-// `pool_deg` of a view (measured or already an image) adds its lights and statistics to the
-// nearest such view; any other becomes a view of its own. Measured lights come first; an image's
-// light within `min_separation_deg` of a light the view already has is left out. Mean colours
-// follow their slices.
+// `views` (measured) with the images of each that `use` names (per MirrorImages() entry): an image
+// within `pool_deg` of a view (measured or already an image) lends its lights to the nearest such
+// view (MeasuredView::borrowed: the statistics are imaged by ImagedStatistics when used); any other
+// becomes a view of its own. An image's light within `min_separation_deg` of a light the view
+// already has is left out. Mean colours follow their slices.
 std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& views, const MirrorImageSet& use,
-                                           int orientations, double pool_deg, double min_separation_deg);
+                                           double pool_deg, double min_separation_deg);
 
 }  // namespace mesocap

@@ -79,17 +79,23 @@ TEST(MirrorSymmetry, ImagesOfABoardPoolWithTheBoardsTheyLandOn) {
       view_at(60, 90, {DirectionFromAnglesDeg(50, 80), DirectionFromAnglesDeg(60, 100), DirectionFromAnglesDeg(70, 90)})};
   // The half turn alone: the two 30 deg views pool, the 60 deg view's image becomes a view at 270.
   const std::vector<MeasuredView> pooled =
-      WithMirrorImages(views, {false, false, true, false, false, false, false}, 4, kMirrorPoolDeg, 0.25);
+      WithMirrorImages(views, {false, false, true, false, false, false, false}, kMirrorPoolDeg, 0.25);
   ASSERT_EQ(pooled.size(), 4u);
   EXPECT_EQ(pooled[0].lights.size(), 6u);
   EXPECT_EQ(pooled[1].lights.size(), 6u);
   // The first view's own lights first, then the second's turned half round: (20, 170) -> (20, 350).
   EXPECT_LT(AngleBetweenDeg(pooled[0].lights[3], DirectionFromAnglesDeg(20, 350)), 1e-9);
+  // Lent, not copied: the measured statistics stay 3, and the borrowed light names its source.
+  EXPECT_EQ(pooled[0].statistics.size(), 3u);
+  ASSERT_EQ(pooled[0].borrowed.size(), 3u);
+  EXPECT_EQ(pooled[0].borrowed[0].view, 1);
+  EXPECT_EQ(pooled[0].borrowed[0].light, 0);
+  EXPECT_EQ(pooled[0].borrowed[0].image, 2);
   EXPECT_LT(AngleBetweenDeg(pooled[3].view, DirectionFromAnglesDeg(60, 270)), 1e-9);
   EXPECT_EQ(pooled[3].lights.size(), 3u);
   // A mirror image landing on a light a view has adds nothing there: (30, 180) mirrored in y.
   const std::vector<MeasuredView> mirrored =
-      WithMirrorImages(views, {true, true, true, false, false, false, false}, 4, kMirrorPoolDeg, 0.25);
+      WithMirrorImages(views, {true, true, true, false, false, false, false}, kMirrorPoolDeg, 0.25);
   ASSERT_EQ(mirrored.size(), 4u);
   // Each 30 deg view: its own 3 lights and 5 of the other's and its own images (7 of the 9 land on
   // a light already there, e.g. (20, 10) mirrored in x on (20, 170)).

@@ -31,7 +31,7 @@ MeasuredView MeasureView(const Eigen::Vector3d& view, const std::vector<Eigen::V
                          const std::vector<Image>& slices, const StatisticalBtfOptions& options,
                          const ProgressFn& progress) {
   MESOCAP_CHECK(lights.size() == slices.size(), "one light per slice");
-  MeasuredView measured{view.normalized(), lights, std::vector<SliceStatistics>(slices.size()), {}};
+  MeasuredView measured{view.normalized(), lights, std::vector<SliceStatistics>(slices.size()), {}, {}};
   if (!slices.empty() && slices.front().channels() == 3) measured.mean_rgb.resize(slices.size());
   std::atomic<int> done = 0;
   ParallelFor(0, int(slices.size()), [&](int k) {
@@ -94,7 +94,7 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
     btf.symmetry_check_ = CheckMirrorSymmetry(btf.views_[btf.top_view_], orientations, options.min_light_separation_deg);
     const auto& holds = btf.symmetry_check_.holds;
     if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
-      btf.views_ = WithMirrorImages(btf.views_, holds, orientations, kMirrorPoolDeg, options.min_light_separation_deg);
+      btf.views_ = WithMirrorImages(btf.views_, holds, kMirrorPoolDeg, options.min_light_separation_deg);
       MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
       if (btf.mean_model_.fitted()) btf.mean_model_ = MeanBrightnessModel::Fit(Flatten(btf.MeanSamplesByView()));
     }
@@ -176,7 +176,7 @@ std::vector<std::vector<MeanBrightnessSample>> StatisticalBtf::MeanSamplesByView
   std::vector<std::vector<MeanBrightnessSample>> by_view(views_.size());
   for (size_t v = 0; v < views_.size(); ++v)
     for (size_t l = 0; l < views_[v].lights.size(); ++l)
-      by_view[v].push_back({views_[v].lights[l], views_[v].view, Brightness(views_[v].statistics[l])});
+      by_view[v].push_back({views_[v].lights[l], views_[v].view, Brightness(SourceStatistics(int(v), l))});
   return by_view;
 }
 
@@ -210,7 +210,7 @@ MeanBrightnessModel StatisticalBtf::FitMeanModel() {
 double StatisticalBtf::TopViewBrightness(const Eigen::Vector3d& light) const {
   double brightness = 0;
   for (const WeightedIndex& w : view_lights_[top_view_].Weights(light))
-    brightness += w.weight * CosineRatio(light, views_[top_view_].lights[w.index]) * Brightness(views_[top_view_].statistics[w.index]);
+    brightness += w.weight * CosineRatio(light, views_[top_view_].lights[w.index]) * Brightness(SourceStatistics(top_view_, size_t(w.index)));
   return brightness;
 }
 
@@ -306,7 +306,15 @@ Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& 
   Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
-    blend->stats.push_back(&views_[v].statistics[l.index]);
+    const MeasuredView& measured = views_[size_t(v)];
+    const SliceStatistics* statistics = &SourceStatistics(v, size_t(l.index));
+    if (!measured.Measured(size_t(l.index))) {
+      const BorrowedSlice& borrowed = measured.borrowed[size_t(l.index) - measured.statistics.size()];
+      blend->imaged.push_back(std::make_unique<const SliceStatistics>(ImagedStatistics(
+          *statistics, MirrorImages()[size_t(borrowed.image)], options_.statistics.pyramid.orientations)));
+      statistics = blend->imaged.back().get();
+    }
+    blend->stats.push_back(statistics);
     blend->measured_at.push_back({v, l.index});
     const double cosine = CosineRatio(light, views_[v].lights[l.index]);
     // A chromaticity does not scale with the light's fall-off.
@@ -317,6 +325,13 @@ Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& 
     }
   }
   return stands_for;
+}
+
+const SliceStatistics& StatisticalBtf::SourceStatistics(int v, size_t l) const {
+  const MeasuredView& view = views_[size_t(v)];
+  if (view.Measured(l)) return view.statistics[l];
+  const BorrowedSlice& source = view.borrowed[l - view.statistics.size()];
+  return views_[size_t(source.view)].statistics[size_t(source.light)];
 }
 
 bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {

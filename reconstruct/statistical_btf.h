@@ -5,6 +5,7 @@
 // blended as inverse CDFs.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -120,13 +121,23 @@ struct StatisticalBtfOptions {
 // and reconstruction of one BTF must use the same options.
 StatisticalBtfOptions WithColourChannels(StatisticalBtfOptions options, std::span<const Image> top_slices);
 
+// A light a view borrows from a mirror image (WithMirrorImages): image `image` (a MirrorImages()
+// entry) of the measured slice `light` of view `view`.
+struct BorrowedSlice {
+  int view = -1, light = -1, image = -1;
+};
+
 // One measured view: its direction and the statistics of its slices, one per light.
 // Directions are unit vectors in the patch frame (z = normal).
 struct MeasuredView {
   Eigen::Vector3d view = Eigen::Vector3d::UnitZ();
-  std::vector<Eigen::Vector3d> lights;
-  std::vector<SliceStatistics> statistics;
-  std::vector<Eigen::Vector3d> mean_rgb;  // per slice, of 3-channel slices (empty: unknown)
+  std::vector<Eigen::Vector3d> lights;     // the measured ones first, then any borrowed
+  std::vector<SliceStatistics> statistics;  // of the measured lights
+  std::vector<Eigen::Vector3d> mean_rgb;  // per light, of 3-channel slices (empty: unknown)
+  // The lights past the measured ones, in order. Their statistics are imaged when a blend takes
+  // them, not stored: a copy per image would multiply the memory by up to eight.
+  std::vector<BorrowedSlice> borrowed;
+  bool Measured(size_t light) const { return light < statistics.size(); }
 };
 
 // The channel means of an RGB image (core/image.h's ChannelMeans as a vector).
@@ -207,12 +218,16 @@ class StatisticalBtf {
   // mean brightness, as far as the light gap asks, bounded to 4x either way (1: unchanged).
   double MeanModelScale(const Image& slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // A blend of measured statistics: the entries, their weights per channel ([channel][entry]) and
-  // the (view, light) each was measured at.
+  // the (view, light) each was measured at; it owns the imaged statistics of borrowed lights.
   struct Blend {
     std::vector<const SliceStatistics*> stats;
     std::vector<std::vector<double>> weights;
     std::vector<std::pair<int, int>> measured_at;
+    std::vector<std::unique_ptr<const SliceStatistics>> imaged;
   };
+  // Light l of view v's statistics, or for a borrowed light its source's: the same pixel
+  // histograms, so the same means (an image moves only the bands).
+  const SliceStatistics& SourceStatistics(int v, size_t l) const;
   Blend BlendFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // StatisticalBtfOptions::white_specular_colour on a reconstructed RGB slice.
   void MoveColourByWhiteLobe(Image* slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view,
