@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "app/capture_guide.h"
 #include "capture/tethered_capture.h"
@@ -21,6 +22,7 @@ struct CaptureArgs {
   CLI::Option* shots_option = nullptr;
   bool no_progress = false;
   bool guide = false, follow_guide = false;
+  std::vector<std::string> guide_images;  // MirrorImages() names: CoverageOptions::images
   CaptureGuideOptions guidance = [] {
     CaptureGuideOptions o;
     o.coverage.suggestions = 3;

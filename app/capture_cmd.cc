@@ -60,6 +60,7 @@ AfterShotFn GuidanceAfterEachShot(CaptureArgs& args, Camera& camera) {
         return;
       }
       *guide = std::move(*started);
+      std::printf("guidance: %s\n", HeldImagesWords(options.coverage.images).c_str());
     }
     const ShotGuidance guidance = (*guide)->AfterShot(shot.file);
     std::printf("%s\n", guidance.Text().c_str());
@@ -86,6 +87,9 @@ int RunCapture(CaptureArgs& a) {
     return Fail("capture", "--guide follows flash shots; checkerboard shots (--calibration) need none", kExitUsage);
   if (a.guide)
     if (std::string why = a.guidance.Check(); !why.empty()) return Fail("capture", why, kExitUsage);
+  for (const std::string& name : a.guide_images)
+    for (size_t k = 0; k < MirrorImages().size(); ++k)
+      if (name == MirrorImages()[k].name) a.guidance.coverage.images[k] = true;
   if (!a.show_config)
     if (std::string why = o.Check(); !why.empty()) return Fail("capture", why, kExitUsage);
 

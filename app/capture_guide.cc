@@ -138,7 +138,8 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     Json flashes = Json::array();
     for (const auto& [file, p] : flashes_) flashes.push_back({{"shot", file}, {"position_cam_m", ToJson(p)}});
     if (Status st = WriteCoverageFolder(options_.session / "coverage", *g.coverage, "capture guidance",
-                                        {{"session", options_.session.string()}, {"after_shot", shot}},
+                                        {{"session", options_.session.string()}, {"after_shot", shot},
+                                         {"images", HeldImagesWords(options_.coverage.images)}},
                                         {{"flashes", flashes}});
         !st.ok())
       g.missing.push_back(st.message());

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/rig_plot.h"
 #include "capture/tethered_capture.h"
 #include "capture/virtual_camera.h"
 #include "core/atomic_file.h"
@@ -30,7 +31,8 @@ struct GuidedRun {
   fs::path session;
 };
 
-GuidedRun Capture(const fs::path& dir, const std::string& port, int shots, bool follow, int locate_after = kLocateAfter) {
+GuidedRun Capture(const fs::path& dir, const std::string& port, int shots, bool follow, int locate_after = kLocateAfter,
+                  const MirrorImageSet& images = {}) {
   GuidedRun run;
   auto camera = VirtualCamera::Open(port);
   EXPECT_TRUE(camera.ok()) << camera.status().message();
@@ -49,6 +51,7 @@ GuidedRun Capture(const fs::path& dir, const std::string& port, int shots, bool 
       options.layout_file = dir / "rig_layout.json";
       options.camera_file = dir / "camera.json";
       options.locate_after_shots = locate_after;
+      options.coverage.images = images;
       auto guide = CaptureGuide::Start(options);
       ASSERT_TRUE(guide.ok()) << guide.status().message();
       run.guide = std::move(*guide);
@@ -63,6 +66,12 @@ GuidedRun Capture(const fs::path& dir, const std::string& port, int shots, bool 
   auto report = RunCapture(*run.camera, capture, nullptr, nullptr, after_shot);
   EXPECT_TRUE(report.ok() && report->ok());
   return run;
+}
+
+std::vector<Eigen::Vector3d> Positions(const std::map<std::string, Eigen::Vector3d>& flashes) {
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& [file, position] : flashes) positions.push_back(position);
+  return positions;
 }
 
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -171,6 +180,32 @@ TEST(CaptureGuide, ShotsItCannotUseAreExplained) {
   bool named = false;
   for (const std::string& m : dark.missing) named |= m.find("usable light(s) of the 3") != std::string::npos;
   EXPECT_TRUE(named) << text;
+}
+
+TEST(CaptureGuide, ImagesTheOperatorNamesAreCountedAndRecorded) {
+  // The same shots, guided counting the half turn: each board also counts its lights turned half
+  // round, so more targets are covered than by the same flashes counted as measured.
+  const fs::path dir = testing::MakeTempDir();
+  MirrorImageSet half_turn{};
+  half_turn[2] = true;
+  ASSERT_STREQ(MirrorImages()[2].name, "half_turn");
+  GuidedRun run = Capture(dir, "virtual:seed=33,width=900,height=600,shots=4,calib-shots=0", 4, false, 3, half_turn);
+  ASSERT_TRUE(run.guide->rig_located());
+  ASSERT_TRUE(run.guidance.back().coverage);
+  const CoverageAssessment& counted = *run.guidance.back().coverage;
+  auto layout = RigLayout::FromJson(*ReadJsonFile(dir / "rig_layout.json"));
+  ASSERT_TRUE(layout.ok());
+  CoverageOptions own = counted.options;
+  own.images = {};
+  const CoverageAssessment measured_only =
+      AssessBoards(counted.boards, TopBoardPose(run.guide->rig())->id, Positions(run.guide->flashes()), own,
+                   ShadowFreeTest(run.guide->rig(), *layout));
+  std::printf("coverage of the same flashes: %.3f counting the half turn, %.3f measured only\n", counted.report.score(),
+              measured_only.report.score());
+  EXPECT_GT(counted.report.score(), measured_only.report.score() + 0.02);
+  auto coverage = ReadJsonFile(run.session / "coverage" / "coverage.json");
+  ASSERT_TRUE(coverage.ok());
+  EXPECT_NE((*coverage)["provenance"]["options"]["images"].get<std::string>().find("half_turn"), std::string::npos);
 }
 
 TEST(CaptureGuide, WithoutIntrinsicsOrLayoutItSaysWhatIsMissing) {

@@ -59,13 +59,10 @@ MirrorImageSet ImagesThatHold(const fs::path& session, std::string* words) {
     *words = "the slices' symmetry could not be checked (" + btf.status().message() + "), so each board's own lights only";
     return {};
   }
-  const MirrorSymmetryCheck& check = btf->symmetry_check();
-  std::string held;
-  for (size_t k = 0; k < MirrorImages().size(); ++k)
-    if (check.holds[k]) held += std::string(held.empty() ? "" : ", ") + MirrorImages()[k].name;
-  *words = held.empty() ? "no image of the material holds, so each board's own lights only"
-                        : "boards also lent their lights' images under " + held;
-  return check.holds;
+  const MirrorImageSet& holds = btf->symmetry_check().holds;
+  *words = HeldImagesWords(holds);
+  if (std::find(holds.begin(), holds.end(), true) == holds.end()) *words = "no image of the material holds, so " + *words;
+  return holds;
 }
 
 }  // namespace

@@ -147,4 +147,11 @@ std::string NextShotLines(const CoverageAssessment& assessment) {
   return text;
 }
 
+std::string HeldImagesWords(const MirrorImageSet& holds) {
+  std::string held;
+  for (size_t k = 0; k < MirrorImages().size(); ++k)
+    if (holds[k]) held += std::string(held.empty() ? "" : ", ") + MirrorImages()[k].name;
+  return held.empty() ? "each board's own lights only" : "boards also lent their lights' images under " + held;
+}
+
 }  // namespace mesocap::app

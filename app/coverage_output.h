@@ -49,6 +49,10 @@ Json CoverageJson(const CoverageAssessment& assessment, const std::string& sourc
 Status WriteCoverageFolder(const std::filesystem::path& out, const CoverageAssessment& assessment, const std::string& source,
                            const Json& provenance_options, const Json& extra_fields = Json::object());
 
+// "boards also lent their lights' images under mirror_x, half_turn", or "each board's own lights
+// only".
+std::string HeldImagesWords(const MirrorImageSet& holds);
+
 // "coverage: 380 of 843 ... (45%)".
 std::string CoverageSummary(const CoverageAssessment& assessment);
 // "  board  3:  12 lights, 40 of 62 targets covered (65%)", one line per board.

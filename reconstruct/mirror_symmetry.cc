@@ -147,8 +147,9 @@ Json MirrorSymmetryCheck::ToJson() const {
   return j;
 }
 
-MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg) {
-  constexpr double kMinImageDeg = 10, kMaxGapDeg = 10;
+MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg,
+                                        double max_gap_deg) {
+  constexpr double kMinImageDeg = 10;
   MirrorSymmetryCheck check;
   const int n = int(top.lights.size());
   auto every = LightInterpolator::Create(top.lights, min_separation_deg);
@@ -157,13 +158,13 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
   for (int i = 0; i < n; ++i) all.push_back(i);
   std::array<std::vector<double>, kMirrorImageCount> ratios, as_measured;
   for (int i = 0; i < n; ++i) {
-    const double own = LeaveOneOutDistance(top, i, kMaxGapDeg, min_separation_deg);
+    const double own = LeaveOneOutDistance(top, i, max_gap_deg, min_separation_deg);
     if (!(own > 0)) continue;
     for (size_t k = 0; k < MirrorImages().size(); ++k) {
       const MirrorImage& image = MirrorImages()[k];
       const Eigen::Vector3d imaged = image.Of(top.lights[size_t(i)]);
       if (AngleBetweenDeg(imaged, top.lights[size_t(i)]) < kMinImageDeg) continue;
-      const SliceStatistics there = InterpolatedAt(top, all, *every, imaged, kMaxGapDeg);
+      const SliceStatistics there = InterpolatedAt(top, all, *every, imaged, max_gap_deg);
       if (there.empty()) continue;
       const SliceStatistics& measured = top.statistics[size_t(i)];
       const SliceStatistics imaged_statistics = ImagedStatistics(measured, image, orientations);

@@ -69,7 +69,9 @@ struct MirrorSymmetryCheck {
   MirrorImageSet holds{};
   Json ToJson() const;
 };
-MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg);
+// `max_gap_deg`: how far from a measured light an imaged light may lie (10 deg: the 10 above).
+MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg,
+                                        double max_gap_deg = 10);
 
 // The index of the direction in `directions` nearest `direction` if within `within_deg`, else -1:
 // the view an image of a view lands on (WithMirrorImages, and guidance's CoverageOptions::images).

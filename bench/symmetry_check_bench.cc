@@ -1,0 +1,81 @@
+// How many of a session's top-view lights the mirror symmetry check (CheckMirrorSymmetry) needs
+// before it reaches the verdict the whole session gives, and how far an imaged light may lie from
+// a measured one: the check as `mesocap capture --guide` runs it while the session grows.
+//
+//   bench_symmetry_check SESSION/slices/index.json [LIGHTS=12,24,40,70,0] [GAPS=10,20]
+//
+// Takes the top board's slices in shot order (the first LIGHTS of them; 0: all), their brightness
+// at 64 texels, and prints per gap which images hold (one digit per MirrorImages() entry) and the
+// lights each image was tested on.
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "calib/resample.h"
+#include "core/image_io.h"
+#include "core/slice_index.h"
+#include "reconstruct/mirror_symmetry.h"
+#include "reconstruct/statistical_btf.h"
+
+using namespace mesocap;
+
+namespace {
+
+std::vector<double> Numbers(const std::string& list) {
+  std::vector<double> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::stod(item));
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s SLICES_INDEX_JSON [LIGHTS=12,24,40,70,0] [GAPS=10,20]\n", argv[0]);
+    return 2;
+  }
+  auto index = ReadSliceIndex(argv[1]);
+  if (!index.ok()) {
+    std::fprintf(stderr, "%s\n", index.status().message().c_str());
+    return 1;
+  }
+  const std::vector<double> counts = Numbers(argc > 2 ? argv[2] : "12,24,40,70,0");
+  const std::vector<double> gaps = Numbers(argc > 3 ? argv[3] : "10,20");
+  int top_board = index->slices.front().board;
+  double top_theta = 90;
+  for (const SliceIndexEntry& e : index->slices)
+    if (e.theta_o_deg < top_theta) top_theta = e.theta_o_deg, top_board = e.board;
+  const StatisticalBtfOptions btf;
+  MeasuredView top;
+  for (const SliceIndexEntry& e : index->slices) {
+    if (e.board != top_board) continue;
+    auto slice = ReadImage(e.file);
+    if (!slice.ok()) continue;
+    const Image small = AreaDownsample(*slice, 64);
+    Image brightness(64, 64, 1);
+    for (size_t i = 0; i < brightness.size(); ++i)
+      for (int c = 0; c < small.channels(); ++c) brightness.data()[i] += small.data()[i * size_t(small.channels()) + size_t(c)];
+    top.view = e.view;
+    top.lights.push_back(e.light);
+    top.statistics.push_back(ComputeSliceStatistics(brightness, btf.statistics));
+  }
+  std::printf("%s: top board %d, %zu lights\nlights gap  holds    tested lights per image\n", argv[1], top_board,
+              top.lights.size());
+  for (const double count : counts) {
+    MeasuredView first = top;
+    const size_t n = count > 0 && size_t(count) < top.lights.size() ? size_t(count) : top.lights.size();
+    first.lights.resize(n);
+    first.statistics.resize(n);
+    for (const double gap : gaps) {
+      const MirrorSymmetryCheck check =
+          CheckMirrorSymmetry(first, btf.statistics.pyramid.orientations, btf.min_light_separation_deg, gap);
+      std::string holds, tested;
+      for (size_t k = 0; k < check.holds.size(); ++k)
+        holds += check.holds[k] ? '1' : '0', tested += " " + std::to_string(check.lights[k]);
+      std::printf("%5zu %4.0f  %s %s\n", n, gap, check.tested ? holds.c_str() : "untested", tested.c_str());
+    }
+  }
+  return 0;
+}
