@@ -48,7 +48,7 @@ CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args) {
   sub->add_option("--guide-images", args->guide_images,
                   "Guidance: images of the patch the material looks the same under, comma-separated; each board "
                   "also counts its lights' images (as `mesocap coverage` does where the session's slices show them "
-                  "hold). Default: each board's own lights. The top board's slices tell only after about 70 "
+                  "hold). Default: each board's own lights. The top board's slices tell only after 70-85 "
                   "hand-held shots (docs/reconstruction.md)")
       ->delimiter(',')
       ->check(CLI::IsMember(image_names));
