@@ -21,6 +21,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
 bool BtfMethodArgs::ApplyTo(SliceSetOptions* slices) const {
   if (chroma_from_top || chroma_from_views) slices->chroma_from_top = chroma_from_top;
   slices->remove_chroma_noise = !keep_chroma_noise;
+  slices->capture_blur_px = capture_blur_px;
   return ApplyTo(&slices->btf);
 }
 
@@ -34,6 +35,7 @@ Json BtfMethodArgs::ToJson() const {
           {"view_blend_even_at_pole", !linear_from_top_view},
           {"mirror_symmetry", !no_mirror_symmetry},
           {"remove_chroma_noise", !keep_chroma_noise},
+          {"capture_blur_px", capture_blur_px},
           {"fit_light_falloff", !no_fit_light_falloff},
           {"far_light_falloff_deg", far_light_falloff_deg}};
 }

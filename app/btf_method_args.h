@@ -25,6 +25,7 @@ struct BtfMethodArgs {
   bool linear_from_top_view = false;          // StatisticalBtfOptions::view_blend_even_at_pole
   bool no_mirror_symmetry = false;            // StatisticalBtfOptions::mirror_symmetry
   bool keep_chroma_noise = false;             // SliceSetOptions::remove_chroma_noise (sessions' slices)
+  double capture_blur_px = SliceSetOptions().capture_blur_px;  // SliceSetOptions::capture_blur_px
   // StatisticalBtfOptions::chromaticity_from_top_view: forced on, forced off, or (neither) decided by
   // the slices' shots (SliceSetOptions::chroma_from_top; off for true slices).
   bool chroma_from_top = false, chroma_from_views = false;

@@ -43,6 +43,12 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
   command->add_flag(prefix + "keep-chroma-noise", keep_chroma_noise,
                     "Keep each session slice's noise in its chromaticity statistics instead of taking out the variance "
                     "measured against the slice of the same view at the nearest light");
+  command->add_option(prefix + "capture-blur-px", capture_blur_px,
+                      "Undo a Gaussian blur of this many camera pixels (the camera's and the resampling's) on each "
+                      "session slice's chromaticities before their statistics, in texels from the slice's size in "
+                      "the photo (0: keep the blur)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
   command->add_flag(prefix + "linear-from-top-view", linear_from_top_view,
                     "Interpolate a view between the top view and the first view ring linearly in incidence (the "
                     "paper) instead of in 1 - cos(incidence), in which statistics even through the pole change linearly");

@@ -57,6 +57,7 @@ Json SliceRecord::ToJson() const {
           {"theta_o_deg", theta_o_deg},
           {"phi_o_deg", phi_o_deg},
           {"light_distance_m", light_distance_m},
+          {"texel_px", texel_px},
           {"light_spread_deg", light_spread_deg},
           {"mean", mean},
           {"scale", scale},
@@ -112,6 +113,8 @@ PatchSampler MakePatchSampler(const CameraModel& camera, const BoardPose& pose, 
       const Eigen::Vector2d p = project(x, y);
       s.footprint_px = std::max({s.footprint_px, (project(x + texel_m, y) - p).norm(), (project(x, y + texel_m) - p).norm()});
     }
+  const Eigen::Vector2d centre = project(0, 0), along_x = project(texel_m, 0) - centre, along_y = project(0, texel_m) - centre;
+  s.texel_px = std::sqrt(std::abs(along_x.x() * along_y.y() - along_x.y() * along_y.x()));
   s.supersample = supersample > 0 ? supersample : std::clamp(int(std::ceil(s.footprint_px - 1e-6)), 1, 16);
   const int k = s.supersample;
   s.pixels.resize(size_t(size) * size * k * k);
@@ -343,6 +346,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
       r.theta_o_deg = out.x();
       r.phi_o_deg = out.y();
       r.light_distance_m = light_in_board.norm();
+      r.texel_px = samplers[b].texel_px;
       const double h = patch_m[b] / 2;
       for (const Eigen::Vector3d& corner : {Eigen::Vector3d(-h, -h, 0), Eigen::Vector3d(h, -h, 0),
                                            Eigen::Vector3d(h, h, 0), Eigen::Vector3d(-h, h, 0)})

@@ -52,6 +52,9 @@ struct SliceRecord {
   // Light and view directions at the patch centre, patch frame (z = board normal), degrees.
   double theta_i_deg = 0, phi_i_deg = 0, theta_o_deg = 0, phi_o_deg = 0;
   double light_distance_m = 0;  // flash to patch centre
+  // The patch centre's texel in the photo, pixels (sqrt of its area): how far the camera's blur
+  // reaches in texels (SliceSetOptions::capture_blur_px).
+  double texel_px = 0;
   // Largest angle between the centre's light direction and a patch corner's: the point light's
   // direction is not constant over the patch, while a slice carries one direction.
   double light_spread_deg = 0;
@@ -96,6 +99,7 @@ struct PatchSampler {
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector2f> pixels;  // texel-major, then sub-samples row by row; Image::SampleBilinear coordinates
   double footprint_px = 0;              // largest texel side seen in the photo, pixels
+  double texel_px = 0;                  // the patch centre's texel, sqrt of its area in the photo, pixels
   PixelRect reach;                      // the photo's pixels the sub-samples read (unclipped)
 };
 

@@ -75,6 +75,21 @@ TEST(Resample, TexelGridIsTheTrueBtfGrid) {
   EXPECT_GE(MakePatchSampler(camera, pose, 0.064, 32).supersample, 3);
 }
 
+TEST(Resample, ATexelsSizeInThePhotoIsItsProjectedArea) {
+  // Head-on at 0.5 m on the optical axis (no distortion there): 2 mm texels span f 2 mm / 0.5 m,
+  // about 4 px a side (fx 1000, fy 1002: the area's root).
+  const CameraModel camera = TestCamera();
+  BoardPose pose;
+  pose.found = true;
+  pose.R = Eigen::AngleAxisd(DegToRad(180), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  pose.t = {0, 0, 0.5};
+  const double head_on = std::sqrt(1000.0 * 1002.0) * 0.002 / 0.5;
+  EXPECT_NEAR(MakePatchSampler(camera, pose, 0.064, 32, 1).texel_px, head_on, 0.01 * head_on);
+  // Tilted 60 deg about x: foreshortened to half along y, so its area's root falls by sqrt(1/2).
+  pose.R = pose.R * Eigen::AngleAxisd(DegToRad(60), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_NEAR(MakePatchSampler(camera, pose, 0.064, 32, 1).texel_px, head_on * std::sqrt(0.5), 0.02 * head_on);
+}
+
 // A flat Lambertian board under a point flash, rendered analytically: the slice must read
 // albedo/pi cos(theta_i) with each texel's own light direction (the cosine is part of the BTF).
 TEST(Resample, FlatLambertianUnderPointFlashReadsAlbedoOverPiCos) {

@@ -32,6 +32,8 @@ SliceIndexEntry EntryFromJson(const Json& e, const std::string& at, const std::f
   s.view = DirectionFromAnglesDeg(s.theta_o_deg, s.phi_o_deg);
   if (e.is_object() && e.contains("light_distance_m"))
     s.light_distance_m = JsonNumber(e["light_distance_m"], JsonFieldPath(at, "light_distance_m"), 0, 1e3);
+  if (e.is_object() && e.contains("texel_px"))
+    s.texel_px = JsonNumber(e["texel_px"], JsonFieldPath(at, "texel_px"), 0, 1e4);
   return s;
 }
 

@@ -20,6 +20,7 @@ struct SliceIndexEntry {
   double theta_i_deg = 0, phi_i_deg = 0, theta_o_deg = 0, phi_o_deg = 0;  // theta in [0, 90], phi in [0, 360)
   Eigen::Vector3d light = Eigen::Vector3d::UnitZ(), view = Eigen::Vector3d::UnitZ();
   double light_distance_m = 0;  // flash to patch centre (measured slices); 0 when the index has none
+  double texel_px = 0;          // a texel's size in the photo, pixels (measured slices); 0 when unknown
 };
 
 struct SliceIndex {

@@ -21,6 +21,7 @@ struct IndexedSlice {
   std::filesystem::path file;
   int board = 0;
   Eigen::Vector3d light, view;
+  double texel_px = 0;  // in the photo (SliceIndexEntry::texel_px)
 };
 
 Image ResampleSquare(const Image& image, int size) {
@@ -50,7 +51,10 @@ std::vector<int> NearestLightOfSameView(const std::vector<const IndexedSlice*>& 
 
 }  // namespace
 
-bool SliceSetOptions::Check() const { return btf.Check() && (size == 0 || IsPowerOfTwo(size)) && duplicate_light_deg >= 0; }
+bool SliceSetOptions::Check() const {
+  return btf.Check() && (size == 0 || IsPowerOfTwo(size)) && duplicate_light_deg >= 0 && capture_blur_px >= 0 &&
+         capture_blur_px <= 10;
+}
 
 StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
                                             SliceSetReport* report, const ProgressFn& progress) {
@@ -64,7 +68,7 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   // Group by board; drop near-duplicate lights within a board.
   std::map<int, std::vector<IndexedSlice>> boards;
   for (const SliceIndexEntry& entry : index->slices) {
-    IndexedSlice s{entry.file, entry.board, entry.light, entry.view};
+    IndexedSlice s{entry.file, entry.board, entry.light, entry.view, entry.texel_px};
     auto& kept = boards[s.board];
     bool duplicate = false;
     for (const auto& other : kept) duplicate |= AngleBetweenDeg(other.light, s.light) < options.duplicate_light_deg;
@@ -113,13 +117,17 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   std::vector<std::string> errors(all.size());
   std::atomic<int> done = 0;
   std::atomic<bool> cancelled = false;
-  auto load = [&](int k, std::string* error) -> Image {
+  // Each slice's capture blur in its texels once resampled to options.size (0: none known).
+  const bool undo_blur = options.capture_blur_px > 0;
+  auto load = [&](int k, std::string* error, double* blur_texels) -> Image {
     auto image = ReadImage(all[k]->file);
     if (!image.ok()) {
       *error = image.status().message();
       return {};
     }
     Image slice = ResampleSquare(*image, options.size);
+    const double texel_px = all[k]->texel_px * image->width() / std::max(slice.width(), 1);
+    *blur_texels = undo_blur && texel_px > 0 ? options.capture_blur_px / texel_px : 0.0;
     if (!IsPowerOfTwo(slice.width()) || slice.width() != slice.height()) {
       *error = "slice is " + std::to_string(slice.width()) + "x" + std::to_string(slice.height()) +
                ", not a power-of-two square (use --size)";
@@ -127,13 +135,22 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     }
     return slice;
   };
-  auto read = [&](int k) { return load(k, &errors[k]); };
+  std::vector<double> blur(all.size(), 0.0);
+  auto read = [&](int k) { return load(k, &errors[k], &blur[k]); };
   ParallelFor(0, top_count, [&](int k) { images[k] = read(k); }, options.btf.num_threads);
   // (An unreadable slice is an empty image, which the basis skips.)
   StatisticalBtfOptions btf_options = WithColourChannels(options.btf, std::span(images.data(), top_count));
   btf_options.chromaticity_from_top_view = options.chroma_from_top.value_or(index->chroma_subsampled_shots);
   rep.chroma_from_top = btf_options.chromaticity_from_top_view;
-  const bool remove_noise = options.remove_chroma_noise && btf_options.colour.space() == ColourSpace::kChromaticity;
+  const bool chromaticity = btf_options.colour.space() == ColourSpace::kChromaticity;
+  const bool remove_noise = options.remove_chroma_noise && chromaticity;
+  // The chromaticities' blur undone (channels 1 and 2); the brightness keeps its own, as sharpening
+  // it raises its noise as much as its detail.
+  const auto sharpened = [&](const Image& slice, double blur_texels) {
+    Image channels = btf_options.colour.Forward(slice);
+    if (chromaticity) UndoGaussianBlur(&channels, blur_texels, /*first_channel=*/1);
+    return channels;
+  };
   const std::vector<int> partner =
       remove_noise ? NearestLightOfSameView(all, view_of, kNearHullDeg) : std::vector<int>(all.size(), -1);
   ParallelFor(0, int(all.size()), [&](int k) {
@@ -141,15 +158,16 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     const Image slice = k < top_count ? Image() : read(k);
     const Image& measured = k < top_count ? images[k] : slice;
     if (errors[k].empty()) {
-      const Image channels = btf_options.colour.Forward(measured);
+      const Image channels = sharpened(measured, blur[k]);
       stats[k] = ComputeSliceStatistics(channels, btf_options.statistics);
       if (partner[k] >= 0) {
         std::string ignored;  // the partner's own pass reports its errors
-        const Image loaded = partner[k] < top_count ? Image() : load(partner[k], &ignored);
+        double partner_blur = partner[k] < top_count ? blur[partner[k]] : 0.0;
+        const Image loaded = partner[k] < top_count ? Image() : load(partner[k], &ignored, &partner_blur);
         const Image& other = partner[k] < top_count ? images[partner[k]] : loaded;  // top slices: no copy
         if (other.width() == measured.width() && other.height() == measured.height() &&
             other.channels() == measured.channels()) {
-          const Image noise = NoiseDifference(channels, btf_options.colour.Forward(other));
+          const Image noise = NoiseDifference(channels, sharpened(other, partner_blur));
           RemoveNoiseVariance(&stats[k], ComputeSliceStatistics(noise, btf_options.statistics), /*first_channel=*/1);
         }
       }

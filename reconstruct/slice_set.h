@@ -38,6 +38,13 @@ struct SliceSetOptions {
   // 4.9-6.1%, corduroy's 1.3-1.5% instead of 1.6-1.8%, weave's 8.2-8.4% instead of 7.5-7.7% (its
   // slices are blurred, which this does not undo). Reads each slice twice.
   bool remove_chroma_noise = true;
+  // With the chromaticity colour space, undo a Gaussian blur of this many camera pixels
+  // (UndoGaussianBlur) on each session slice's chromaticities before their statistics, in texels
+  // from the slice's size in the photo (SliceIndexEntry::texel_px; slices without it keep their
+  // blur). The camera's pixels, its optics and the resampling's reads blur a slice; its colour is
+  // what the histograms then miss, most where it varies finely (weave: the saturation 8% below the
+  // truth's). Calibrated 100-shot JPEG sessions, seeds 21-24: docs/reconstruction.md. 0: keep it.
+  double capture_blur_px = 0.75;
   bool Check() const;
 };
 

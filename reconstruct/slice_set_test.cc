@@ -155,5 +155,75 @@ TEST(SliceStatistics, TheNoiseOfTwoSlicesIsTakenOutOfTheChromaticities) {
   }
 }
 
+TEST(SliceStatistics, UndoingAGaussianBlurRestoresASinusoidsAmplitude) {
+  // A Gaussian of sigma texels scales a sinusoid of frequency f (cycles a texel) by
+  // exp(-2 pi^2 sigma^2 f^2): blurred sinusoids in channels 1 and 2 come back to amplitude 1,
+  // channel 0 is left alone, and the gain stops at its cap.
+  constexpr int kSize = 32;
+  constexpr double kSigma = 0.3, kF1 = 4.0 / kSize, kF2 = 6.0 / kSize;
+  const auto damped = [](double f, double sigma) { return std::exp(-2 * M_PI * M_PI * sigma * sigma * f * f); };
+  Image image(kSize, kSize, 3);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      image.at(x, y, 0) = float(damped(kF1, kSigma) * std::cos(2 * M_PI * kF1 * x));
+      image.at(x, y, 1) = float(damped(kF1, kSigma) * std::cos(2 * M_PI * kF1 * x));
+      image.at(x, y, 2) = float(damped(kF2, kSigma) * std::sin(2 * M_PI * kF2 * y + 0.4));
+    }
+  Image sharpened = image;
+  UndoGaussianBlur(&sharpened, kSigma, /*first_channel=*/1);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      EXPECT_EQ(sharpened.at(x, y, 0), image.at(x, y, 0));
+      EXPECT_NEAR(sharpened.at(x, y, 1), std::cos(2 * M_PI * kF1 * x), 1e-5);
+      EXPECT_NEAR(sharpened.at(x, y, 2), std::sin(2 * M_PI * kF2 * y + 0.4), 1e-5);
+    }
+  // A blur eight times wider would need a gain of 1 / damped(kF2, 8 kSigma) = 55: capped at 3.
+  ASSERT_GT(1 / damped(kF2, 8 * kSigma), 50);
+  Image capped = image;
+  UndoGaussianBlur(&capped, 8 * kSigma, /*first_channel=*/2);
+  EXPECT_NEAR(capped.at(0, 0, 2), 3 * image.at(0, 0, 2), 1e-5);
+}
+
+TEST(SliceSet, TheBlurUndoneFollowsEachSlicesSizeInThePhoto) {
+  // Slices whose chromaticity is a sinusoid at a constant brightness (R + G + B), each 2 photo
+  // pixels a texel: a 0.75 px blur is 0.375 texels, so the chromaticities' spread grows by
+  // 1 / damped(f) and the brightness stays.
+  const fs::path dir = testing::MakeTempDir();
+  constexpr int kSize = 16;
+  constexpr double kF = 4.0 / kSize, kTexelPx = 2.0;
+  Json slices = Json::array();
+  for (int k = 0; k < 4; ++k) {
+    Image slice(kSize, kSize, 3);
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const float wave = float(0.05 * std::cos(2 * M_PI * kF * x + k));
+        slice.at(x, y, 0) = 0.3f + wave, slice.at(x, y, 1) = 0.3f - wave, slice.at(x, y, 2) = 0.3f;
+      }
+    const std::string file = "s" + std::to_string(k) + ".exr";
+    ASSERT_TRUE(WriteImage(dir / file, slice).ok());
+    slices.push_back({{"file", file}, {"board", 0}, {"theta_i_deg", 40}, {"phi_i_deg", 90.0 * k}, {"theta_o_deg", 0},
+                      {"phi_o_deg", 0}, {"texel_px", kTexelPx}});
+  }
+  ASSERT_TRUE(WriteJsonFile(dir / "index.json", {{"format", "mesocap-slices"}, {"slices", slices}}).ok());
+  const auto spread = [](const InverseCdf& q) {
+    double square = 0;
+    for (float v : q.values) square += (v - q.Mean()) * (v - q.Mean());
+    return std::sqrt(square / double(q.values.size()));
+  };
+  SliceSetOptions kept = Options(), undone = Options();
+  kept.capture_blur_px = 0;
+  undone.capture_blur_px = 0.75;
+  kept.remove_chroma_noise = undone.remove_chroma_noise = false;
+  SliceSetReport report;
+  auto with_blur = LoadStatisticalBtf(dir / "index.json", kept, &report);
+  auto without_blur = LoadStatisticalBtf(dir / "index.json", undone, &report);
+  ASSERT_TRUE(with_blur.ok() && without_blur.ok());
+  const SliceStatistics& a = with_blur->views().front().statistics.front();
+  const SliceStatistics& b = without_blur->views().front().statistics.front();
+  const double sigma = 0.75 / kTexelPx;
+  EXPECT_NEAR(spread(b.pixels[1]) / spread(a.pixels[1]), std::exp(2 * M_PI * M_PI * sigma * sigma * kF * kF), 1e-3);
+  EXPECT_NEAR(spread(b.pixels[0]), spread(a.pixels[0]), 1e-6);
+}
+
 }  // namespace
 }  // namespace mesocap

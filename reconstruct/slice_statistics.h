@@ -43,6 +43,12 @@ Image NoiseDifference(const Image& a, const Image& b);
 // mean by sqrt(1 - var_noise / var), at least by sqrt(0.05).
 void RemoveNoiseVariance(SliceStatistics* measured, const SliceStatistics& noise, int first_channel);
 
+// The capture chain blurs a measured slice (the camera's pixels and optics, the resampling's
+// reads): undoes a Gaussian blur of `sigma` texels on channels [first_channel, channels) by its
+// inverse in the Fourier domain (periodic), exp(2 pi^2 sigma^2 |f|^2), the gain capped at
+// `max_gain` so the finest frequencies' noise is not blown up.
+void UndoGaussianBlur(Image* image, double sigma, int first_channel, double max_gain = 3.0);
+
 // Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
 // The same with weights per channel: `weights_by_channel[c]` blends channel c.
