@@ -43,8 +43,7 @@ CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args) {
       ->capture_default_str();
   sub->add_option("--suggest", args->guidance.coverage.suggestions, "Guidance: next flash positions listed")
       ->capture_default_str();
-  std::vector<std::string> image_names;
-  for (const MirrorImage& image : MirrorImages()) image_names.push_back(image.name);
+  const std::vector<std::string> image_names(kMirrorImageNames.begin(), kMirrorImageNames.end());
   sub->add_option("--guide-images", args->guide_images,
                   "Guidance: images of the patch the material looks the same under, comma-separated; each board "
                   "also counts its lights' images (as `mesocap coverage` does where the session's slices show them "

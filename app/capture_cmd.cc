@@ -88,8 +88,8 @@ int RunCapture(CaptureArgs& a) {
   if (a.guide)
     if (std::string why = a.guidance.Check(); !why.empty()) return Fail("capture", why, kExitUsage);
   for (const std::string& name : a.guide_images)
-    for (size_t k = 0; k < MirrorImages().size(); ++k)
-      if (name == MirrorImages()[k].name) a.guidance.coverage.images[k] = true;
+    for (size_t k = 0; k < kMirrorImageNames.size(); ++k)
+      if (name == kMirrorImageNames[k]) a.guidance.coverage.images[k] = true;
   if (!a.show_config)
     if (std::string why = o.Check(); !why.empty()) return Fail("capture", why, kExitUsage);
 

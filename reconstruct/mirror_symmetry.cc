@@ -13,13 +13,13 @@ namespace mesocap {
 
 const std::array<MirrorImage, kMirrorImageCount>& MirrorImages() {
   static const std::array<MirrorImage, kMirrorImageCount> images = {{
-      {"mirror_x", (Eigen::Matrix2d() << -1, 0, 0, 1).finished()},
-      {"mirror_y", (Eigen::Matrix2d() << 1, 0, 0, -1).finished()},
-      {"half_turn", (Eigen::Matrix2d() << -1, 0, 0, -1).finished()},
-      {"quarter_turn", (Eigen::Matrix2d() << 0, -1, 1, 0).finished()},
-      {"three_quarter_turn", (Eigen::Matrix2d() << 0, 1, -1, 0).finished()},
-      {"mirror_diagonal", (Eigen::Matrix2d() << 0, 1, 1, 0).finished()},
-      {"mirror_antidiagonal", (Eigen::Matrix2d() << 0, -1, -1, 0).finished()},
+      {kMirrorImageNames[0], (Eigen::Matrix2d() << -1, 0, 0, 1).finished()},
+      {kMirrorImageNames[1], (Eigen::Matrix2d() << 1, 0, 0, -1).finished()},
+      {kMirrorImageNames[2], (Eigen::Matrix2d() << -1, 0, 0, -1).finished()},
+      {kMirrorImageNames[3], (Eigen::Matrix2d() << 0, -1, 1, 0).finished()},
+      {kMirrorImageNames[4], (Eigen::Matrix2d() << 0, 1, -1, 0).finished()},
+      {kMirrorImageNames[5], (Eigen::Matrix2d() << 0, 1, 1, 0).finished()},
+      {kMirrorImageNames[6], (Eigen::Matrix2d() << 0, -1, -1, 0).finished()},
   }};
   return images;
 }

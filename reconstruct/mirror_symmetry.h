@@ -32,6 +32,9 @@ struct MirrorImage {
 // the quarter turns (counter-clockwise, clockwise), the mirrors about the diagonals.
 inline constexpr int kMirrorImageCount = 7;
 const std::array<MirrorImage, kMirrorImageCount>& MirrorImages();
+// Their names, in order (header-only: the command line names them without loading the library).
+inline constexpr std::array<const char*, kMirrorImageCount> kMirrorImageNames = {
+    "mirror_x", "mirror_y", "half_turn", "quarter_turn", "three_quarter_turn", "mirror_diagonal", "mirror_antidiagonal"};
 using MirrorImageSet = std::array<bool, kMirrorImageCount>;  // per MirrorImages() entry
 
 // `statistics` of the imaged texture. The steerable band at frequency angle pi o / K is filtered
