@@ -210,7 +210,8 @@ MeanBrightnessModel StatisticalBtf::FitMeanModel() {
 double StatisticalBtf::TopViewBrightness(const Eigen::Vector3d& light) const {
   double brightness = 0;
   for (const WeightedIndex& w : view_lights_[top_view_].Weights(light))
-    brightness += w.weight * CosineRatio(light, views_[top_view_].lights[w.index]) * Brightness(SourceStatistics(top_view_, size_t(w.index)));
+    brightness += w.weight * CosineRatio(light, views_[top_view_].lights[w.index]) *
+                  Brightness(SourceStatistics(top_view_, size_t(w.index)));
   return brightness;
 }
 
@@ -304,9 +305,9 @@ double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& lig
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
                                                   double weight, Blend* blend, ChannelSet channels) const {
   Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
+  const MeasuredView& measured = views_[size_t(v)];
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
-    const MeasuredView& measured = views_[size_t(v)];
     const SliceStatistics* statistics = &SourceStatistics(v, size_t(l.index));
     if (!measured.Measured(size_t(l.index))) {
       const BorrowedSlice& borrowed = measured.borrowed[size_t(l.index) - measured.statistics.size()];
