@@ -4,9 +4,9 @@
 //
 //   bench_symmetry_check SESSION/slices/index.json [LIGHTS=12,24,40,70,0] [GAPS=10,20]
 //
-// Takes the top board's slices in shot order (the first LIGHTS of them; 0: all), their brightness
-// at 64 texels, and prints per gap which images hold (one digit per MirrorImages() entry) and the
-// lights each image was tested on.
+// Takes the top board's slices in shot order (the first LIGHTS of them; 0: all) at 64 texels in
+// the reconstruction's colour channels, and prints per gap which images hold (one digit per
+// MirrorImages() entry) and the lights each image was tested on.
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -47,19 +47,16 @@ int main(int argc, char** argv) {
   double top_theta = 90;
   for (const SliceIndexEntry& e : index->slices)
     if (e.theta_o_deg < top_theta) top_theta = e.theta_o_deg, top_board = e.board;
-  const StatisticalBtfOptions btf;
+  // The reconstruction's colour channels: the check reads the first, the brightness R + G + B.
+  const StatisticalBtfOptions btf = WithColourChannels(StatisticalBtfOptions{}, {});
   MeasuredView top;
   for (const SliceIndexEntry& e : index->slices) {
     if (e.board != top_board) continue;
     auto slice = ReadImage(e.file);
     if (!slice.ok()) continue;
-    const Image small = AreaDownsample(*slice, 64);
-    Image brightness(64, 64, 1);
-    for (size_t i = 0; i < brightness.size(); ++i)
-      for (int c = 0; c < small.channels(); ++c) brightness.data()[i] += small.data()[i * size_t(small.channels()) + size_t(c)];
     top.view = e.view;
     top.lights.push_back(e.light);
-    top.statistics.push_back(ComputeSliceStatistics(brightness, btf.statistics));
+    top.statistics.push_back(ComputeSliceStatistics(btf.colour.Forward(AreaDownsample(*slice, 64)), btf.statistics));
   }
   std::printf("%s: top board %d, %zu lights\nlights gap  holds    tested lights per image\n", argv[1], top_board,
               top.lights.size());

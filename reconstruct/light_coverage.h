@@ -59,8 +59,9 @@ struct CoverageOptions {
   // The images of the material that hold (CheckMirrorSymmetry): a light a board measured also
   // stands, imaged, for every board its view's image lands on (within kMirrorPoolDeg), as the
   // reconstruction borrows it. None: each board's own lights only. Virtual sessions continued
-  // from 24 shots to 70 (seeds 21-30): median pixel W1 0.00241 / 0.00266 / 0.00520 (weave, stones,
-  // corduroy) counting the images, 0.00266 / 0.00275 / 0.00535 without.
+  // from 24 shots to 70 (seeds 21-30, before the mean model was refitted with the images): median
+  // pixel W1 0.00241 / 0.00266 / 0.00520 (weave, stones, corduroy) counting the images,
+  // 0.00266 / 0.00275 / 0.00535 without; with the refit, counting them, 0.00241 / 0.00260 / 0.00514.
   MirrorImageSet images{};
   double near_deg = 15.0;  // a target within this of a measured light is covered
   // Flash positions considered for the next shots: elevations (above the top board's plane) and
