@@ -70,8 +70,12 @@ MeanBrightnessModel MeanBrightnessModel::Fit(const std::vector<MeanBrightnessSam
   for (int k = 1; k < kTerms; ++k) normal(k, k) += kRidge * n;
   model.coefficients_ = normal.ldlt().solve(rhs);
   if (!model.coefficients_.allFinite()) return MeanBrightnessModel();
-  for (const MeanBrightnessSample& s : model.samples_)
+  for (const MeanBrightnessSample& s : model.samples_) {
     model.residuals_.push_back(std::log(s.brightness / s.light.z()) - model.LogRadianceOverCosine(s.light, s.view));
+    const auto known = std::find(model.views_.begin(), model.views_.end(), s.view);
+    model.sample_view_.push_back(int(known - model.views_.begin()));
+    if (known == model.views_.end()) model.views_.push_back(s.view);
+  }
   model.fitted_ = true;
   return model;
 }
@@ -87,12 +91,16 @@ double MeanBrightnessModel::Predict(const Eigen::Vector3d& light, const Eigen::V
   // The residuals of the measured pairs, weighted by a Gaussian of their view's and light's
   // angles to the pair's; far from every measured pair, the nearest ones (the weights relative to
   // the largest).
+  std::vector<double> view_exponents(views_.size());
+  for (size_t j = 0; j < views_.size(); ++j) {
+    const double dv = AngleBetweenDeg(v, views_[j]) / kResidualWidthDeg;
+    view_exponents[j] = dv * dv;
+  }
   std::vector<double> exponents(samples_.size());
   double nearest = 1e300;
   for (size_t k = 0; k < samples_.size(); ++k) {
-    const double dv = AngleBetweenDeg(v, samples_[k].view) / kResidualWidthDeg;
     const double dl = AngleBetweenDeg(l, samples_[k].light) / kResidualWidthDeg;
-    exponents[k] = dv * dv + dl * dl;
+    exponents[k] = view_exponents[size_t(sample_view_[k])] + dl * dl;
     nearest = std::min(nearest, exponents[k]);
   }
   double weights = 0, residual = 0;

@@ -44,6 +44,10 @@ class MeanBrightnessModel {
   Eigen::Matrix<double, kTerms, 1> coefficients_ = Eigen::Matrix<double, kTerms, 1>::Zero();
   std::vector<MeanBrightnessSample> samples_;
   std::vector<double> residuals_;  // log(measured) - log(model), per sample
+  // The samples' distinct views, and each sample's among them: Predict measures the angle to each
+  // view once, not once per light (a view's images multiply its lights).
+  std::vector<Eigen::Vector3d> views_;
+  std::vector<int> sample_view_;
 };
 
 }  // namespace mesocap

@@ -59,19 +59,32 @@ std::pair<int, bool> SourceBand(const MirrorImage& image, int to, int orientatio
 
 }  // namespace
 
-SliceStatistics ImagedStatistics(const SliceStatistics& statistics, const MirrorImage& image, int orientations) {
-  SliceStatistics imaged = statistics;
+BandMap ImagedBands(const MirrorImage& image, int band_count, int orientations) {
   // bands: the high-pass residual, levels x orientations oriented bands, the low-pass residual.
-  const int levels = (statistics.band_count - 2) / orientations;
-  MESOCAP_CHECK(levels * orientations + 2 == statistics.band_count, "band count does not fit the orientations");
+  const int levels = (band_count - 2) / orientations;
+  MESOCAP_CHECK(levels * orientations + 2 == band_count, "band count does not fit the orientations");
+  BandMap map;
+  map.from.resize(size_t(band_count));
+  for (int b = 0; b < band_count; ++b) map.from[size_t(b)] = b;
+  map.negated.assign(size_t(band_count), 0);
   for (int to = 0; to < orientations; ++to) {
     const auto [from, negated] = SourceBand(image, to, orientations);
-    for (int c = 0; c < statistics.channels; ++c)
-      for (int l = 0; l < levels; ++l) {
-        const InverseCdf& band = statistics.band(c, 1 + l * orientations + from);
-        imaged.bands[size_t(c) * statistics.band_count + 1 + l * orientations + to] = negated ? Negated(band) : band;
-      }
+    for (int l = 0; l < levels; ++l) {
+      map.from[size_t(1 + l * orientations + to)] = 1 + l * orientations + from;
+      map.negated[size_t(1 + l * orientations + to)] = negated;
+    }
   }
+  return map;
+}
+
+SliceStatistics ImagedStatistics(const SliceStatistics& statistics, const MirrorImage& image, int orientations) {
+  const BandMap map = ImagedBands(image, statistics.band_count, orientations);
+  SliceStatistics imaged = statistics;
+  for (int c = 0; c < statistics.channels; ++c)
+    for (int b = 0; b < statistics.band_count; ++b) {
+      const InverseCdf& band = statistics.band(c, map.from[size_t(b)]);
+      imaged.bands[size_t(c) * statistics.band_count + b] = map.negated[size_t(b)] ? Negated(band) : band;
+    }
   return imaged;
 }
 

@@ -42,6 +42,9 @@ using MirrorImageSet = std::array<bool, kMirrorImageCount>;  // per MirrorImages
 // (Q(p) -> -Q(1 - p)) for even K when that angle wraps by pi (x -> -x negates orientation 0, y -> -y
 // the others, the half turn all). Images must map the K orientations onto each other (K = 4).
 SliceStatistics ImagedStatistics(const SliceStatistics& statistics, const MirrorImage& image, int orientations);
+// The same as a map of the bands, for blending imaged statistics without a copy
+// (BlendSliceStatistics): statistics of `band_count` bands per channel.
+BandMap ImagedBands(const MirrorImage& image, int band_count, int orientations);
 
 // Whether each image holds, tested on the top view's own slices: for each measured light whose
 // image lies at least 10 deg from it and within 10 deg of a measured light, the statistics

@@ -64,6 +64,36 @@ TEST(MirrorSymmetry, ImagedStatisticsAreThoseOfTheImagedTexture) {
   }
 }
 
+TEST(MirrorSymmetry, BlendingThroughBandMapsEqualsBlendingImagedCopies) {
+  // Statistics of two textures (3 channels), one of them read through each image's band map: the
+  // blend equals, to the bit, the blend of the imaged copy (negative weight included).
+  const auto three_channels = [](const Image& grey, float tint) {
+    Image rgb(grey.width(), grey.height(), 3);
+    for (size_t i = 0; i < grey.size(); ++i)
+      for (int c = 0; c < 3; ++c) rgb.data()[i * 3 + c] = grey.data()[i] * (1.0f + tint * float(c));
+    return rgb;
+  };
+  const SliceStatistics a = ComputeSliceStatistics(three_channels(SlantedStripes(32), 0.2f));
+  const SliceStatistics b = ComputeSliceStatistics(three_channels(Imaged(SlantedStripes(32), MirrorImages()[5]), -0.1f));
+  const std::vector<std::vector<double>> weights = {{1.3, -0.3}, {0.6, 0.4}, {0.2, 0.8}};
+  for (const MirrorImage& image : MirrorImages()) {
+    const BandMap map = ImagedBands(image, a.band_count, 4);
+    const SliceStatistics imaged = ImagedStatistics(b, image, 4);
+    const std::vector<const SliceStatistics*> copies = {&a, &imaged}, sources = {&a, &b};
+    const std::vector<const BandMap*> maps = {nullptr, &map};
+    const SliceStatistics expected = BlendSliceStatistics(copies, weights);
+    const SliceStatistics mapped = BlendSliceStatistics(sources, weights, maps);
+    ASSERT_EQ(mapped.bands.size(), expected.bands.size());
+    for (size_t k = 0; k < expected.pixels.size(); ++k) EXPECT_EQ(mapped.pixels[k].values, expected.pixels[k].values);
+    int moved = 0;
+    for (size_t k = 0; k < expected.bands.size(); ++k) {
+      EXPECT_EQ(mapped.bands[k].values, expected.bands[k].values) << image.name << " band " << k;
+      moved += map.from[k % size_t(a.band_count)] != int(k % size_t(a.band_count)) || map.negated[k % size_t(a.band_count)];
+    }
+    EXPECT_GT(moved, 0) << image.name << ": the map moves or negates some band";
+  }
+}
+
 TEST(MirrorSymmetry, ImagesOfABoardPoolWithTheBoardsTheyLandOn) {
   // Two 30 deg views half a turn apart, each lit from its own side, and one 60 deg view.
   const auto view_at = [](double theta, double phi, std::vector<Eigen::Vector3d> lights) {

@@ -118,6 +118,14 @@ InverseCdf InverseCdfOf(std::span<const float> samples, int count) {
 }
 
 InverseCdf BlendInverseCdfs(std::span<const InverseCdf* const> cdfs, std::span<const double> weights) {
+  return BlendInverseCdfs(cdfs, weights, {});
+}
+
+InverseCdf BlendInverseCdfs(std::span<const InverseCdf* const> cdfs, std::span<const double> weights,
+                            std::span<const char> negated) {
+  if (!negated.empty() && negated.size() != cdfs.size())
+    throw std::invalid_argument("BlendInverseCdfs: " + std::to_string(cdfs.size()) + " distributions, " +
+                                std::to_string(negated.size()) + " negation flags");
   if (cdfs.empty() || cdfs.size() != weights.size())
     throw std::invalid_argument("BlendInverseCdfs: " + std::to_string(cdfs.size()) + " distributions, " +
                                 std::to_string(weights.size()) + " weights");
@@ -129,7 +137,11 @@ InverseCdf BlendInverseCdfs(std::span<const InverseCdf* const> cdfs, std::span<c
   for (size_t i = 0; i < cdfs.size(); ++i) {
     const double w = weights[i];
     const float* v = cdfs[i]->values.data();
-    for (size_t k = 0; k < n; ++k) sum[k] += w * v[k];
+    if (!negated.empty() && negated[i]) {
+      for (size_t k = 0; k < n; ++k) sum[k] -= w * v[n - 1 - k];
+    } else {
+      for (size_t k = 0; k < n; ++k) sum[k] += w * v[k];
+    }
   }
   InverseCdf out;
   out.values.resize(n);

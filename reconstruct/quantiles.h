@@ -30,6 +30,10 @@ InverseCdf InverseCdfOf(std::span<const float> samples, int count = kDefaultQuan
 // may be negative. The result is made non-decreasing (running maximum) so extrapolation cannot
 // yield an invalid distribution.
 InverseCdf BlendInverseCdfs(std::span<const InverseCdf* const> cdfs, std::span<const double> weights);
+// The same with some inputs negated: where negated[k] is set, Q_k stands for the distribution of
+// -X, Q(p) -> -Q_k(1 - p) (no copy is made of it).
+InverseCdf BlendInverseCdfs(std::span<const InverseCdf* const> cdfs, std::span<const double> weights,
+                            std::span<const char> negated);
 
 // Histogram matching: remaps `values` in place, keeping their ranks, so their distribution is
 // `target` (the value of rank r of n takes Q((r + 0.5) / n)). Ties keep a stable order.

@@ -110,6 +110,18 @@ TEST(BlendInverseCdfs, NegativeWeightsStayMonotone) {
   }
 }
 
+TEST(BlendInverseCdfs, ANegatedInputIsTheDistributionOfMinusX) {
+  // U[1,3] negated is U[-3,-1]: half of it with half of U[5,7] is U[1,3] again.
+  const InverseCdf a = Linear(1, 3), b = Linear(5, 7);
+  const InverseCdf* cdfs[] = {&a, &b};
+  const double weights[] = {0.5, 0.5};
+  const char negated[] = {1, 0};
+  const InverseCdf blend = BlendInverseCdfs(cdfs, weights, negated);
+  for (size_t k = 0; k < blend.values.size(); ++k) EXPECT_NEAR(blend.values[k], a.values[k], 1e-6);
+  const char wrong_count[] = {1};
+  EXPECT_THROW(BlendInverseCdfs(cdfs, weights, wrong_count), std::invalid_argument);
+}
+
 TEST(BlendInverseCdfs, RejectsMismatchedInput) {
   const InverseCdf a = Linear(0, 1), b = Linear(0, 1, 17);
   const InverseCdf* cdfs[] = {&a, &b};

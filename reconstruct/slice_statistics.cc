@@ -86,26 +86,38 @@ SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> sta
 }
 
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats,
-                                     const std::vector<std::vector<double>>& weights_by_channel) {
+                                     const std::vector<std::vector<double>>& weights_by_channel,
+                                     std::span<const BandMap* const> maps) {
   MESOCAP_CHECK(!stats.empty() && int(weights_by_channel.size()) == stats[0]->channels, "one weight list per channel");
+  MESOCAP_CHECK(maps.empty() || maps.size() == stats.size(), "one band map per statistics");
   SliceStatistics out;
   out.channels = stats[0]->channels;
   out.band_count = stats[0]->band_count;
   for (const auto& weights : weights_by_channel) MESOCAP_CHECK(weights.size() == stats.size(), "one weight per statistics");
+  for (size_t s = 0; s < stats.size(); ++s) {
+    MESOCAP_CHECK(stats[s]->channels == out.channels && stats[s]->band_count == out.band_count,
+                  "statistics of slices with different sizes or channels");
+    const BandMap* map = maps.empty() ? nullptr : maps[s];
+    MESOCAP_CHECK(!map || (int(map->from.size()) == out.band_count && map->negated.size() == map->from.size()),
+                  "a band map of another band count");
+  }
   std::vector<const InverseCdf*> column(stats.size());
-  // Entry k of `member` belongs to channel k / per_channel.
-  auto blend_field = [&](auto member, size_t count, size_t per_channel, std::vector<InverseCdf>* dst) {
-    for (size_t k = 0; k < count; ++k) {
+  std::vector<char> negated(maps.empty() ? 0 : stats.size(), 0);
+  out.pixels.reserve(size_t(out.channels));
+  for (int c = 0; c < out.channels; ++c) {
+    for (size_t s = 0; s < stats.size(); ++s) column[s] = &stats[s]->pixels[size_t(c)];
+    out.pixels.push_back(BlendInverseCdfs(column, weights_by_channel[size_t(c)]));
+  }
+  out.bands.reserve(size_t(out.channels) * size_t(out.band_count));
+  for (int c = 0; c < out.channels; ++c)
+    for (int b = 0; b < out.band_count; ++b) {
       for (size_t s = 0; s < stats.size(); ++s) {
-        MESOCAP_CHECK(stats[s]->channels == out.channels && stats[s]->band_count == out.band_count,
-                      "statistics of slices with different sizes or channels");
-        column[s] = &(stats[s]->*member)[k];
+        const BandMap* map = maps.empty() ? nullptr : maps[s];
+        column[s] = &stats[s]->band(c, map ? map->from[size_t(b)] : b);
+        if (map) negated[s] = map->negated[size_t(b)];
       }
-      dst->push_back(BlendInverseCdfs(column, weights_by_channel[k / per_channel]));
+      out.bands.push_back(BlendInverseCdfs(column, weights_by_channel[size_t(c)], negated));
     }
-  };
-  blend_field(&SliceStatistics::pixels, stats[0]->pixels.size(), 1, &out.pixels);
-  blend_field(&SliceStatistics::bands, stats[0]->bands.size(), size_t(std::max(1, out.band_count)), &out.bands);
   return out;
 }
 

@@ -51,9 +51,18 @@ void UndoGaussianBlur(Image* image, double sigma, int first_channel, double max_
 
 // Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
-// The same with weights per channel: `weights_by_channel[c]` blends channel c.
+// Statistics read through a map of their bands (a mirror image of the texture: ImagedBands):
+// band b of each channel is the source's band from[b], negated (the distribution of -x) where
+// negated[b]; the pixel histograms are the source's.
+struct BandMap {
+  std::vector<int> from;
+  std::vector<char> negated;
+};
+// The same with weights per channel: `weights_by_channel[c]` blends channel c. `maps`, empty or
+// one per statistics: stats[s] is read through maps[s] (null: as it is), without a copy.
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats,
-                                     const std::vector<std::vector<double>>& weights_by_channel);
+                                     const std::vector<std::vector<double>>& weights_by_channel,
+                                     std::span<const BandMap* const> maps = {});
 
 // The transfer of section 3.2: decompose `base`, match every subband to `target`'s, collapse,
 // then match the pixel histogram. `base` and the slices `target` was measured on must share a

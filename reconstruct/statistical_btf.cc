@@ -95,6 +95,8 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
     const auto& holds = btf.symmetry_check_.holds;
     if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
       btf.views_ = WithMirrorImages(btf.views_, holds, kMirrorPoolDeg, options.min_light_separation_deg);
+      const int band_count = btf.views_[size_t(btf.top_view_)].statistics.front().band_count;
+      for (const MirrorImage& image : MirrorImages()) btf.imaged_bands_.push_back(ImagedBands(image, band_count, orientations));
       MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
       if (btf.mean_model_.fitted()) btf.mean_model_ = MeanBrightnessModel::Fit(Flatten(btf.MeanSamplesByView()));
     }
@@ -255,7 +257,7 @@ Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
 
 SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   const Blend blend = BlendFor(light, view);
-  return BlendSliceStatistics(blend.stats, blend.weights);
+  return BlendSliceStatistics(blend.stats, blend.weights, blend.band_maps);
 }
 
 StatisticalBtf::Blend StatisticalBtf::BlendFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
@@ -297,9 +299,14 @@ double StatisticalBtf::ViewChangeTrust(int v, const Eigen::Vector3d& light) cons
 }
 
 double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& light) const {
-  double nearest = 180;
-  for (const Eigen::Vector3d& measured : views_[v].lights) nearest = std::min(nearest, AngleBetweenDeg(light, measured));
-  return nearest;
+  // The nearest light by cosine, then its angle: one arc tangent, not one per light.
+  const std::vector<Eigen::Vector3d>& lights = views_[size_t(v)].lights;
+  const Eigen::Vector3d unit = light.normalized();
+  double best_cosine = -2;
+  const Eigen::Vector3d* nearest = nullptr;
+  for (const Eigen::Vector3d& measured : lights)
+    if (const double cosine = unit.dot(measured) / measured.norm(); cosine > best_cosine) best_cosine = cosine, nearest = &measured;
+  return nearest ? AngleBetweenDeg(light, *nearest) : 180.0;
 }
 
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
@@ -308,14 +315,11 @@ Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& 
   const MeasuredView& measured = views_[size_t(v)];
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
-    const SliceStatistics* statistics = &SourceStatistics(v, size_t(l.index));
-    if (!measured.Measured(size_t(l.index))) {
-      const BorrowedSlice& borrowed = measured.borrowed[size_t(l.index) - measured.statistics.size()];
-      blend->imaged.push_back(std::make_unique<const SliceStatistics>(ImagedStatistics(
-          *statistics, MirrorImages()[size_t(borrowed.image)], options_.statistics.pyramid.orientations)));
-      statistics = blend->imaged.back().get();
-    }
-    blend->stats.push_back(statistics);
+    const BandMap* band_map = nullptr;
+    if (!measured.Measured(size_t(l.index)))
+      band_map = &imaged_bands_[size_t(measured.borrowed[size_t(l.index) - measured.statistics.size()].image)];
+    blend->stats.push_back(&SourceStatistics(v, size_t(l.index)));
+    blend->band_maps.push_back(band_map);
     blend->measured_at.push_back({v, l.index});
     const double cosine = CosineRatio(light, views_[v].lights[l.index]);
     // A chromaticity does not scale with the light's fall-off.
@@ -350,7 +354,7 @@ double StatisticalBtf::LightGapDeg(const Eigen::Vector3d& light, const Eigen::Ve
 Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   const Image base = options_.colour.Forward(BaseTexture(light));
   const Blend blend = BlendFor(light, view);
-  const SliceStatistics target = BlendSliceStatistics(blend.stats, blend.weights);
+  const SliceStatistics target = BlendSliceStatistics(blend.stats, blend.weights, blend.band_maps);
   Image matched;
   if (options_.match_subbands) {
     matched = MatchSliceStatistics(base, target, options_.statistics);

@@ -219,12 +219,13 @@ class StatisticalBtf {
   // mean brightness, as far as the light gap asks, bounded to 4x either way (1: unchanged).
   double MeanModelScale(const Image& slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // A blend of measured statistics: the entries, their weights per channel ([channel][entry]) and
-  // the (view, light) each was measured at; it owns the imaged statistics of borrowed lights.
+  // the (view, light) each was measured at; a borrowed light's entry is its source's statistics
+  // read through the image's band map (null for a measured light).
   struct Blend {
     std::vector<const SliceStatistics*> stats;
     std::vector<std::vector<double>> weights;
     std::vector<std::pair<int, int>> measured_at;
-    std::vector<std::unique_ptr<const SliceStatistics>> imaged;
+    std::vector<const BandMap*> band_maps;
   };
   // Light l of view v's statistics, or for a borrowed light its source's: the same pixel
   // histograms, so the same means (an image moves only the bands).
@@ -253,6 +254,8 @@ class StatisticalBtf {
   std::vector<Eigen::Vector3d> top_lights_dirs_;
   LightInterpolator top_lights_;
   std::vector<MeasuredView> views_;
+  // Per MirrorImages() entry: how it moves the subbands (ImagedBands), for borrowed lights.
+  std::vector<BandMap> imaged_bands_;
   std::vector<LightInterpolator> view_lights_;
   int top_view_ = 0;  // the most head-on view in views_
   ViewInterpolator view_rings_;
