@@ -5,9 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <mutex>
 
-#include "core/fftw_planner.h"
+#include "core/fftw_buffers.h"
 #include "core/status.h"
 
 namespace mesocap {
@@ -139,17 +138,11 @@ Image MatchSliceStatistics(const Image& base, const SliceStatistics& target, con
 void UndoGaussianBlur(Image* image, double sigma, int first_channel, double max_gain) {
   const int w = image->width(), h = image->height(), half = w / 2 + 1, channels = image->channels();
   if (!(sigma > 0) || first_channel >= channels || w == 0 || h == 0) return;
-  std::vector<float> plane(size_t(w) * size_t(h));
-  std::vector<std::complex<float>> spectrum(size_t(half) * size_t(h));
-  auto* bins = reinterpret_cast<fftwf_complex*>(spectrum.data());
-  fftwf_plan forward, inverse;
-  {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    forward = fftwf_plan_dft_r2c_2d(h, w, plane.data(), bins, FFTW_ESTIMATE);
-    inverse = fftwf_plan_dft_c2r_2d(h, w, bins, plane.data(), FFTW_ESTIMATE);
-  }
+  FftFloatBuffer plane(size_t(w) * size_t(h));
+  FftComplexBuffer spectrum(size_t(half) * size_t(h));
+  const RealFftPlans& plans = RealFftPlansFor(w, h);
   // The gain per frequency bin, with FFTW's unnormalised round trip folded in.
-  std::vector<float> gain(spectrum.size());
+  std::vector<float> gain(spectrum.n);
   const double k = 2 * M_PI * M_PI * sigma * sigma;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < half; ++x) {
@@ -157,16 +150,14 @@ void UndoGaussianBlur(Image* image, double sigma, int first_channel, double max_
       gain[size_t(y) * size_t(half) + size_t(x)] =
           float(std::min(max_gain, std::exp(k * (fx * fx + fy * fy))) / (double(w) * double(h)));
     }
+  const size_t texels = size_t(w) * size_t(h);
   for (int c = first_channel; c < channels; ++c) {
-    for (size_t i = 0; i < plane.size(); ++i) plane[i] = image->data()[i * size_t(channels) + size_t(c)];
-    fftwf_execute(forward);
-    for (size_t i = 0; i < spectrum.size(); ++i) spectrum[i] *= gain[i];
-    fftwf_execute(inverse);
-    for (size_t i = 0; i < plane.size(); ++i) image->data()[i * size_t(channels) + size_t(c)] = plane[i];
+    for (size_t i = 0; i < texels; ++i) plane.data[i] = image->data()[i * size_t(channels) + size_t(c)];
+    fftwf_execute_dft_r2c(plans.forward, plane.data, spectrum.fftw());
+    for (size_t i = 0; i < spectrum.n; ++i) spectrum.data[i] *= gain[i];
+    fftwf_execute_dft_c2r(plans.inverse, spectrum.fftw(), plane.data);
+    for (size_t i = 0; i < texels; ++i) image->data()[i * size_t(channels) + size_t(c)] = plane.data[i];
   }
-  std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-  fftwf_destroy_plan(forward);
-  fftwf_destroy_plan(inverse);
 }
 
 }  // namespace mesocap

@@ -34,7 +34,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/fftw_planner.h"
+#include "core/fftw_buffers.h"
 
 namespace mesocap {
 namespace {
@@ -60,7 +60,7 @@ void RadialMasks(double r, double* hi, double* lo) {
 // Signed frequency of spectrum row y of a grid with n rows (the Nyquist row, if any, negative).
 int SignedFrequency(int y, int n) { return y < (n + 1) / 2 ? y : y - n; }
 
-// One grid size: FFTW plans and the radial masks on its half spectrum (rows x (width/2+1)).
+// One grid size: its FFT plans (RealFftPlansFor) and the radial masks on its half spectrum (rows x (width/2+1)).
 struct Grid {
   int width = 0, height = 0, half_width = 0;
   size_t real_size() const { return size_t(width) * height; }
@@ -104,17 +104,9 @@ const Grid* GetGridLocked(Cache& cache, int width, int height) {
   grid->width = width;
   grid->height = height;
   grid->half_width = width / 2 + 1;
-  float* real = fftwf_alloc_real(grid->real_size());
-  fftwf_complex* spectrum = fftwf_alloc_complex(grid->spectrum_size());
-  if (!real || !spectrum) throw std::bad_alloc();
-  {
-    std::lock_guard<std::mutex> planning(FftwPlannerMutex());  // also against synth's planning
-    grid->forward = fftwf_plan_dft_r2c_2d(height, width, real, spectrum, FFTW_ESTIMATE);
-    grid->inverse = fftwf_plan_dft_c2r_2d(height, width, spectrum, real, FFTW_ESTIMATE);
-  }
-  fftwf_free(real);
-  fftwf_free(spectrum);
-  if (!grid->forward || !grid->inverse) throw std::runtime_error("FFTW could not plan a steerable pyramid transform");
+  const RealFftPlans& plans = RealFftPlansFor(width, height);
+  grid->forward = plans.forward;
+  grid->inverse = plans.inverse;
 
   std::vector<double> fx, fy;
   FillFrequencies(width, height, grid->half_width, &fx, &fy);

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "core/status.h"
-#include "synth/fftw_buffers.h"
+#include "core/fftw_buffers.h"
 
 namespace mesocap {
 namespace {
@@ -102,12 +102,9 @@ FilterBank::FilterBank(int width, int height) : impl_(std::make_unique<Impl>()) 
   m.fft_width = FftSize(width + 2 * kHalf), m.fft_height = FftSize(height + 2 * kHalf);
   m.spectrum_size = size_t(m.fft_height) * (m.fft_width / 2 + 1);
   FftFloatBuffer plane(size_t(m.fft_width) * m.fft_height);
-  {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    FftComplexBuffer spectrum(m.spectrum_size);
-    m.forward = fftwf_plan_dft_r2c_2d(m.fft_height, m.fft_width, plane.data, spectrum.fftw(), FFTW_ESTIMATE);
-    m.inverse = fftwf_plan_dft_c2r_2d(m.fft_height, m.fft_width, spectrum.fftw(), plane.data, FFTW_ESTIMATE);
-  }
+  const RealFftPlans& plans = RealFftPlansFor(m.fft_width, m.fft_height);
+  m.forward = plans.forward;
+  m.inverse = plans.inverse;
   const float scale = 1.0f / (float(m.fft_width) * m.fft_height);
   for (const std::vector<float>& kernel : LeungMalikFilters()) {
     std::fill_n(plane.data, size_t(m.fft_width) * m.fft_height, 0.f);
@@ -121,11 +118,7 @@ FilterBank::FilterBank(int width, int height) : impl_(std::make_unique<Impl>()) 
   }
 }
 
-FilterBank::~FilterBank() {
-  std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-  fftwf_destroy_plan(impl_->forward);
-  fftwf_destroy_plan(impl_->inverse);
-}
+FilterBank::~FilterBank() = default;
 
 Image FilterBank::Responses(const Image& luminance) const {
   const Impl& m = *impl_;

@@ -4,12 +4,11 @@
 #include <cmath>
 #include <complex>
 #include <limits>
-#include <mutex>
 
 #include "core/directions.h"
 #include "core/parallel.h"
 #include "core/status.h"
-#include "synth/fftw_buffers.h"
+#include "core/fftw_buffers.h"
 #include "synth/synth_map.h"
 
 namespace mesocap {
@@ -93,13 +92,9 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
     m.py = std::max(m.py, c.size_y);
   }
   m.spectrum = size_t(m.py) * (m.px / 2 + 1);
-  {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    FloatBuffer plane(size_t(m.px) * m.py);
-    ComplexBuffer spec(m.spectrum);
-    m.forward = fftwf_plan_dft_r2c_2d(m.py, m.px, plane.data, reinterpret_cast<fftwf_complex*>(spec.data), FFTW_ESTIMATE);
-    m.inverse = fftwf_plan_dft_c2r_2d(m.py, m.px, reinterpret_cast<fftwf_complex*>(spec.data), plane.data, FFTW_ESTIMATE);
-  }
+  const RealFftPlans& plans = RealFftPlansFor(m.px, m.py);
+  m.forward = plans.forward;
+  m.inverse = plans.inverse;
   m.copy_spectra.resize(copies.size());
   const int per_copy = m.channels + 1 + (m.constrained ? 2 : 0);
   for (auto& list : m.copy_spectra)
@@ -126,11 +121,7 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
   }, options.num_threads);
 }
 
-PatchMatcher::~PatchMatcher() {
-  std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-  fftwf_destroy_plan(impl_->forward);
-  fftwf_destroy_plan(impl_->inverse);
-}
+PatchMatcher::~PatchMatcher() = default;
 
 struct PatchMatcher::WindowSpectra {
   std::vector<ComplexBuffer> masked_features;  // F(M O_c), per channel

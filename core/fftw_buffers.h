@@ -1,5 +1,5 @@
-// FFTW's aligned buffers as owning types, shared by the FFT-based patch matching and the texton
-// filter bank; both plan under core's FftwPlannerMutex.
+// FFTW's aligned buffers as owning types, and the plans of 2-D real FFTs, shared by every FFT user
+// (the steerable pyramid, the capture blur's undoing, the texton filter bank, FFT patch matching).
 #pragma once
 
 #include <algorithm>
@@ -39,5 +39,15 @@ struct FftComplexBuffer {
   ~FftComplexBuffer() { fftwf_free(data); }
   fftwf_complex* fftw() const { return reinterpret_cast<fftwf_complex*>(data); }
 };
+
+// The forward (r2c) and inverse (c2r, unnormalised, destroys its input) plans of a 2-D real FFT of
+// one size, out of place: planned once per process (FFTW_ESTIMATE, under FftwPlannerMutex) and never
+// destroyed, so threads still running at exit may execute them. Execute with fftwf_execute_dft_r2c
+// and fftwf_execute_dft_c2r on arrays of FFTW's alignment (the buffers above, fftwf_alloc_*), as
+// they were planned on. A spectrum has height rows of width / 2 + 1 bins.
+struct RealFftPlans {
+  fftwf_plan forward = nullptr, inverse = nullptr;
+};
+const RealFftPlans& RealFftPlansFor(int width, int height);
 
 }  // namespace mesocap
