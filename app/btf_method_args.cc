@@ -10,6 +10,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->fit_light_falloff = !no_fit_light_falloff;
   btf->blend_change_from_top = change_from_top;
   btf->chromaticity_from_top_view = chroma_from_top;
+  btf->chromaticity_mean_from_views = chroma_mean_from_views;
   btf->white_specular_colour = !no_white_specular;
   btf->mean_model = !no_mean_model;
   btf->view_blend_even_at_pole = !linear_from_top_view;
@@ -30,6 +31,7 @@ Json BtfMethodArgs::ToJson() const {
           {"top_view_prior", !no_top_view_prior},
           {"change_from_top", change_from_top},
           {"chroma_from_top", chroma_from_top ? "on" : chroma_from_views ? "off" : "by the shots"},
+          {"chroma_mean_from_views", chroma_mean_from_views},
           {"white_specular_colour", !no_white_specular},
           {"mean_model", !no_mean_model},
           {"view_blend_even_at_pole", !linear_from_top_view},

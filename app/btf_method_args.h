@@ -29,6 +29,7 @@ struct BtfMethodArgs {
   // StatisticalBtfOptions::chromaticity_from_top_view: forced on, forced off, or (neither) decided by
   // the slices' shots (SliceSetOptions::chroma_from_top; off for true slices).
   bool chroma_from_top = false, chroma_from_views = false;
+  bool chroma_mean_from_views = false;  // StatisticalBtfOptions::chromaticity_mean_from_views
   double far_light_falloff_deg = StatisticalBtfOptions().far_light_falloff_deg;
 
   // Adds the flags to `command`, each named `prefix` + its name ("--" or "--btf-").

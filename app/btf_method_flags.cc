@@ -33,6 +33,9 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
                  "Blend the views' own chromaticity statistics (the paper; default for slices of RAW, PNG or TIFF shots "
                  "and for true slices)")
       ->excludes(from_top);
+  command->add_flag(prefix + "chroma-mean-from-views", chroma_mean_from_views,
+                    "With the top view's chromaticity: move its mean to the one the views' blend of their slices' mean "
+                    "colours gives (off: on calibrated sessions it helps corduroy's colour and costs stones')");
   command->add_flag(prefix + "no-white-specular", no_white_specular,
                     "Keep the blended statistics' colour instead of moving it toward white by a white specular lobe "
                     "fitted to the measured slices' mean colours (the whitening near a view's mirror direction)");

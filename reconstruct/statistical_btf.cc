@@ -257,7 +257,7 @@ Image StatisticalBtf::BaseTexture(const Eigen::Vector3d& light) const {
 
 SliceStatistics StatisticalBtf::TargetStatistics(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   const Blend blend = BlendFor(light, view);
-  return BlendSliceStatistics(blend.stats, blend.weights, blend.band_maps);
+  return BlendedStatistics(blend);
 }
 
 StatisticalBtf::Blend StatisticalBtf::BlendFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
@@ -279,11 +279,44 @@ StatisticalBtf::Blend StatisticalBtf::BlendFor(const Eigen::Vector3d& light, con
     AddViewStatistics(top_view_, edge.normalized(), light, -trust * v.weight, &blend);
   }
   if (options_.chromaticity_from_top_view) {
-    for (int c = 0; c < int(blend.weights.size()); ++c)
-      if (!options_.colour.ScalesWithRadiance(c)) std::fill(blend.weights[c].begin(), blend.weights[c].end(), 0.0);
+    const int channels = int(blend.weights.size());
+    // Of the slices' mean colours (blur leaves a mean colour as it is, not a mean chromaticity).
+    const auto blended_mean = [&](int c) {
+      double mean = 0;
+      for (size_t k = 0; k < blend.stats.size(); ++k) {
+        const auto [v, l] = blend.measured_at[k];
+        const std::vector<Eigen::Vector3d>& means = views_[size_t(v)].mean_rgb;
+        float rgb[3], chromaticity[2];
+        double value = blend.stats[k]->pixels[c].Mean();
+        if (size_t(l) < means.size()) {
+          for (int i = 0; i < 3; ++i) rgb[i] = float(means[size_t(l)][i]);
+          if (Chromaticity(rgb, &chromaticity[0], &chromaticity[1])) value = chromaticity[c - 1];
+        }
+        mean += blend.weights[c][k] * value;
+      }
+      return mean;
+    };
+    std::vector<double> views_mean(size_t(channels), 0.0);
+    for (int c = 0; c < channels; ++c) {
+      if (options_.colour.ScalesWithRadiance(c)) continue;
+      views_mean[size_t(c)] = blended_mean(c);
+      std::fill(blend.weights[c].begin(), blend.weights[c].end(), 0.0);
+    }
     AddViewStatistics(top_view_, light, light, 1.0, &blend, ChannelSet::kChromaticity);
+    if (options_.chromaticity_mean_from_views) {
+      blend.mean_shift.assign(size_t(channels), 0.0);
+      for (int c = 0; c < channels; ++c)
+        if (!options_.colour.ScalesWithRadiance(c)) blend.mean_shift[size_t(c)] = views_mean[size_t(c)] - blended_mean(c);
+    }
   }
   return blend;
+}
+
+SliceStatistics StatisticalBtf::BlendedStatistics(const Blend& blend) {
+  SliceStatistics statistics = BlendSliceStatistics(blend.stats, blend.weights, blend.band_maps);
+  for (size_t c = 0; c < blend.mean_shift.size(); ++c)
+    for (float& value : statistics.pixels[c].values) value += float(blend.mean_shift[c]);
+  return statistics;
 }
 
 void StatisticalBtf::AddViewChangeFromTop(int v, const Eigen::Vector3d& light, double weight, Blend* blend) const {
@@ -354,7 +387,7 @@ double StatisticalBtf::LightGapDeg(const Eigen::Vector3d& light, const Eigen::Ve
 Image StatisticalBtf::Reconstruct(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {
   const Image base = options_.colour.Forward(BaseTexture(light));
   const Blend blend = BlendFor(light, view);
-  const SliceStatistics target = BlendSliceStatistics(blend.stats, blend.weights, blend.band_maps);
+  const SliceStatistics target = BlendedStatistics(blend);
   Image matched;
   if (options_.match_subbands) {
     matched = MatchSliceStatistics(base, target, options_.statistics);

@@ -178,7 +178,8 @@ TEST(StatisticalBtf, ColourSlicesStayFiniteAndNonNegativeWhereStatisticsExtrapol
 
 // The tilted views are measured with another colour than the top view (as a JPEG's half-resolution
 // chroma gives the boards whose patches span the fewest pixels): with chromaticity_from_top_view,
-// a tilted view's slice keeps the top view's colour and its own brightness.
+// a tilted view's slice keeps the top view's colour and its own brightness; with
+// chromaticity_mean_from_views too, the view's own mean colour.
 TEST(StatisticalBtf, ChromaticityFromTheTopViewKeepsTheTopViewsColour) {
   SyntheticBtf truth(32, testing::SeedFromTestName());
   const std::vector<Eigen::Vector3d> lights = BonnDirections();
@@ -191,9 +192,11 @@ TEST(StatisticalBtf, ChromaticityFromTheTopViewKeepsTheTopViewsColour) {
       red += image.data()[3 * i], sum += image.data()[3 * i] + image.data()[3 * i + 1] + image.data()[3 * i + 2];
     return red / sum;
   };
-  for (const bool from_top : {false, true}) {
+  for (const int mode : {0, 1, 2}) {  // the views' chromaticity; the top view's; its shape, the views' mean
+    const bool from_top = mode == 1;
     StatisticalBtfOptions options;
-    options.chromaticity_from_top_view = from_top;
+    options.chromaticity_from_top_view = mode > 0;
+    options.chromaticity_mean_from_views = mode == 2;
     std::vector<std::vector<Image>> slices(views.size());
     for (size_t v = 0; v < views.size(); ++v)
       for (const auto& light : lights) slices[v].push_back(Tinted(truth.Slice(light, views[v]), v == 0 ? kOrange : tilted_tint));
@@ -203,7 +206,7 @@ TEST(StatisticalBtf, ChromaticityFromTheTopViewKeepsTheTopViewsColour) {
     auto btf = StatisticalBtf::Create(slices[0], lights, std::move(measured), options);
     ASSERT_TRUE(btf.ok()) << btf.status().message();
     const Image slice = btf->Reconstruct(lights[23], views[1]);
-    EXPECT_NEAR(red_share(slice), from_top ? 1.0 / 1.9 : 0.6 / 2.1, 0.02) << from_top;
+    EXPECT_NEAR(red_share(slice), from_top ? 1.0 / 1.9 : 0.6 / 2.1, 0.02) << mode;
     double mean = 0, want = 0;
     const Image truth_slice = truth.Slice(lights[23], views[1]);
     for (size_t i = 0; i < slice.pixel_count(); ++i)
