@@ -299,7 +299,7 @@ StatisticalBtf::Blend StatisticalBtf::BlendFor(const Eigen::Vector3d& light, con
     std::vector<double> views_mean(size_t(channels), 0.0);
     for (int c = 0; c < channels; ++c) {
       if (options_.colour.ScalesWithRadiance(c)) continue;
-      views_mean[size_t(c)] = blended_mean(c);
+      if (options_.chromaticity_mean_from_views) views_mean[size_t(c)] = blended_mean(c);
       std::fill(blend.weights[c].begin(), blend.weights[c].end(), 0.0);
     }
     AddViewStatistics(top_view_, light, light, 1.0, &blend, ChannelSet::kChromaticity);
