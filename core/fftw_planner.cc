@@ -29,7 +29,8 @@ const RealFftPlans& RealFftPlansFor(int width, int height) {
     made->forward = fftwf_plan_dft_r2c_2d(height, width, real.data, spectrum.fftw(), FFTW_ESTIMATE);
     made->inverse = fftwf_plan_dft_c2r_2d(height, width, spectrum.fftw(), real.data, FFTW_ESTIMATE);
     if (!made->forward || !made->inverse)
-      throw std::runtime_error("FFTW could not plan a " + std::to_string(width) + "x" + std::to_string(height) + " transform");
+      throw std::runtime_error("FFTW could not plan a " + std::to_string(width) + "x" + std::to_string(height) +
+                               " transform");
     slot = std::move(made);
   }
   return *slot;

@@ -96,7 +96,8 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
     if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
       btf.views_ = WithMirrorImages(btf.views_, holds, kMirrorPoolDeg, options.min_light_separation_deg);
       const int band_count = btf.views_[size_t(btf.top_view_)].statistics.front().band_count;
-      for (const MirrorImage& image : MirrorImages()) btf.imaged_bands_.push_back(ImagedBands(image, band_count, orientations));
+      for (const MirrorImage& image : MirrorImages())
+        btf.imaged_bands_.push_back(ImagedBands(image, band_count, orientations));
       MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
       if (btf.mean_model_.fitted()) btf.mean_model_ = MeanBrightnessModel::Fit(Flatten(btf.MeanSamplesByView()));
     }
@@ -338,7 +339,8 @@ double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& lig
   double best_cosine = -2;
   const Eigen::Vector3d* nearest = nullptr;
   for (const Eigen::Vector3d& measured : lights)
-    if (const double cosine = unit.dot(measured) / measured.norm(); cosine > best_cosine) best_cosine = cosine, nearest = &measured;
+    if (const double cosine = unit.dot(measured) / measured.norm(); cosine > best_cosine)
+      best_cosine = cosine, nearest = &measured;
   return nearest ? AngleBetweenDeg(light, *nearest) : 180.0;
 }
 
