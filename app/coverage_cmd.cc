@@ -17,6 +17,7 @@
 #include "core/json.h"
 #include "core/slice_index.h"
 #include "reconstruct/light_coverage.h"
+#include "reconstruct/mirror_symmetry.h"
 #include "reconstruct/slice_set.h"
 
 namespace mesocap::app {
@@ -49,17 +50,16 @@ MirrorImageSet ImagesThatHold(const fs::path& session, std::string* words) {
   if (!fs::exists(index)) return {};
   SliceSetOptions options;
   options.size = 64;  // as the reconstruction's evaluation measures it; the check needs no more
-  // The check reads the brightness alone: no fits, and no colour noise measured against a second slice.
-  options.btf.mean_model = false;
-  options.btf.white_specular_colour = false;
+  // The check reads the brightness alone: no colour noise measured against a second slice.
   options.remove_chroma_noise = false;
-  SliceSetReport report;
-  auto btf = LoadStatisticalBtf(index, options, &report);
-  if (!btf.ok()) {
-    *words = "the slices' symmetry could not be checked (" + btf.status().message() + "), so each board's own lights only";
+  // The check reads the top view alone, as the reconstruction runs it (StatisticalBtf::Create).
+  auto top = LoadTopView(index, options);
+  if (!top.ok()) {
+    *words = "the slices' symmetry could not be checked (" + top.status().message() + "), so each board's own lights only";
     return {};
   }
-  const MirrorImageSet& holds = btf->symmetry_check().holds;
+  const MirrorImageSet holds =
+      CheckMirrorSymmetry(*top, options.btf.statistics.pyramid.orientations, options.btf.min_light_separation_deg).holds;
   *words = HeldImagesWords(holds);
   if (std::find(holds.begin(), holds.end(), true) == holds.end()) *words = "no image of the material holds, so " + *words;
   return holds;

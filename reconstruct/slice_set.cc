@@ -184,14 +184,21 @@ bool SliceSetOptions::Check() const {
          capture_blur_px <= 10;
 }
 
-StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
-                                            SliceSetReport* report, const ProgressFn& progress) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+// The usable views' statistics (in board order), the top view's slices and lights, and the options
+// the statistics were taken with; `top_only`: the top board's slices alone.
+struct MeasuredSlices {
+  std::vector<MeasuredView> views;
+  std::vector<Image> top_slices;
+  std::vector<Eigen::Vector3d> top_lights;
+  StatisticalBtfOptions btf_options;
+};
+StatusOr<MeasuredSlices> LoadMeasuredSlices(const std::filesystem::path& index_json, const SliceSetOptions& options,
+                                            bool top_only, SliceSetReport& rep, const ProgressFn& progress) {
   if (!options.Check()) return Status::Error("invalid slice-set options (size must be a power of two)");
   auto index = ReadSliceIndex(index_json);
   if (!index.ok()) return index.status();
-  SliceSetReport local;
-  SliceSetReport& rep = report ? *report : local;
 
   std::map<int, std::vector<IndexedSlice>> boards = SlicesByBoard(*index, options.duplicate_light_deg, &rep);
   if (boards.empty()) return Status::Error(index_json.string() + ": no slices");
@@ -212,7 +219,7 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
   std::vector<int> view_of;
   for (const auto& s : boards[rep.top_board]) all.push_back(&s), view_of.push_back(top);
   const int top_count = int(all.size());
-  for (size_t b = 0; b < boards_seen.ids.size(); ++b)
+  for (size_t b = 0; b < boards_seen.ids.size() && !top_only; ++b)
     if (int(b) != top)
       for (const auto& s : boards[boards_seen.ids[b]]) all.push_back(&s), view_of.push_back(int(b));
   SliceReadings readings;
@@ -232,8 +239,8 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     return Status::Error("cancelled");
 
   std::vector<MeasuredView> measured(boards_seen.ids.size());
-  std::vector<Image> top_slices;
-  std::vector<Eigen::Vector3d> top_lights;
+  MeasuredSlices out;
+  out.btf_options = btf_options;
   for (size_t k = 0; k < all.size(); ++k) {
     if (!readings.errors[k].empty()) {
       rep.skipped.push_back(all[k]->file.filename().string() + ": " + readings.errors[k]);
@@ -244,23 +251,48 @@ StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_j
     v.lights.push_back(all[k]->light);
     v.statistics.push_back(std::move(readings.stats[k]));
     v.mean_rgb.push_back(readings.mean_rgb[k]);
-    if (view_of[k] == top) top_slices.push_back(std::move(readings.top_images[k])), top_lights.push_back(all[k]->light);
+    if (view_of[k] == top)
+      out.top_slices.push_back(std::move(readings.top_images[k])), out.top_lights.push_back(all[k]->light);
     ++rep.slices_used;
   }
-  std::vector<MeasuredView> usable;
   for (size_t b = 0; b < measured.size(); ++b) {
+    if (top_only && int(b) != top) continue;
     if (int(measured[b].lights.size()) < kMinSlicesPerView) {
       rep.skipped.push_back("board " + std::to_string(boards_seen.ids[b]) + ": fewer than 3 usable slices, view not used");
       continue;
     }
-    usable.push_back(std::move(measured[b]));
+    out.views.push_back(std::move(measured[b]));
   }
-  rep.views = int(usable.size());
-  rep.top_lights = int(top_lights.size());
-  auto btf = StatisticalBtf::Create(std::move(top_slices), std::move(top_lights), std::move(usable), btf_options);
+  rep.views = int(out.views.size());
+  rep.top_lights = int(out.top_lights.size());
+  return out;
+}
+
+}  // namespace
+
+StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
+                                            SliceSetReport* report, const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  SliceSetReport local;
+  SliceSetReport& rep = report ? *report : local;
+  auto loaded = LoadMeasuredSlices(index_json, options, /*top_only=*/false, rep, progress);
+  if (!loaded.ok()) return loaded.status();
+  auto btf = StatisticalBtf::Create(std::move(loaded->top_slices), std::move(loaded->top_lights),
+                                    std::move(loaded->views), loaded->btf_options);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!btf.ok()) return Status::Error(index_json.string() + ": " + btf.status().message());
   return btf;
+}
+
+StatusOr<MeasuredView> LoadTopView(const std::filesystem::path& index_json, const SliceSetOptions& options,
+                                   SliceSetReport* report) {
+  SliceSetReport local;
+  SliceSetReport& rep = report ? *report : local;
+  auto loaded = LoadMeasuredSlices(index_json, options, /*top_only=*/true, rep, nullptr);
+  if (!loaded.ok()) return loaded.status();
+  if (loaded->views.empty())
+    return Status::Error(index_json.string() + ": the top board has fewer than 3 usable slices");
+  return std::move(loaded->views.front());
 }
 
 }  // namespace mesocap

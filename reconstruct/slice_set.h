@@ -66,5 +66,10 @@ struct SliceSetReport {
 // Reads the index, groups slices by board, computes statistics on all cores.
 StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
                                             SliceSetReport* report, const ProgressFn& progress = nullptr);
+// The top view's measured statistics alone, taken as LoadStatisticalBtf takes them (the colour
+// basis is the top view's either way): for what needs no other board, as the symmetry check
+// `mesocap coverage` runs (CheckMirrorSymmetry).
+StatusOr<MeasuredView> LoadTopView(const std::filesystem::path& index_json, const SliceSetOptions& options,
+                                   SliceSetReport* report = nullptr);
 
 }  // namespace mesocap

@@ -61,6 +61,34 @@ TEST(SliceSet, TheTopViewIsTheMostHeadOnBoardWithLightsEnough) {
   EXPECT_TRUE(report.warnings.empty());
 }
 
+TEST(SliceSet, TheTopViewAloneIsTheTopViewOfTheWholeSet) {
+  const fs::path index = WriteSlices(testing::MakeTempDir(), {{2, 35, 5}, {1, 5, 4}, {3, 60, 6}});
+  SliceSetOptions as_measured = Options();
+  as_measured.btf.mirror_symmetry = false;  // the views keep their own lights only
+  auto btf = LoadStatisticalBtf(index, as_measured, nullptr);
+  ASSERT_TRUE(btf.ok()) << btf.status().message();
+  SliceSetReport report;
+  auto top = LoadTopView(index, Options(), &report);
+  ASSERT_TRUE(top.ok()) << top.status().message();
+  EXPECT_EQ(report.top_board, 1);
+  EXPECT_EQ(report.slices_used, 4) << "the other boards' slices are not read";
+  EXPECT_TRUE(report.skipped.empty());
+  const MeasuredView* whole = nullptr;
+  for (const MeasuredView& v : btf->views()) whole = v.view.z() > (whole ? whole->view.z() : -1) ? &v : whole;
+  ASSERT_NE(whole, nullptr);
+  ASSERT_EQ(top->lights.size(), 4u);
+  ASSERT_EQ(top->lights.size(), whole->lights.size());
+  EXPECT_TRUE(top->view.isApprox(whole->view));
+  for (size_t l = 0; l < top->lights.size(); ++l) {
+    EXPECT_TRUE(top->lights[l].isApprox(whole->lights[l]));
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(top->statistics[l].pixels[c].values, whole->statistics[l].pixels[c].values);
+    EXPECT_EQ(top->statistics[l].bands.size(), whole->statistics[l].bands.size());
+  }
+  // A set whose top board has too few slices: the error says so.
+  const fs::path sparse = WriteSlices(testing::MakeTempDir(), {{1, 5, 2}, {2, 35, 2}});
+  EXPECT_FALSE(LoadTopView(sparse, Options()).ok());
+}
+
 TEST(SliceSet, ASessionWithNoHeadOnBoardIsWarnedOf) {
   // The head-on board saw two lights only: the 35 deg board gives the top view, with a warning.
   const fs::path index = WriteSlices(testing::MakeTempDir(), {{1, 5, 2}, {2, 35, 5}});
