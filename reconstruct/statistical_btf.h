@@ -143,8 +143,9 @@ struct MeasuredView {
   std::vector<Eigen::Vector3d> lights;     // the measured ones first, then any borrowed
   std::vector<SliceStatistics> statistics;  // of the measured lights
   std::vector<Eigen::Vector3d> mean_rgb;  // per light, of 3-channel slices (empty: unknown)
-  // The lights past the measured ones, in order. Their statistics are imaged when a blend takes
-  // them, not stored: a copy per image would multiply the memory by up to eight.
+  // The lights past the measured ones, in order. A blend reads their source's statistics through
+  // the image's band map (ImagedBands), not a copy: a copy per image would multiply the memory by
+  // up to eight.
   std::vector<BorrowedSlice> borrowed;
   bool Measured(size_t light) const { return light < statistics.size(); }
 };
