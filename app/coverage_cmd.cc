@@ -53,7 +53,9 @@ MirrorImageSet ImagesThatHold(const fs::path& session, std::string* words) {
   // The check reads the brightness alone: no colour noise measured against a second slice.
   options.remove_chroma_noise = false;
   // The check reads the top view alone, as the reconstruction runs it (StatisticalBtf::Create).
-  auto top = LoadTopView(index, options);
+  SliceSetReport report;
+  auto top = LoadTopView(index, options, &report);
+  for (const std::string& w : report.warnings) std::fprintf(stderr, "mesocap coverage: warning: %s\n", w.c_str());
   if (!top.ok()) {
     *words = "the slices' symmetry could not be checked (" + top.status().message() + "), so each board's own lights only";
     return {};
