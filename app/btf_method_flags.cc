@@ -28,14 +28,18 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
       prefix + "chroma-from-top", chroma_from_top,
       "Take the chromaticity's statistics from the top view at the light instead of blending the views' (default for "
       "slices of JPEG shots, whose colour is at half resolution: the tilted boards' patches span the fewest pixels)");
+  CLI::Option* from_views =
+      command
+          ->add_flag(prefix + "chroma-from-views", chroma_from_views,
+                     "Blend the views' own chromaticity statistics (the paper; default for slices of RAW, PNG or TIFF "
+                     "shots and for true slices)")
+          ->excludes(from_top);
   command
-      ->add_flag(prefix + "chroma-from-views", chroma_from_views,
-                 "Blend the views' own chromaticity statistics (the paper; default for slices of RAW, PNG or TIFF shots "
-                 "and for true slices)")
-      ->excludes(from_top);
-  command->add_flag(prefix + "chroma-mean-from-views", chroma_mean_from_views,
-                    "With the top view's chromaticity: move its mean to the one the views' blend of their slices' mean "
-                    "colours gives (off: on calibrated sessions it helps corduroy's colour and costs stones')");
+      ->add_flag(prefix + "chroma-mean-from-views", chroma_mean_from_views,
+                 "With the top view's chromaticity (JPEG shots, or --chroma-from-top): shift its histograms by the "
+                 "views' mean colour's chromaticity less its own (off: on calibrated sessions it helps corduroy's "
+                 "colour and costs stones')")
+      ->excludes(from_views);
   command->add_flag(prefix + "no-white-specular", no_white_specular,
                     "Keep the blended statistics' colour instead of moving it toward white by a white specular lobe "
                     "fitted to the measured slices' mean colours (the whitening near a view's mirror direction)");

@@ -86,8 +86,9 @@ int NearestWithin(std::span<const Eigen::Vector3d> directions, const Eigen::Vect
 // `views` (measured) with the images of each that `use` names (per MirrorImages() entry): an image
 // within `pool_deg` of a view (measured or already an image) lends its lights to the nearest such
 // view (MeasuredView::borrowed: a blend reads the source's statistics through the image's band
-// map, ImagedBands); any other becomes a view of its own. An image's light within `min_separation_deg` of a light the view
-// already has is left out. Mean colours follow their slices.
+// map, ImagedBands); any other becomes a view of its own. An image's light within
+// `min_separation_deg` of a light the view already has is left out. Mean colours follow their
+// slices.
 std::vector<MeasuredView> WithMirrorImages(const std::vector<MeasuredView>& views, const MirrorImageSet& use,
                                            double pool_deg, double min_separation_deg);
 

@@ -3,7 +3,6 @@
 #include <atomic>
 #include <chrono>
 #include <map>
-#include <mutex>
 
 #include <opencv2/imgproc.hpp>
 

@@ -49,8 +49,6 @@ void RemoveNoiseVariance(SliceStatistics* measured, const SliceStatistics& noise
 // `max_gain` so the finest frequencies' noise is not blown up.
 void UndoGaussianBlur(Image* image, double sigma, int first_channel, double max_gain = 3.0);
 
-// Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
-SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
 // Statistics read through a map of their bands (a mirror image of the texture: ImagedBands):
 // band b of each channel is the source's band from[b], negated (the distribution of -x) where
 // negated[b]; the pixel histograms are the source's.
@@ -58,6 +56,9 @@ struct BandMap {
   std::vector<int> from;
   std::vector<char> negated;
 };
+
+// Inverse-CDF blend of compatible statistics; weights sum to one and may be negative.
+SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats, std::span<const double> weights);
 // The same with weights per channel: `weights_by_channel[c]` blends channel c. `maps`, empty or
 // one per statistics: stats[s] is read through maps[s] (null: as it is), without a copy.
 SliceStatistics BlendSliceStatistics(std::span<const SliceStatistics* const> stats,

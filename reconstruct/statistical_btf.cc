@@ -1,6 +1,7 @@
 #include "reconstruct/statistical_btf.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <sstream>
@@ -94,8 +95,8 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
     btf.symmetry_check_ = CheckMirrorSymmetry(btf.views_[btf.top_view_], orientations, options.min_light_separation_deg);
     const auto& holds = btf.symmetry_check_.holds;
     if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
+      const int band_count = btf.views_[size_t(btf.top_view_)].statistics.front().band_count;  // before pooling
       btf.views_ = WithMirrorImages(btf.views_, holds, kMirrorPoolDeg, options.min_light_separation_deg);
-      const int band_count = btf.views_[size_t(btf.top_view_)].statistics.front().band_count;
       for (const MirrorImage& image : MirrorImages())
         btf.imaged_bands_.push_back(ImagedBands(image, band_count, orientations));
       MESOCAP_RETURN_IF_ERROR(btf.IndexViews());
@@ -281,36 +282,42 @@ StatisticalBtf::Blend StatisticalBtf::BlendFor(const Eigen::Vector3d& light, con
   }
   if (options_.chromaticity_from_top_view) {
     const int channels = int(blend.weights.size());
-    // Of the slices' mean colours (blur leaves a mean colour as it is, not a mean chromaticity).
-    const auto blended_mean = [&](int c) {
-      double mean = 0;
-      for (size_t k = 0; k < blend.stats.size(); ++k) {
-        const auto [v, l] = blend.measured_at[k];
-        const std::vector<Eigen::Vector3d>& means = views_[size_t(v)].mean_rgb;
-        float rgb[3], chromaticity[2];
-        double value = blend.stats[k]->pixels[c].Mean();
-        if (size_t(l) < means.size()) {
-          for (int i = 0; i < 3; ++i) rgb[i] = float(means[size_t(l)][i]);
-          if (Chromaticity(rgb, &chromaticity[0], &chromaticity[1])) value = chromaticity[c - 1];
-        }
-        mean += blend.weights[c][k] * value;
-      }
-      return mean;
-    };
-    std::vector<double> views_mean(size_t(channels), 0.0);
-    for (int c = 0; c < channels; ++c) {
-      if (options_.colour.ScalesWithRadiance(c)) continue;
-      if (options_.chromaticity_mean_from_views) views_mean[size_t(c)] = blended_mean(c);
-      std::fill(blend.weights[c].begin(), blend.weights[c].end(), 0.0);
-    }
+    const std::vector<double> views_mean =
+        options_.chromaticity_mean_from_views ? BlendedMeanChromaticity(blend) : std::vector<double>();
+    for (int c = 0; c < channels; ++c)
+      if (!options_.colour.ScalesWithRadiance(c)) std::fill(blend.weights[c].begin(), blend.weights[c].end(), 0.0);
     AddViewStatistics(top_view_, light, light, 1.0, &blend, ChannelSet::kChromaticity);
-    if (options_.chromaticity_mean_from_views) {
+    if (!views_mean.empty()) {
+      // The top view's histograms shifted by the views' mean chromaticity less its own.
+      const std::vector<double> top_mean = BlendedMeanChromaticity(blend);
       blend.mean_shift.assign(size_t(channels), 0.0);
-      for (int c = 0; c < channels; ++c)
-        if (!options_.colour.ScalesWithRadiance(c)) blend.mean_shift[size_t(c)] = views_mean[size_t(c)] - blended_mean(c);
+      for (int c = 0; c < channels; ++c) blend.mean_shift[size_t(c)] = views_mean[size_t(c)] - top_mean[size_t(c)];
     }
   }
   return blend;
+}
+
+std::vector<double> StatisticalBtf::BlendedMeanChromaticity(const Blend& blend) const {
+  // The entries' chromaticities (r, g) of their mean colours, if every entry's is known.
+  std::vector<std::array<float, 2>> chromaticity(blend.stats.size());
+  bool from_mean_colours = true;
+  for (size_t k = 0; k < blend.stats.size() && from_mean_colours; ++k) {
+    const auto [v, l] = blend.measured_at[k];
+    const std::vector<Eigen::Vector3d>& means = views_[size_t(v)].mean_rgb;
+    float rgb[3] = {0, 0, 0};
+    if (size_t(l) < means.size())
+      for (int i = 0; i < 3; ++i) rgb[i] = float(means[size_t(l)][i]);
+    from_mean_colours = Chromaticity(rgb, &chromaticity[k][0], &chromaticity[k][1]);
+  }
+  std::vector<double> mean(blend.weights.size(), 0.0);
+  for (int c = 0; c < int(blend.weights.size()); ++c) {
+    if (options_.colour.ScalesWithRadiance(c)) continue;
+    MESOCAP_CHECK(c == 1 || c == 2, "the chromaticity channels are r (1) and g (2)");
+    for (size_t k = 0; k < blend.stats.size(); ++k)
+      mean[size_t(c)] += blend.weights[c][k] * (from_mean_colours ? double(chromaticity[k][size_t(c - 1)])
+                                                                  : blend.stats[k]->pixels[c].Mean());
+  }
+  return mean;
 }
 
 SliceStatistics StatisticalBtf::BlendedStatistics(const Blend& blend) {

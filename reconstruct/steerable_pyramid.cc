@@ -15,9 +15,10 @@
 // energy of the bands equals the energy of the input with unit weights, and the collapse (the
 // adjoint of the build) is its exact inverse.
 //
-// Implementation: real-to-complex FFTW (single precision) on half spectra; plans and masks are
-// cached per grid size under a mutex and executed with the new-array functions on per-thread,
-// fftwf_malloc'd scratch buffers, so several threads may build and collapse at once.
+// Implementation: real-to-complex FFTW (single precision) on half spectra; the plans are shared
+// (RealFftPlansFor), the masks cached per grid size under a mutex, and both executed with the
+// new-array functions on per-thread, fftwf_malloc'd scratch buffers, so several threads may build
+// and collapse at once.
 #include "reconstruct/steerable_pyramid.h"
 
 #include <fftw3.h>
@@ -96,7 +97,7 @@ void FillFrequencies(int width, int height, int half_width, std::vector<double>*
   for (int y = 0; y < height; ++y) (*fy)[y] = SignedFrequency(y, height) / (height / 2.0);
 }
 
-// Called with the cache mutex held (FFTW planning is not thread-safe).
+// Called with the cache mutex held.
 const Grid* GetGridLocked(Cache& cache, int width, int height) {
   auto& slot = cache.grids[{width, height}];
   if (slot) return slot.get();

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "core/status.h"
 #include "core/fftw_buffers.h"
+#include "core/status.h"
 
 namespace mesocap {
 namespace {

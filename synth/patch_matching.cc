@@ -6,9 +6,9 @@
 #include <limits>
 
 #include "core/directions.h"
+#include "core/fftw_buffers.h"
 #include "core/parallel.h"
 #include "core/status.h"
-#include "core/fftw_buffers.h"
 #include "synth/synth_map.h"
 
 namespace mesocap {

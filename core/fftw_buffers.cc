@@ -1,26 +1,22 @@
-#include "core/fftw_planner.h"
+#include "core/fftw_buffers.h"
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
-#include "core/fftw_buffers.h"
-
 namespace mesocap {
-
-// Defined out of line: one mutex for the whole process, whichever library plans.
-std::mutex& FftwPlannerMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
 
 const RealFftPlans& RealFftPlansFor(int width, int height) {
   if (width <= 0 || height <= 0)
     throw std::invalid_argument("RealFftPlansFor: size " + std::to_string(width) + "x" + std::to_string(height));
   // Never destroyed: plans stay valid for threads still running at exit.
   static auto* plans = new std::map<std::pair<int, int>, std::unique_ptr<const RealFftPlans>>;
-  std::lock_guard<std::mutex> lock(FftwPlannerMutex());
+  // One lock around FFTW's planner for the whole process, whichever library plans (also never
+  // destroyed).
+  static auto* planner = new std::mutex;
+  std::lock_guard<std::mutex> lock(*planner);
   auto& slot = (*plans)[{width, height}];
   if (!slot) {
     FftFloatBuffer real(size_t(width) * size_t(height));
@@ -28,9 +24,12 @@ const RealFftPlans& RealFftPlansFor(int width, int height) {
     auto made = std::make_unique<RealFftPlans>();
     made->forward = fftwf_plan_dft_r2c_2d(height, width, real.data, spectrum.fftw(), FFTW_ESTIMATE);
     made->inverse = fftwf_plan_dft_c2r_2d(height, width, spectrum.fftw(), real.data, FFTW_ESTIMATE);
-    if (!made->forward || !made->inverse)
+    if (!made->forward || !made->inverse) {
+      if (made->forward) fftwf_destroy_plan(made->forward);
+      if (made->inverse) fftwf_destroy_plan(made->inverse);
       throw std::runtime_error("FFTW could not plan a " + std::to_string(width) + "x" + std::to_string(height) +
                                " transform");
+    }
     slot = std::move(made);
   }
   return *slot;
