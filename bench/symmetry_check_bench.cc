@@ -4,18 +4,16 @@
 //
 //   bench_symmetry_check SESSION/slices/index.json [LIGHTS=12,24,40,70,0] [GAPS=10,20]
 //
-// Takes the top board's slices in shot order (the first LIGHTS of them; 0: all) at 64 texels in
-// the reconstruction's colour channels, and prints per gap which images hold (one digit per
-// MirrorImages() entry) and the lights each image was tested on.
+// Takes the top board's slices in shot order (the first LIGHTS of them; 0: all) as the
+// reconstruction loads them (LoadTopView) at 64 texels, and prints per gap which images hold (one
+// digit per MirrorImages() entry) and the lights each image was tested on.
 #include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "calib/resample.h"
-#include "core/image_io.h"
-#include "core/slice_index.h"
 #include "reconstruct/mirror_symmetry.h"
+#include "reconstruct/slice_set.h"
 #include "reconstruct/statistical_btf.h"
 
 using namespace mesocap;
@@ -36,35 +34,28 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s SLICES_INDEX_JSON [LIGHTS=12,24,40,70,0] [GAPS=10,20]\n", argv[0]);
     return 2;
   }
-  auto index = ReadSliceIndex(argv[1]);
-  if (!index.ok()) {
-    std::fprintf(stderr, "%s\n", index.status().message().c_str());
-    return 1;
-  }
   const std::vector<double> counts = Numbers(argc > 2 ? argv[2] : "12,24,40,70,0");
   const std::vector<double> gaps = Numbers(argc > 3 ? argv[3] : "10,20");
-  int top_board = index->slices.front().board;
-  double top_theta = 90;
-  for (const SliceIndexEntry& e : index->slices)
-    if (e.theta_o_deg < top_theta) top_theta = e.theta_o_deg, top_board = e.board;
-  // The reconstruction's colour channels: the check reads the first, the brightness R + G + B.
-  const StatisticalBtfOptions btf = WithColourChannels(StatisticalBtfOptions{}, {});
-  MeasuredView top;
-  for (const SliceIndexEntry& e : index->slices) {
-    if (e.board != top_board) continue;
-    auto slice = ReadImage(e.file);
-    if (!slice.ok()) continue;
-    top.view = e.view;
-    top.lights.push_back(e.light);
-    top.statistics.push_back(ComputeSliceStatistics(btf.colour.Forward(AreaDownsample(*slice, 64)), btf.statistics));
+  // The top view as the reconstruction loads it (and `mesocap coverage`), at 64 texels; the check
+  // reads the first channel, the brightness R + G + B.
+  SliceSetOptions options;
+  options.size = 64;
+  options.remove_chroma_noise = false;
+  SliceSetReport report;
+  auto top = LoadTopView(argv[1], options, &report);
+  if (!top.ok()) {
+    std::fprintf(stderr, "%s\n", top.status().message().c_str());
+    return 1;
   }
-  std::printf("%s: top board %d, %zu lights\nlights gap  holds    tested lights per image\n", argv[1], top_board,
-              top.lights.size());
+  const StatisticalBtfOptions& btf = options.btf;
+  std::printf("%s: top board %d, %zu lights\nlights gap  holds    tested lights per image\n", argv[1], report.top_board,
+              top->lights.size());
   for (const double count : counts) {
-    MeasuredView first = top;
-    const size_t n = count > 0 && size_t(count) < top.lights.size() ? size_t(count) : top.lights.size();
+    MeasuredView first = *top;
+    const size_t n = count > 0 && size_t(count) < top->lights.size() ? size_t(count) : top->lights.size();
     first.lights.resize(n);
     first.statistics.resize(n);
+    if (!first.mean_rgb.empty()) first.mean_rgb.resize(n);
     for (const double gap : gaps) {
       const MirrorSymmetryCheck check =
           CheckMirrorSymmetry(first, btf.statistics.pyramid.orientations, btf.min_light_separation_deg, gap);
