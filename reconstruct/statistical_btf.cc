@@ -354,14 +354,10 @@ double StatisticalBtf::NearestMeasuredLightDeg(int v, const Eigen::Vector3d& lig
 Eigen::Vector3d StatisticalBtf::AddViewStatistics(int v, const Eigen::Vector3d& at, const Eigen::Vector3d& light,
                                                   double weight, Blend* blend, ChannelSet channels) const {
   Eigen::Vector3d stands_for = Eigen::Vector3d::Zero();
-  const MeasuredView& measured = views_[size_t(v)];
   for (const WeightedIndex& l : view_lights_[v].Weights(at)) {
     stands_for += l.weight * views_[v].lights[l.index];
-    const BandMap* band_map = nullptr;
-    if (!measured.Measured(size_t(l.index)))
-      band_map = &imaged_bands_[size_t(measured.borrowed[size_t(l.index) - measured.statistics.size()].image)];
     blend->stats.push_back(&SourceStatistics(v, size_t(l.index)));
-    blend->band_maps.push_back(band_map);
+    blend->band_maps.push_back(SourceBandMap(v, size_t(l.index)));
     blend->measured_at.push_back({v, l.index});
     const double cosine = CosineRatio(light, views_[v].lights[l.index]);
     // A chromaticity does not scale with the light's fall-off.
@@ -379,6 +375,11 @@ const SliceStatistics& StatisticalBtf::SourceStatistics(int v, size_t l) const {
   if (view.Measured(l)) return view.statistics[l];
   const BorrowedSlice& source = view.borrowed[l - view.statistics.size()];
   return views_[size_t(source.view)].statistics[size_t(source.light)];
+}
+
+const BandMap* StatisticalBtf::SourceBandMap(int v, size_t l) const {
+  const MeasuredView& view = views_[size_t(v)];
+  return view.Measured(l) ? nullptr : &imaged_bands_[size_t(view.borrowed[l - view.statistics.size()].image)];
 }
 
 bool StatisticalBtf::LightCovered(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const {

@@ -88,10 +88,11 @@ struct StatisticalBtfOptions {
   // With chromaticity_from_top_view: the top view's chromaticity histograms keep their shape but
   // are shifted by the difference between the mean chromaticity of the views' blend of their
   // slices' mean colours and that of the top view's (a mean colour survives the capture's blur and
-  // the JPEG's half-resolution colour, which the histograms do not). Calibrated 100-shot sessions, seeds 21-25: pairs beating both baselines on pixel W1
-  // corduroy 63.0 -> 64.1%, stones 84.3 -> 84.5%, weave 81.4 -> 81.5%; on chromaticity W1 corduroy
-  // 13.6 -> 20.8%, but stones 16.8 -> 8.8% and weave 71.4 -> 70.0%, and stones' 95th-percentile
-  // saturation moves further off (3.3-4.1% -> 3.5-4.9%, the limit asked being 5%): off.
+  // the JPEG's half-resolution colour, which the histograms do not). Calibrated 100-shot sessions,
+  // seeds 21-25: pairs beating both baselines on pixel W1 corduroy 63.0 -> 64.1%, stones 84.3 ->
+  // 84.5%, weave 81.4 -> 81.5%; on chromaticity W1 corduroy 13.6 -> 20.8%, but stones 16.8 -> 8.8%
+  // and weave 71.4 -> 70.0%, and stones' 95th-percentile saturation moves further off (3.3-4.1% ->
+  // 3.5-4.9%, the limit asked being 5%): off.
   bool chromaticity_mean_from_views = false;
   // Move each reconstructed RGB slice's mean colour (not its brightness) toward white by the change
   // of a white specular lobe (reconstruct/white_lobe.h) fitted to every measured slice's mean
@@ -247,6 +248,8 @@ class StatisticalBtf {
   // Light l of view v's statistics, or for a borrowed light its source's: the same pixel
   // histograms, so the same means (an image moves only the bands).
   const SliceStatistics& SourceStatistics(int v, size_t l) const;
+  // How a blend reads SourceStatistics(v, l): through its image's band map, or as it is (null).
+  const BandMap* SourceBandMap(int v, size_t l) const;
   Blend BlendFor(const Eigen::Vector3d& light, const Eigen::Vector3d& view) const;
   // StatisticalBtfOptions::white_specular_colour on a reconstructed RGB slice.
   void MoveColourByWhiteLobe(Image* slice, const Eigen::Vector3d& light, const Eigen::Vector3d& view,
