@@ -38,9 +38,10 @@ using LitFn = std::function<bool(int board, const Eigen::Vector3d& position_cam)
 //            nearest measured light, capped at `spread_cap_deg` (a farther light teaches nothing
 //            about it): lights go where the measured ones are sparsest;
 //   kNear    each covers most still-uncovered targets.
-// On virtual sessions continued from 24 hand-held shots to 70, kSpread's reconstructions beat both
-// baselines about as often as those from 100 hand-held shots, kNear's as those from 70
-// (bench/session_coverage_bench --guided 24 --objective; docs/reconstruction.md, capture guidance).
+// On virtual sessions guided from the 6th shot to 70 (as `capture --guide` guides), kSpread's
+// reconstructions are as near the truth as those from 100 hand-held shots on weave, stones and
+// corduroy (bench/guidance_quality_bench.sh; docs/reconstruction.md, capture guidance); kNear's,
+// from the 24th, as those from 70 (bench_session_coverage --objective near).
 enum class CoverageObjective { kSpread, kNear };
 
 struct CoverageOptions {
