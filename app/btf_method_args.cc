@@ -1,5 +1,7 @@
 #include "app/btf_method_args.h"
 
+#include "core/session.h"
+
 namespace mesocap::app {
 
 bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
@@ -15,6 +17,7 @@ bool BtfMethodArgs::ApplyTo(StatisticalBtfOptions* btf) const {
   btf->mean_model = !no_mean_model;
   btf->view_blend_even_at_pole = !linear_from_top_view;
   btf->mirror_symmetry = !no_mirror_symmetry;
+  if (!mirror_images.empty()) btf->mirror_images_allowed = MirrorImagesNamed(mirror_images);
   btf->far_light_falloff_deg = far_light_falloff_deg;
   return true;
 }
@@ -24,6 +27,22 @@ bool BtfMethodArgs::ApplyTo(SliceSetOptions* slices) const {
   slices->remove_chroma_noise = !keep_chroma_noise;
   slices->capture_blur_px = capture_blur_px;
   return ApplyTo(&slices->btf);
+}
+
+std::string BtfMethodArgs::TakeSessionMirrorImages(const std::filesystem::path& session) {
+  if (!mirror_images.empty() || no_mirror_symmetry) return "";
+  auto manifest = ReadJsonFile(session / Session::kManifestName);
+  if (!manifest.ok() || !manifest->is_object()) return "";
+  const Json named = manifest->value("mirror_images", Json::array());
+  if (!named.is_array()) return "";
+  std::string words;
+  for (const Json& name : named)
+    for (const char* known : kMirrorImageNames)
+      if (name.is_string() && name.get<std::string>() == known) {
+        mirror_images.push_back(known);
+        words += (words.empty() ? "" : ", ") + std::string(known);
+      }
+  return words;
 }
 
 Json BtfMethodArgs::ToJson() const {
@@ -36,6 +55,7 @@ Json BtfMethodArgs::ToJson() const {
           {"mean_model", !no_mean_model},
           {"view_blend_even_at_pole", !linear_from_top_view},
           {"mirror_symmetry", !no_mirror_symmetry},
+          {"mirror_images", mirror_images.empty() ? Json("any the check finds") : Json(mirror_images)},
           {"remove_chroma_noise", !keep_chroma_noise},
           {"capture_blur_px", capture_blur_px},
           {"fit_light_falloff", !no_fit_light_falloff},

@@ -3,7 +3,9 @@
 // set of flags, one way to apply them and one provenance record.
 #pragma once
 
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/json.h"
 #include "reconstruct/slice_set.h"
@@ -24,6 +26,7 @@ struct BtfMethodArgs {
   bool no_mean_model = false;                 // StatisticalBtfOptions::mean_model
   bool linear_from_top_view = false;          // StatisticalBtfOptions::view_blend_even_at_pole
   bool no_mirror_symmetry = false;            // StatisticalBtfOptions::mirror_symmetry
+  std::vector<std::string> mirror_images;     // StatisticalBtfOptions::mirror_images_allowed; none: any
   bool keep_chroma_noise = false;             // SliceSetOptions::remove_chroma_noise (sessions' slices)
   double capture_blur_px = SliceSetOptions().capture_blur_px;  // SliceSetOptions::capture_blur_px
   // StatisticalBtfOptions::chromaticity_from_top_view: forced on, forced off, or (neither) decided by
@@ -40,6 +43,10 @@ struct BtfMethodArgs {
   bool ApplyTo(SliceSetOptions* slices) const;
   // For provenance and stage cache keys.
   Json ToJson() const;
+  // Without --mirror-images, the images the session's capture guidance was told hold (its
+  // manifest's "mirror_images", as `capture --guide-images` records them); returns them ("" if
+  // none) for a line on what was used.
+  std::string TakeSessionMirrorImages(const std::filesystem::path& session);
 };
 
 }  // namespace mesocap::app

@@ -63,6 +63,13 @@ void BtfMethodArgs::AddTo(CLI::App* command, const std::string& prefix) {
                     "Use each view's own measured lights only, instead of also its images' under the symmetries of the "
                     "square (mirrors, half and quarter turns) wherever the top view's own slices show the material looks "
                     "the same imaged");
+  const std::vector<std::string> image_names(kMirrorImageNames.begin(), kMirrorImageNames.end());
+  command->add_option(prefix + "mirror-images", mirror_images,
+                      "The images of the patch the material is known to look the same under (comma-separated, as "
+                      "`capture --guide-images` names them): the symmetry check may find only these. Default: any. "
+                      "From a session's few or spread-out top-view lights the check can pass a wrong one")
+      ->delimiter(',')
+      ->check(CLI::IsMember(image_names));
   command->add_flag(prefix + "no-fit-light-falloff", no_fit_light_falloff,
                     "Blend neighbouring lights on plain cos(theta_i) ratios instead of raising them to the exponent "
                     "fitted to the top view's mean radiance against cos(theta_i)");

@@ -21,6 +21,7 @@
 #include "capture/virtual_camera.h"
 #include "core/atomic_file.h"
 #include "core/progress.h"
+#include "core/session.h"
 
 namespace mesocap::app {
 namespace {
@@ -87,9 +88,7 @@ int RunCapture(CaptureArgs& a) {
     return Fail("capture", "--guide follows flash shots; checkerboard shots (--calibration) need none", kExitUsage);
   if (a.guide)
     if (std::string why = a.guidance.Check(); !why.empty()) return Fail("capture", why, kExitUsage);
-  for (const std::string& name : a.guide_images)
-    for (size_t k = 0; k < kMirrorImageNames.size(); ++k)
-      if (name == kMirrorImageNames[k]) a.guidance.coverage.images[k] = true;
+  a.guidance.coverage.images = MirrorImagesNamed(a.guide_images);
   if (!a.show_config)
     if (std::string why = o.Check(); !why.empty()) return Fail("capture", why, kExitUsage);
 
@@ -142,6 +141,13 @@ int RunCapture(CaptureArgs& a) {
   (*camera)->Close();
   if (!report.ok()) return Fail("capture", report.status().message(), kExitFailure);
   std::printf("%s\n", report->Brief().c_str());
+  // The images the guidance counted are the ones the reconstruction may use (BtfMethodArgs::
+  // TakeSessionMirrorImages): from a guided session's spread-out lights its own check can pass a
+  // wrong one.
+  if (!a.guide_images.empty())
+    if (auto session = Session::Open(o.out); session.ok())
+      if (Status st = session->UpdateManifest({{"mirror_images", a.guide_images}}); !st.ok())
+        std::fprintf(stderr, "capture: %s\n", st.message().c_str());
   if (!report->ok()) return Fail("capture", report->error, kExitFailure);
   if (report->stop_reason == "cancelled" && o.mode != CaptureMode::kEnter) return kExitCancelled;
   return kExitOk;

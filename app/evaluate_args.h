@@ -28,6 +28,6 @@ struct EvaluateArgs {
 };
 
 CLI::App* AddEvaluateOptions(CLI::App& app, EvaluateArgs* args);
-int RunEvaluate(const EvaluateArgs& a);
+int RunEvaluate(EvaluateArgs& a);
 
 }  // namespace mesocap::app

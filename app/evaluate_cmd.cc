@@ -144,12 +144,14 @@ std::string MirrorSymmetrySentence(const StatisticalBtf& btf) {
 
 }  // namespace
 
-int RunEvaluate(const EvaluateArgs& a) {
+int RunEvaluate(EvaluateArgs& a) {
   std::optional<RigScene> scene;
   if (!a.session.empty()) {
     auto truth = SessionTruth(a.session);
     if (!truth.ok()) return Fail("evaluate", truth.status().message(), kExitUsage);
     scene = std::move(*truth);
+    if (std::string named = a.method.TakeSessionMirrorImages(a.session); !named.empty())
+      std::fprintf(stderr, "evaluate: images the capture was guided by: %s (--mirror-images overrides)\n", named.c_str());
   }
   const std::string material_name = scene ? scene->options.material : a.material;
   auto material = Material::Create(material_name);

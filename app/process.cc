@@ -229,6 +229,7 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
   a.reconstruct.slices.btf.num_threads = a.threads;
   if (std::string why = a.Check(); !why.empty()) return Status::Error(why);
   if (auto session = Session::Open(a.session); !session.ok()) return session.status();
+  a.reconstruct.method.TakeSessionMirrorImages(a.session);  // in the stage's key: a change reruns it
   const std::set<std::string> force(a.force.begin(), a.force.end());
   auto cache = StageCache::Open(a.session);
   if (!cache.ok()) return cache.status();

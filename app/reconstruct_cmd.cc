@@ -110,6 +110,10 @@ int ReconstructToFolder(ReconstructArgs& a) {
 
 int RunReconstruct(ReconstructArgs& a) {
   if (a.session.empty() && a.index.empty()) return Fail("reconstruct", "give a SESSION or --slices INDEX", kExitUsage);
+  if (!a.session.empty())
+    if (std::string named = a.method.TakeSessionMirrorImages(a.session); !named.empty())
+      std::fprintf(stderr, "mesocap reconstruct: images the capture was guided by: %s (--mirror-images overrides)\n",
+                   named.c_str());
   return ReconstructToFolder(a);
 }
 

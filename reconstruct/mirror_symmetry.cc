@@ -153,7 +153,7 @@ int NearestWithin(std::span<const Eigen::Vector3d> directions, const Eigen::Vect
 Json MirrorSymmetryCheck::ToJson() const {
   Json j = {{"tested", tested}};
   for (size_t k = 0; k < MirrorImages().size(); ++k)
-    j[MirrorImages()[k].name] = {{"holds", holds[k]}, {"median_ratio", ratio[k]},
+    j[MirrorImages()[k].name] = {{"holds", holds[k]},        {"allowed", allowed[k]}, {"median_ratio", ratio[k]},
                                  {"against_measured", against_measured[k]}, {"lights", lights[k]}};
   j["limit"] = kMirrorCheckLimit;
   j["tolerance"] = kMirrorCheckTolerance;
@@ -161,9 +161,10 @@ Json MirrorSymmetryCheck::ToJson() const {
 }
 
 MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg,
-                                        double max_gap_deg) {
+                                        double max_gap_deg, const MirrorImageSet& allowed) {
   constexpr double kMinImageDeg = 10;
   MirrorSymmetryCheck check;
+  check.allowed = allowed;
   const int n = int(top.lights.size());
   auto every = LightInterpolator::Create(top.lights, min_separation_deg);
   if (!every.ok()) return check;
@@ -198,6 +199,7 @@ MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientation
                      (!moves_bands || check.against_measured[k] <= kMirrorCheckTolerance);
   }
   if (check.holds[0] && check.holds[1]) check.holds[2] = true;  // the half turn is the mirrors' product
+  for (size_t k = 0; k < check.holds.size(); ++k) check.holds[k] = check.holds[k] && allowed[k];
   return check;
 }
 

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -36,6 +37,15 @@ const std::array<MirrorImage, kMirrorImageCount>& MirrorImages();
 inline constexpr std::array<const char*, kMirrorImageCount> kMirrorImageNames = {
     "mirror_x", "mirror_y", "half_turn", "quarter_turn", "three_quarter_turn", "mirror_diagonal", "mirror_antidiagonal"};
 using MirrorImageSet = std::array<bool, kMirrorImageCount>;  // per MirrorImages() entry
+inline constexpr MirrorImageSet kEveryMirrorImage = {true, true, true, true, true, true, true};
+// The set of the images named (kMirrorImageNames; unknown names are ignored: the command line
+// checks them).
+inline MirrorImageSet MirrorImagesNamed(const std::vector<std::string>& names) {
+  MirrorImageSet set{};
+  for (const std::string& name : names)
+    for (size_t k = 0; k < kMirrorImageNames.size(); ++k) set[k] = set[k] || name == kMirrorImageNames[k];
+  return set;
+}
 
 // `statistics` of the imaged texture. The steerable band at frequency angle pi o / K is filtered
 // by cos^(K-1) of the angle from it: an image takes it to the band at its imaged angle, negated
@@ -73,11 +83,15 @@ struct MirrorSymmetryCheck {
   std::array<double, kMirrorImageCount> against_measured{};
   std::array<int, kMirrorImageCount> lights{};    // lights tested
   MirrorImageSet holds{};
+  // The images the check may find: those the operator named (StatisticalBtfOptions::
+  // mirror_images_allowed). `holds` is never outside them.
+  MirrorImageSet allowed = kEveryMirrorImage;
   Json ToJson() const;
 };
 // `max_gap_deg`: how far from a measured light an imaged light may lie (10 deg: the 10 above).
+// `allowed`: the images it may find (the others are still measured, never held).
 MirrorSymmetryCheck CheckMirrorSymmetry(const MeasuredView& top, int orientations, double min_separation_deg,
-                                        double max_gap_deg = 10);
+                                        double max_gap_deg = 10, const MirrorImageSet& allowed = kEveryMirrorImage);
 
 // The index of the direction in `directions` nearest `direction` if within `within_deg`, else -1:
 // the view an image of a view lands on (WithMirrorImages, and guidance's CoverageOptions::images).

@@ -193,6 +193,27 @@ TEST(MirrorSymmetry, TheCheckFindsWhichImagesOfTheVirtualMaterialsHold) {
   }
 }
 
+TEST(MirrorSymmetry, TheCheckFindsOnlyTheImagesTheOperatorNamed) {
+  // Stones pass every image; named the half turn and the mirror about x, the check holds those two
+  // and still measures the others.
+  const MeasuredView stones = TopViewOf("stones");
+  const MirrorImageSet named = MirrorImagesNamed({"half_turn", "mirror_x"});
+  const MirrorSymmetryCheck free = CheckMirrorSymmetry(stones, 4, 0.25);
+  const MirrorSymmetryCheck bound = CheckMirrorSymmetry(stones, 4, 0.25, 10, named);
+  for (size_t k = 0; k < MirrorImages().size(); ++k) {
+    ASSERT_TRUE(free.holds[k]) << MirrorImages()[k].name;
+    EXPECT_EQ(bound.holds[k], k == 0 || k == 2) << MirrorImages()[k].name;
+    EXPECT_EQ(bound.allowed[k], named[k]);
+    EXPECT_EQ(bound.ratio[k], free.ratio[k]);
+    EXPECT_EQ(bound.lights[k], free.lights[k]);
+  }
+  // Named but disproved still fails: the weave's mirror about x.
+  const MirrorSymmetryCheck weave = CheckMirrorSymmetry(TopViewOf("weave"), 4, 0.25, 10, named);
+  EXPECT_FALSE(weave.holds[0]);
+  EXPECT_TRUE(weave.holds[2]);
+  EXPECT_EQ(MirrorImagesNamed({}), MirrorImageSet{});
+}
+
 TEST(MirrorSymmetry, NoImageHoldsForATextureThatFollowsTheLightsAzimuth) {
   // Stripes whose contrast grows with cos(phi - 30 deg) of the light: no image of the light keeps it.
   const std::vector<Eigen::Vector3d> lights = SpreadLights();

@@ -92,7 +92,8 @@ StatusOr<StatisticalBtf> StatisticalBtf::Create(std::vector<Image> top_slices, s
   // borrow the mirror images.
   if (options.mirror_symmetry) {
     const int orientations = options.statistics.pyramid.orientations;
-    btf.symmetry_check_ = CheckMirrorSymmetry(btf.views_[btf.top_view_], orientations, options.min_light_separation_deg);
+    btf.symmetry_check_ = CheckMirrorSymmetry(btf.views_[btf.top_view_], orientations, options.min_light_separation_deg,
+                                              /*max_gap_deg=*/10, options.mirror_images_allowed);
     const auto& holds = btf.symmetry_check_.holds;
     if (std::find(holds.begin(), holds.end(), true) != holds.end()) {
       const int band_count = btf.views_[size_t(btf.top_view_)].statistics.front().band_count;  // before pooling

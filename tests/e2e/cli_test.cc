@@ -188,7 +188,8 @@ TEST(Cli, CaptureGuidesTheFlashAfterEachShot) {
   std::string out;
   ASSERT_EQ(testing::RunMesocap("capture --out " + session + camera + " --calibration --set subject=checkerboard --shots 10 "
                                 "--no-progress", &out), 0) << out;
-  ASSERT_EQ(testing::RunMesocap("capture --out " + session + camera + " --resume --shots 8 --guide-after 5 --follow-guide",
+  ASSERT_EQ(testing::RunMesocap("capture --out " + session + camera +
+                                    " --resume --shots 8 --guide-after 5 --follow-guide --guide-images half_turn",
                                 &out), 0) << out;
   EXPECT_NE(out.find("shots/shot_0001.jpg: flash position unknown"), std::string::npos) << out;
   EXPECT_NE(out.find("located after 5 flash shots (1 so far)"), std::string::npos) << out;
@@ -199,6 +200,10 @@ TEST(Cli, CaptureGuidesTheFlashAfterEachShot) {
   EXPECT_EQ(coverage->at("lights_from").get<std::string>(), "capture guidance");
   EXPECT_GT(coverage->at("covered").get<int>(), 0);
   EXPECT_TRUE(fs::exists(dir / "s" / "rig_layout.json"));
+  // The images the guidance counted are recorded for the reconstruction.
+  auto manifest = ReadJsonFile(dir / "s" / "session.json");
+  ASSERT_TRUE(manifest.ok());
+  EXPECT_EQ(manifest->value("mirror_images", Json::array()), Json::array({"half_turn"})) << manifest->dump();
 }
 
 }  // namespace
