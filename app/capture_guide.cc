@@ -5,6 +5,7 @@
 
 #include "app/rig_plot.h"
 #include "app/session_stages.h"
+#include "core/directions.h"
 #include "core/image_io.h"
 #include "core/session.h"
 #include "core/text_format.h"
@@ -15,6 +16,10 @@ namespace mesocap::app {
 namespace fs = std::filesystem;
 
 namespace {
+
+// A suggestion whose shot failed rules out the positions within this of it, seen from the top
+// board (the guidance's grid steps are 5 deg in elevation and 10 in azimuth).
+constexpr double kFailedSuggestionDeg = 10;
 
 std::vector<Eigen::Vector3d> Positions(const std::map<std::string, Eigen::Vector3d>& flashes) {
   std::vector<Eigen::Vector3d> positions;
@@ -78,6 +83,7 @@ void CaptureGuide::LocateRig(std::vector<std::string>* missing) {
   rig_ = std::move(*result);
   located_ = true;
   lit_ = ShadowFreeTest(rig_, layout_);
+  usable_ = FlashUsableTest(rig_, layout_);
   for (const ShotCalibration& shot : rig_.shots)
     if (shot.light.ok) flashes_[shot.file] = shot.light.light_m;
 }
@@ -98,8 +104,14 @@ std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const std::string& shot,
 
 CoverageAssessment CaptureGuide::Assess() const {
   const std::vector<Eigen::Vector3d> positions = Positions(flashes_);
+  const Eigen::Vector3d top_centre = TopBoardPose(rig_)->t;
+  const LitFn suggestable = [&](int board, const Eigen::Vector3d& flash) {
+    for (const Eigen::Vector3d& failed : failed_suggestions_)
+      if (AngleBetweenDeg(failed - top_centre, flash - top_centre) < kFailedSuggestionDeg) return false;
+    return usable_(flash) && lit_(board, flash);
+  };
   return AssessBoards(BoardLightsFromFlashes(rig_.boards, positions, lit_), TopBoardPose(rig_)->id, positions,
-                      options_.coverage, lit_);
+                      options_.coverage, suggestable);
 }
 
 ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
@@ -120,8 +132,12 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     }
   } else {
     std::string why_not;
-    if (auto flash = QuickFlash(shot, &why_not)) flashes_[shot] = *flash;
-    else g.missing.push_back(shot + ": " + why_not);
+    if (auto flash = QuickFlash(shot, &why_not)) {
+      flashes_[shot] = *flash;
+    } else {
+      g.missing.push_back(shot + ": " + why_not);
+      if (last_suggestion_) failed_suggestions_.push_back(*last_suggestion_);
+    }
   }
   if (located_) {
     if (auto it = flashes_.find(shot); it != flashes_.end()) {
@@ -130,6 +146,8 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
       g.flash_words = FlashPositionWords(it->second, {top->id, top->R, top->t, {}});
     }
     g.coverage = Assess();
+    last_suggestion_.reset();
+    if (!g.coverage->report.next.empty()) last_suggestion_ = g.coverage->report.next.front().position_cam;
     for (const BoardCoverage& b : g.coverage->report.boards)
       if (b.lights < kMinSlicesPerView)
         g.missing.push_back(Format("board %d has %d usable light(s) of the %d its reconstruction needs", b.board, b.lights,

@@ -65,6 +65,11 @@ class CaptureGuide {
   int next_locate_at_ = 0;  // flash shots in the session when locating is (re)tried
   std::map<std::string, Eigen::Vector3d> flashes_;
   LitFn lit_;  // shadows cast by the rig, as located
+  FlashUsableFn usable_;  // positions calibration can locate the flash from and read its power at
+  // First suggestions after which the next shot gave no flash position: not suggested again (the
+  // operator, or the virtual photographer, went there and it failed).
+  std::vector<Eigen::Vector3d> failed_suggestions_;
+  std::optional<Eigen::Vector3d> last_suggestion_;
 };
 
 }  // namespace mesocap::app

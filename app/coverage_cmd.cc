@@ -84,17 +84,21 @@ int RunCoverage(CoverageArgs a) {
   for (const ShotCalibration& shot : calibration.shots)
     if (shot.light.ok) flashes.push_back(shot.light.light_m);
   // With the rig's layout, positions that would shadow a board count nothing for it.
-  LitFn lit;
+  // Suggested positions must also let calibration locate the flash and read its power.
+  LitFn lit, suggestable;
   std::string shadows = "no layout, so shadows are not predicted";
   if (auto layout = LoadSessionLayout(a.session, a.layout_file); layout.ok()) {
     lit = ShadowFreeTest(calibration, *layout);
+    suggestable = [lit, usable = FlashUsableTest(calibration, *layout)](int board, const Eigen::Vector3d& flash) {
+      return usable(flash) && lit(board, flash);
+    };
     shadows = "shadows predicted from the layout";
   }
   std::string images = "each board's own lights only (--no-mirror-symmetry)";
   if (!a.no_mirror_symmetry) a.options.images = ImagesThatHold(a.session, &images);
   std::string source;
   const CoverageAssessment assessment =
-      AssessBoards(MeasuredBoardLights(calibration, flashes, lit, a.session, &source), top->id, flashes, a.options, lit);
+      AssessBoards(MeasuredBoardLights(calibration, flashes, lit, a.session, &source), top->id, flashes, a.options, suggestable);
   const fs::path out = a.out.empty() ? a.session / "coverage" : a.out;
   if (Status st = WriteCoverageFolder(out, assessment, source,
                                       {{"session", a.session.string()}, {"near_deg", a.options.near_deg}, {"objective", a.objective},

@@ -5,6 +5,7 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
+#include "calib/flash_lights.h"
 #include "calib/occluders.h"
 #include "core/atomic_file.h"
 #include "core/directions.h"
@@ -29,6 +30,35 @@ LitFn ShadowFreeTest(const CalibrationResult& calibration, const RigLayout& layo
     if (it == patches.end()) return true;
     std::string by;
     return BlockedFraction(*occluders, it->second.first, it->second.second, kGrid, position_cam, &by) == 0;
+  };
+}
+
+FlashUsableFn FlashUsableTest(const CalibrationResult& calibration, const RigLayout& layout) {
+  // Margins inside calibration's own limits (a highlight up to 0.97 of the outline's radius from
+  // its centre, a card lit at incidence cosine 0.15): the flash is held only near a suggestion.
+  static constexpr double kHighlightReach = 0.9, kMinCardCosine = 0.3, kClearance_m = 1e-3;
+  auto occluders = std::make_shared<const Occluders>(Occluders::Of(calibration, layout));
+  const int min_highlights = HighlightOptions().min_highlights;
+  return [occluders, balls = calibration.spheres.spheres, cards = calibration.grey_cards,
+          min_highlights](const Eigen::Vector3d& flash) {
+    int highlights = 0;
+    for (const SphereEstimate& ball : balls) {
+      const Eigen::Vector3d to_camera = (-ball.center_m).normalized(), to_flash = (flash - ball.center_m).normalized();
+      const Eigen::Vector3d normal = (to_camera + to_flash).normalized();  // the mirror highlight's
+      const double off_centre = std::sqrt(std::max(0.0, 1 - std::pow(normal.dot(to_camera), 2)));
+      if (!(off_centre <= kHighlightReach)) continue;
+      const Eigen::Vector3d point = ball.center_m + (ball.radius_m + kClearance_m) * normal;
+      if (occluders->Blocking(point, flash, "").empty() && occluders->Blocking(point, Eigen::Vector3d::Zero(), "").empty())
+        ++highlights;
+    }
+    if (highlights < min_highlights) return false;
+    for (size_t k = 0; k < cards.size(); ++k) {
+      const Eigen::Vector3d normal = cards[k].R.col(2), centre = cards[k].t + kClearance_m * normal;
+      if (normal.dot((flash - cards[k].t).normalized()) >= kMinCardCosine &&
+          occluders->Blocking(centre, flash, "grey card " + std::to_string(k)).empty())
+        return true;
+    }
+    return cards.empty();  // no cards located: nothing to measure the power on, nothing to lose
   };
 }
 

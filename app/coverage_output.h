@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,14 @@ struct CoverageAssessment {
 // Whether a flash position leaves a board's patch free of shadows, by the rule resampling keeps
 // slices by (calib/occluders.h), on a coarser grid of the patch.
 LitFn ShadowFreeTest(const CalibrationResult& calibration, const RigLayout& layout);
+
+// Whether a flash at a position (camera frame) can be used at all: calibration must find it from
+// the balls (at least `min_highlights` of them show their mirror highlight lit and well inside
+// their outline, HighlightOptions) and read its power from a grey card (one faces it and is not
+// shadowed). Guidance suggests only such positions: from a position that fails, every board's
+// slice is lost, and the next suggestion would be the same.
+using FlashUsableFn = std::function<bool(const Eigen::Vector3d& position_cam)>;
+FlashUsableFn FlashUsableTest(const CalibrationResult& calibration, const RigLayout& layout);
 
 // Each posed board's lights from the flash positions (camera frame): every flash above the
 // board's horizon that `lit` (when given) says lights it.
