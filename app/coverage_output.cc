@@ -53,10 +53,17 @@ FlashUsableFn FlashUsableTest(const CalibrationResult& calibration, const RigLay
     }
     if (highlights < min_highlights) return false;
     for (size_t k = 0; k < cards.size(); ++k) {
-      const Eigen::Vector3d normal = cards[k].R.col(2), centre = cards[k].t + kClearance_m * normal;
-      if (normal.dot((flash - cards[k].t).normalized()) >= kMinCardCosine &&
-          occluders->Blocking(centre, flash, "grey card " + std::to_string(k)).empty())
-        return true;
+      const GreyCard& card = cards[k];
+      const Eigen::Vector3d normal = card.R.col(2);
+      if (normal.dot((flash - card.t).normalized()) < kMinCardCosine) continue;
+      // Its grey area's corners and centre all lit: a shadow's edge across it makes it unusable.
+      bool lit = true;
+      for (int j = -1; j <= 1 && lit; ++j)
+        for (int i = -1; i <= 1 && lit; ++i) {
+          const Eigen::Vector3d point = card.t + card.R * Eigen::Vector3d(i * card.size_m / 2, j * card.size_m / 2, kClearance_m);
+          lit = occluders->Blocking(point, flash, "grey card " + std::to_string(k)).empty();
+        }
+      if (lit) return true;
     }
     return cards.empty();  // no cards located: nothing to measure the power on, nothing to lose
   };

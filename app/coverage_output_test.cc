@@ -59,6 +59,16 @@ TEST(FlashUsable, TheFlashMustLightTwoBallHighlightsAndAGreyCard) {
   walled.layout.boards.push_back({1, 0.3, 0.1, 0, {}});
   EXPECT_TRUE(usable({0.3, 0.2, 0.2}));
   EXPECT_FALSE(FlashUsableTest(walled.calibration, walled.layout)({0.3, 0.2, 0.2}));
+  // A small ball between the flash and one corner of the card's grey area, not its centre: a
+  // shadow's edge across the card, which calibration cannot read.
+  SmallRig corner;
+  SphereEstimate pebble;
+  pebble.center_m = {0.0525, 0.2675, 0.919};
+  pebble.radius_m = 0.01;
+  corner.calibration.spheres.spheres.push_back(pebble);
+  EXPECT_FALSE(FlashUsableTest(corner.calibration, corner.layout)({0.3, 0.2, 0.2}));
+  corner.calibration.spheres.spheres.back().center_m.x() += 0.05;  // moved off the card's shadow
+  EXPECT_TRUE(FlashUsableTest(corner.calibration, corner.layout)({0.3, 0.2, 0.2}));
   // One ball only: never two highlights.
   SmallRig one_ball;
   one_ball.calibration.spheres.spheres.pop_back();
