@@ -38,9 +38,8 @@ FlashUsableFn FlashUsableTest(const CalibrationResult& calibration, const RigLay
   // its centre, a card lit at incidence cosine 0.15): the flash is held only near a suggestion.
   static constexpr double kHighlightReach = 0.9, kMinCardCosine = 0.3, kClearance_m = 1e-3;
   auto occluders = std::make_shared<const Occluders>(Occluders::Of(calibration, layout));
-  const int min_highlights = HighlightOptions().min_highlights;
   return [occluders, balls = calibration.spheres.spheres, cards = calibration.grey_cards,
-          min_highlights](const Eigen::Vector3d& flash) {
+          min_highlights = HighlightOptions().min_highlights](const Eigen::Vector3d& flash) {
     int highlights = 0;
     for (const SphereEstimate& ball : balls) {
       const Eigen::Vector3d to_camera = (-ball.center_m).normalized(), to_flash = (flash - ball.center_m).normalized();

@@ -151,7 +151,7 @@ Status BlockSynthesisOptions::Check(int sample_width, int sample_height) const {
 
 BlockSearcher::BlockSearcher(const Image& sample_features, int block, int overlap, int projections, int num_threads,
                              BlockBasis basis)
-    : sample_(sample_features), block_(block), overlap_(overlap), num_threads_(num_threads) {
+    : sample_(sample_features), block_(block), num_threads_(num_threads) {
   const auto start = std::chrono::steady_clock::now();
   const int columns = candidate_columns();
   const long candidates = candidate_count();

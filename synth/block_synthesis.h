@@ -93,7 +93,7 @@ class BlockSearcher {
 
  private:
   const Image& sample_;
-  int block_, overlap_, num_threads_;
+  int block_, num_threads_;  // the overlap shapes the indexes only
   std::unique_ptr<BlockSearchIndex> indexes_[3];  // left strip, top strip, both
   double seconds_basis_ = 0;
 };
