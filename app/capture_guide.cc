@@ -104,20 +104,14 @@ std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const std::string& shot,
 
 CoverageAssessment CaptureGuide::Assess() const {
   const std::vector<Eigen::Vector3d> positions = Positions(flashes_);
-  const Eigen::Vector3d top_centre = TopBoardPose(rig_)->t;
-  const auto usable = [&](const Eigen::Vector3d& flash) {
+  const BoardPose* top = TopBoardPose(rig_);
+  const FlashUsableFn usable = [&](const Eigen::Vector3d& flash) {
     for (const Eigen::Vector3d& failed : failed_suggestions_)
-      if (AngleBetweenDeg(failed - top_centre, flash - top_centre) < kFailedSuggestionDeg) return false;
+      if (AngleBetweenDeg(failed - top->t, flash - top->t) < kFailedSuggestionDeg) return false;
     return usable_(flash);
   };
-  // Asked board by board for one position after another: the position's answer is kept.
-  std::optional<std::pair<Eigen::Vector3d, bool>> last;
-  const LitFn suggestable = [&](int board, const Eigen::Vector3d& flash) {
-    if (!last || last->first != flash) last = {flash, usable(flash)};
-    return last->second && lit_(board, flash);
-  };
-  return AssessBoards(BoardLightsFromFlashes(rig_.boards, positions, lit_), TopBoardPose(rig_)->id, positions,
-                      options_.coverage, suggestable);
+  return AssessBoards(BoardLightsFromFlashes(rig_.boards, positions, lit_), top->id, positions, options_.coverage,
+                      SuggestableTest(lit_, usable));
 }
 
 ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {

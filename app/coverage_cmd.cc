@@ -89,9 +89,7 @@ int RunCoverage(CoverageArgs a) {
   std::string shadows = "no layout, so shadows are not predicted";
   if (auto layout = LoadSessionLayout(a.session, a.layout_file); layout.ok()) {
     lit = ShadowFreeTest(calibration, *layout);
-    suggestable = [lit, usable = FlashUsableTest(calibration, *layout)](int board, const Eigen::Vector3d& flash) {
-      return usable(flash) && lit(board, flash);
-    };
+    suggestable = SuggestableTest(lit, FlashUsableTest(calibration, *layout));
     shadows = "shadows predicted from the layout";
   }
   std::string images = "each board's own lights only (--no-mirror-symmetry)";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 #include "calib/flash_lights.h"
@@ -56,15 +57,24 @@ FlashUsableFn FlashUsableTest(const CalibrationResult& calibration, const RigLay
       const Eigen::Vector3d normal = card.R.col(2);
       if (normal.dot((flash - card.t).normalized()) < kMinCardCosine) continue;
       // Its grey area's corners and centre all lit: a shadow's edge across it makes it unusable.
+      const std::string self = GreyCardName(int(k));
       bool lit = true;
       for (int j = -1; j <= 1 && lit; ++j)
         for (int i = -1; i <= 1 && lit; ++i) {
           const Eigen::Vector3d point = card.t + card.R * Eigen::Vector3d(i * card.size_m / 2, j * card.size_m / 2, kClearance_m);
-          lit = occluders->Blocking(point, flash, "grey card " + std::to_string(k)).empty();
+          lit = occluders->Blocking(point, flash, self).empty();
         }
       if (lit) return true;
     }
     return cards.empty();  // no cards located: nothing to measure the power on, nothing to lose
+  };
+}
+
+LitFn SuggestableTest(LitFn lit, FlashUsableFn usable) {
+  auto last = std::make_shared<std::optional<std::pair<Eigen::Vector3d, bool>>>();
+  return [lit = std::move(lit), usable = std::move(usable), last](int board, const Eigen::Vector3d& flash) {
+    if (!*last || (*last)->first != flash) *last = std::pair{flash, usable(flash)};
+    return (*last)->second && lit(board, flash);
   };
 }
 

@@ -36,6 +36,11 @@ LitFn ShadowFreeTest(const CalibrationResult& calibration, const RigLayout& layo
 using FlashUsableFn = std::function<bool(const Eigen::Vector3d& position_cam)>;
 FlashUsableFn FlashUsableTest(const CalibrationResult& calibration, const RigLayout& layout);
 
+// Where guidance may suggest the flash for a board: positions `usable` allows that `lit` says light
+// it. The guidance asks board by board for one position after another, so each position's
+// usability is computed once (the last one is kept: not for calls from several threads).
+LitFn SuggestableTest(LitFn lit, FlashUsableFn usable);
+
 // Each posed board's lights from the flash positions (camera frame): every flash above the
 // board's horizon that `lit` (when given) says lights it.
 std::vector<BoardLights> BoardLightsFromFlashes(const std::vector<BoardPose>& poses, const std::vector<Eigen::Vector3d>& flashes,

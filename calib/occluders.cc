@@ -28,6 +28,7 @@ bool SegmentHitsSphere(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const
 }  // namespace
 
 std::string BoardName(int id) { return "board " + std::to_string(id); }
+std::string GreyCardName(int k) { return "grey card " + std::to_string(k); }
 
 Occluders Occluders::Of(const CalibrationResult& calibration, const RigLayout& layout) {
   Occluders occ;
@@ -42,7 +43,7 @@ Occluders Occluders::Of(const CalibrationResult& calibration, const RigLayout& l
   for (const auto& c : layout.grey_cards) mount_m = std::max(mount_m, c.size_m);
   for (size_t k = 0; k < calibration.grey_cards.size(); ++k) {
     const GreyCard& c = calibration.grey_cards[k];
-    occ.squares.push_back({"grey card " + std::to_string(k), c.R, c.t, std::max(mount_m, c.size_m) / 2});
+    occ.squares.push_back({GreyCardName(int(k)), c.R, c.t, std::max(mount_m, c.size_m) / 2});
   }
   for (const auto& s : calibration.spheres.spheres) occ.spheres.push_back({s.center_m, s.radius_m});
   return occ;

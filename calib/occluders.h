@@ -31,7 +31,8 @@ struct Occluders {
   std::string Blocking(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const std::string& self) const;
 };
 
-std::string BoardName(int id);  // "board 7", as Occluders names boards
+std::string BoardName(int id);      // "board 7", as Occluders names boards
+std::string GreyCardName(int k);   // "grey card 0": the k-th calibrated card's mount
 
 // Fraction of the grid x grid points of a board's patch (side `patch_m`) from which the segment
 // to `target` (camera frame) is blocked, and by what (the first blocker met).
