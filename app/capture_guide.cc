@@ -77,24 +77,72 @@ void CaptureGuide::LocateRig(std::vector<std::string>* missing) {
     missing->push_back("no board is located yet: are the boards' AprilTags in view and lit?");
     return;
   }
-  if (int(result->spheres.spheres.size()) < layout_.sphere_count)
-    missing->push_back(Format("found %zu of %d balls: the flash positions rest on those", result->spheres.spheres.size(),
-                              layout_.sphere_count));
   rig_ = std::move(*result);
   located_ = true;
   lit_ = ShadowFreeTest(rig_, layout_);
   usable_ = FlashUsableTest(rig_, layout_);
   for (const ShotCalibration& shot : rig_.shots)
     if (shot.light.ok) flashes_[shot.file] = shot.light.light_m;
+  if (BallsMissing()) AddShotsSoFar();
 }
 
-std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const std::string& shot, std::string* why_not) const {
-  auto image = ReadImage(options_.session / shot);
-  if (!image.ok()) {
-    *why_not = image.status().message();
-    return std::nullopt;
+void CaptureGuide::AddShotsSoFar() {
+  auto session = Session::Open(options_.session);
+  if (!session.ok()) return;
+  for (const ShotRecord& record : session->ShotsOfKind("shot"))
+    if (auto image = ReadImage(options_.session / record.file); image.ok()) shots_seen_.Add(*image);
+  next_ball_search_at_ = int(session->ShotsOfKind("shot").size()) + 1;
+}
+
+// Balls are found in the per-pixel maximum: one no flash lit yet shows once a shot lights it. The
+// search is a fraction of a calibration, tried after a growing number of shots (a layout may
+// count a ball the table lacks). A ball one shot lit is outlined roughly (in the mean, it stands
+// out from the table only in that shot), so once all are found they are found once more when the
+// shots have doubled, as `calibrate` will find them from those shots.
+void CaptureGuide::SearchForBalls(int shots, ShotGuidance* g) {
+  const bool settling = !BallsMissing();
+  if (shots >= next_ball_search_at_ && !shots_seen_.empty()) {
+    next_ball_search_at_ = shots + std::max(1, shots / 4);
+    SphereReport found = LocateSpheres(camera_, shots_seen_.max(), shots_seen_.Sum(), SphereOptionsFor(layout_));
+    if (found.spheres.size() > rig_.spheres.spheres.size() ||
+        (settling && found.spheres.size() == rig_.spheres.spheres.size())) {
+      if (!settling)
+        g->rig_news = Format("found %zu of %d balls (%zu before)", found.spheres.size(), layout_.sphere_count,
+                             rig_.spheres.spheres.size());
+      AdoptBalls(std::move(found));
+      if (settling) {
+        balls_settle_at_ = 0;
+        shots_seen_.Clear();  // not needed again: frees two images' worth
+      } else if (!BallsMissing()) {
+        balls_settle_at_ = next_ball_search_at_ = 2 * shots;
+      }
+    }
   }
-  const LightEstimate light = EstimateFlash(camera_, rig_.spheres.spheres, *image);
+  if (BallsMissing())
+    g->missing.push_back(Format("found %zu of %d balls: the flash positions rest on those; the others are looked for "
+                                "as the shots light them",
+                                rig_.spheres.spheres.size(), layout_.sphere_count));
+}
+
+// Every shot so far read again on the new balls: flashes found on fewer are less sure, and shots
+// and suggestions that failed for want of a ball may not fail now.
+void CaptureGuide::AdoptBalls(SphereReport balls) {
+  rig_.spheres = std::move(balls);
+  lit_ = ShadowFreeTest(rig_, layout_);
+  usable_ = FlashUsableTest(rig_, layout_);
+  failed_suggestions_.clear();
+  flashes_.clear();
+  auto session = Session::Open(options_.session);
+  if (!session.ok()) return;
+  for (const ShotRecord& record : session->ShotsOfKind("shot")) {
+    std::string why_not;
+    auto image = ReadImage(options_.session / record.file);
+    if (auto flash = image.ok() ? QuickFlash(*image, &why_not) : std::nullopt) flashes_[record.file] = *flash;
+  }
+}
+
+std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const Image& image, std::string* why_not) const {
+  const LightEstimate light = EstimateFlash(camera_, rig_.spheres.spheres, image);
   if (!light.ok) {
     *why_not = "no flash position: " + light.flag + " on the balls (did the flash fire? are the balls in view?)";
     return std::nullopt;
@@ -118,9 +166,9 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
   const auto t0 = std::chrono::steady_clock::now();
   ShotGuidance g;
   g.shot = shot;
+  auto session = Session::Open(options_.session);
+  const int shots = session.ok() ? int(session->ShotsOfKind("shot").size()) : 0;
   if (!located_) {
-    auto session = Session::Open(options_.session);
-    const int shots = session.ok() ? int(session->ShotsOfKind("shot").size()) : 0;
     if (shots < next_locate_at_) {
       g.missing.push_back(Format("the boards and balls are located after %d flash shots (%d so far): move the flash "
                                  "all around the target",
@@ -132,13 +180,19 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     }
   } else {
     std::string why_not;
-    if (auto flash = QuickFlash(shot, &why_not)) {
+    auto image = ReadImage(options_.session / shot);
+    std::optional<Eigen::Vector3d> flash;
+    if (!image.ok()) why_not = image.status().message();
+    else flash = QuickFlash(*image, &why_not);
+    if (flash) {
       flashes_[shot] = *flash;
     } else {
       g.missing.push_back(shot + ": " + why_not);
       if (last_suggestion_) failed_suggestions_.push_back(*last_suggestion_);
     }
+    if (SearchingForBalls() && image.ok()) shots_seen_.Add(*image);
   }
+  if (SearchingForBalls()) SearchForBalls(shots, &g);
   if (located_) {
     if (auto it = flashes_.find(shot); it != flashes_.end()) {
       g.flash_cam = it->second;
@@ -170,6 +224,7 @@ std::string ShotGuidance::Text() const {
   std::string text = shot + ": ";
   text += flash_cam ? Format("flash %s", flash_words.c_str()) : "flash position unknown";
   text += Format(" (guidance in %.2f s)", seconds);
+  if (!rig_news.empty()) text += "\n  located: " + rig_news;
   if (coverage) text += "\n" + Indented(CoverageSummary(*coverage) + "\n" + NextShotLines(*coverage));
   for (const std::string& m : missing) text += "\n  missing: " + m;
   return text;

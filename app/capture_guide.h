@@ -2,6 +2,8 @@
 // flash was and what the session still needs. The boards and balls are located once, by a full
 // calibration of the first flash shots (they never move); each later shot only reads its
 // highlights on the balls (calib/flash_lights.h), so guidance takes seconds, not a calibration.
+// A ball the first shots did not show (no shot lit it yet) is looked for again in the per-pixel
+// maximum of the shots as they arrive, as `calibrate` looks for the balls in all of them.
 #pragma once
 
 #include <filesystem>
@@ -13,6 +15,7 @@
 
 #include "app/coverage_output.h"
 #include "calib/calibrate.h"
+#include "calib/shot_accumulator.h"
 #include "core/rig_layout.h"
 
 namespace mesocap::app {
@@ -31,6 +34,7 @@ struct ShotGuidance {
   std::optional<Eigen::Vector3d> flash_cam;  // where the flash was, when the balls showed it
   std::string flash_words;                   // ... in the operator's words
   std::vector<std::string> missing;          // what keeps the guidance from being complete
+  std::string rig_news;                      // balls found after the rig was located
   std::optional<CoverageAssessment> coverage;
   double seconds = 0;                        // this shot's guidance, reading the photo included
   std::string Text() const;                  // the lines printed after the shot
@@ -54,7 +58,14 @@ class CaptureGuide {
   CaptureGuide() = default;
   // A full calibration of the shots so far: board poses, balls and their flashes.
   void LocateRig(std::vector<std::string>* missing);
-  std::optional<Eigen::Vector3d> QuickFlash(const std::string& shot, std::string* why_not) const;
+  // Balls the layout has and the rig lacks: looked for in every shot so far, and once more when
+  // the shots have doubled after they are all found.
+  bool BallsMissing() const { return located_ && int(rig_.spheres.spheres.size()) < layout_.sphere_count; }
+  bool SearchingForBalls() const { return BallsMissing() || balls_settle_at_ > 0; }
+  void AddShotsSoFar();
+  void SearchForBalls(int shots, ShotGuidance* g);
+  void AdoptBalls(SphereReport balls);
+  std::optional<Eigen::Vector3d> QuickFlash(const Image& image, std::string* why_not) const;
   CoverageAssessment Assess() const;
 
   CaptureGuideOptions options_;
@@ -63,6 +74,11 @@ class CaptureGuide {
   CalibrationResult rig_;
   bool located_ = false;
   int next_locate_at_ = 0;  // flash shots in the session when locating is (re)tried
+  // While balls are searched for: the shots so far (their maximum shows every ball some flash
+  // lit), when the search is next tried, and when the balls found late are found again.
+  ShotAccumulator shots_seen_;
+  int next_ball_search_at_ = 0;
+  int balls_settle_at_ = 0;
   std::map<std::string, Eigen::Vector3d> flashes_;
   LitFn lit_;  // shadows cast by the rig, as located
   FlashUsableFn usable_;  // positions calibration can locate the flash from and read its power at

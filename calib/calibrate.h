@@ -59,6 +59,9 @@ struct CalibrationResult {
   std::string Brief() const;
 };
 
+// How the balls are found on this rig: its layout's ball radius and count.
+SphereOptions SphereOptionsFor(const RigLayout& layout);
+
 // Runs every calibration step on a session whose intrinsics are `camera`.
 StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, const RigLayout& layout,
                                              const CameraModel& camera, const ProgressFn& progress = nullptr);
