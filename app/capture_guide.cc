@@ -7,6 +7,7 @@
 #include "app/session_stages.h"
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/parallel.h"
 #include "core/session.h"
 #include "core/text_format.h"
 #include "reconstruct/slice_set.h"
@@ -89,9 +90,11 @@ void CaptureGuide::LocateRig(std::vector<std::string>* missing) {
 void CaptureGuide::AddShotsSoFar() {
   auto session = Session::Open(options_.session);
   if (!session.ok()) return;
-  for (const ShotRecord& record : session->ShotsOfKind("shot"))
-    if (auto image = ReadImage(options_.session / record.file); image.ok()) shots_seen_.Add(*image);
-  next_ball_search_at_ = int(session->ShotsOfKind("shot").size()) + 1;
+  const std::vector<ShotRecord> shots = session->ShotsOfKind("shot");
+  ParallelFor(0, int(shots.size()), [&](int s) {
+    if (auto image = ReadImage(options_.session / shots[size_t(s)].file); image.ok()) shots_seen_.Add(*image);
+  });
+  next_ball_search_at_ = int(shots.size()) + 1;
 }
 
 // Balls are found in the per-pixel maximum: one no flash lit yet shows once a shot lights it. The
@@ -134,11 +137,14 @@ void CaptureGuide::AdoptBalls(SphereReport balls) {
   flashes_.clear();
   auto session = Session::Open(options_.session);
   if (!session.ok()) return;
-  for (const ShotRecord& record : session->ShotsOfKind("shot")) {
+  const std::vector<ShotRecord> shots = session->ShotsOfKind("shot");
+  std::vector<std::optional<Eigen::Vector3d>> found(shots.size());
+  ParallelFor(0, int(shots.size()), [&](int s) {
     std::string why_not;
-    auto image = ReadImage(options_.session / record.file);
-    if (auto flash = image.ok() ? QuickFlash(*image, &why_not) : std::nullopt) flashes_[record.file] = *flash;
-  }
+    if (auto image = ReadImage(options_.session / shots[size_t(s)].file); image.ok()) found[size_t(s)] = QuickFlash(*image, &why_not);
+  });
+  for (size_t s = 0; s < shots.size(); ++s)
+    if (found[s]) flashes_[shots[s].file] = *found[s];
 }
 
 std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const Image& image, std::string* why_not) const {

@@ -49,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "app/coverage_output.h"
 #include "capture/btf_render.h"
 #include "capture/true_btf_renderer.h"
 #include "capture/rig_render.h"
@@ -105,16 +106,31 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
   return boards;
 }
 
+// The rig as a perfect calibration would locate it: boards, balls and grey cards where they are.
+CalibrationResult LocatedRig(const RigScene& scene) {
+  CalibrationResult rig;
+  for (const RigBoard& b : scene.boards) rig.boards.push_back({b.id, true, "", b.R, b.t});
+  for (const RigSphere& s : scene.spheres) {
+    SphereEstimate ball;
+    ball.center_m = s.center_m;
+    ball.radius_m = s.radius_m;
+    rig.spheres.spheres.push_back(ball);
+  }
+  for (const RigGreyCard& c : scene.grey_cards) rig.grey_cards.push_back({c.R, c.t, c.patch_m, c.albedo});
+  return rig;
+}
+
 // The session's own flashes, then (guided) one `mesocap coverage` suggestion after another up to
 // `total` shots, each recomputed from what the boards measured so far.
-// With `predict_shadows`, the guidance knows which positions shadow which board (as `mesocap
-// capture --guide` predicts them from the calibrated rig).
+// With `predict_shadows`, the guidance knows which positions shadow which board and suggests only
+// positions calibration can use (as `mesocap capture --guide` predicts both from the located rig).
 std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& renderer, int total, bool predict_shadows,
                                      CoverageObjective objective, double spread_cap_deg, bool board_weights,
                                      bool even_at_pole, const MirrorImageSet& images) {
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
+  const app::FlashUsableFn usable = app::FlashUsableTest(LocatedRig(scene), LayoutOf(scene));
   while (int(flashes.size()) < total) {
     std::vector<BoardLights> boards;
     const std::vector<BoardInputs> inputs = MeasuredLights(scene, renderer, flashes);
@@ -129,7 +145,8 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
     options.flash_distance_m = MedianFlashDistance(flashes, top_centre);
     LitFn lit;
     if (predict_shadows)
-      lit = [&](int board, const Eigen::Vector3d& flash) { return Lit(scene, renderer, board, flash); };
+      lit = app::SuggestableTest([&](int board, const Eigen::Vector3d& flash) { return Lit(scene, renderer, board, flash); },
+                                 usable);
     const CoverageReport report = AssessCoverage(boards, 0, options, lit);  // board 0 is the top
     if (report.next.empty()) break;
     flashes.push_back(report.next.front().position_cam);
