@@ -7,7 +7,9 @@
 
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,11 +22,14 @@
 #include "capture/tethered_capture.h"
 #include "capture/virtual_camera.h"
 #include "core/atomic_file.h"
+#include "core/json.h"
 #include "core/progress.h"
 #include "core/session.h"
 
 namespace mesocap::app {
 namespace {
+
+namespace fs = std::filesystem;
 
 volatile std::sig_atomic_t g_interrupted = 0;
 void OnInterrupt(int) { g_interrupted = 1; }
@@ -74,6 +79,23 @@ AfterShotFn GuidanceAfterEachShot(CaptureArgs& args, Camera& camera) {
     if (CameraStatus st = camera.SetConfig(kFlashPositionSetting, where); !st.ok())
       std::fprintf(stderr, "capture: %s\n", st.message.c_str());
   };
+}
+
+// A virtual capture knows its ground truth: SESSION/truth.json as `mesocap simulate` writes it,
+// with every shot as taken (the flash where the guidance or the hand put it, at its power) under
+// its name in the session. A resumed session's earlier shots are kept.
+Status WriteVirtualTruth(const VirtualCamera& camera, const CaptureReport& report, const fs::path& session) {
+  std::map<std::string, std::string> session_files;
+  for (const CapturedShot& shot : report.shots) session_files[fs::path(shot.on_card).filename().string()] = shot.file;
+  Json truth = camera.TruthOfShotsTaken(session_files);
+  if (auto earlier = ReadJsonFile(session / "truth.json"); earlier.ok() && earlier->contains("shots")) {
+    for (const char* list : {"shots", "calib_shots"}) {
+      Json merged = earlier->value(list, Json::array());
+      for (const Json& shot : truth[list]) merged.push_back(shot);
+      truth[list] = merged;
+    }
+  }
+  return WriteJsonFile(session / "truth.json", truth);
 }
 
 }  // namespace
@@ -138,6 +160,9 @@ int RunCapture(CaptureArgs& a) {
   };
   auto report = mesocap::RunCapture(**camera, o, progress, ready, a.guide ? GuidanceAfterEachShot(a, **camera) : nullptr);
   ::sigaction(SIGINT, &previous, nullptr);
+  if (auto* virtual_camera = dynamic_cast<VirtualCamera*>(camera->get()); virtual_camera && report.ok())
+    if (Status st = WriteVirtualTruth(*virtual_camera, *report, o.out); !st.ok())
+      std::fprintf(stderr, "capture: %s\n", st.message().c_str());
   (*camera)->Close();
   if (!report.ok()) return Fail("capture", report.status().message(), kExitFailure);
   std::printf("%s\n", report->Brief().c_str());

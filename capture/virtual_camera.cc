@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -198,10 +199,30 @@ CameraStatus VirtualCamera::Render(CameraFilePath* on_card) {
     shot.file = name;  // as on the card
     taken_.push_back(shot);
   } else {
+    RigCalibShot taken = scene_->calib_shots[size_t(next_calib_)];
+    taken.file = name;
+    calib_taken_.push_back(taken);
     ++next_calib_;
   }
   *on_card = {"/DCIM/100VIRT", name};
   return CameraStatus::Ok();
+}
+
+Json VirtualCamera::TruthOfShotsTaken(const std::map<std::string, std::string>& session_files) const {
+  RigScene truth = *scene_;
+  truth.shots.clear();
+  truth.calib_shots.clear();
+  const auto renamed = [&](auto shot) -> std::optional<decltype(shot)> {
+    const auto it = session_files.find(shot.file);
+    if (it == session_files.end()) return std::nullopt;
+    shot.file = it->second;
+    return shot;
+  };
+  for (const RigShot& shot : taken_)
+    if (auto named = renamed(shot)) truth.shots.push_back(*named);
+  for (const RigCalibShot& shot : calib_taken_)
+    if (auto named = renamed(shot)) truth.calib_shots.push_back(*named);
+  return TruthToJson(truth);
 }
 
 CameraStatus VirtualCamera::Capture(CameraFilePath* on_card) { return Render(on_card); }

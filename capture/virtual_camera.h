@@ -9,6 +9,7 @@
 
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -16,6 +17,7 @@
 #include "capture/rig_material.h"
 #include "capture/rig_render.h"
 #include "capture/rig_scene.h"
+#include "core/json.h"
 
 namespace mesocap {
 
@@ -45,6 +47,10 @@ class VirtualCamera : public Camera {
   const RigScene& scene() const { return *scene_; }
   // Every flash shot taken so far, in order, with the flash where it really was (the truth).
   const std::vector<RigShot>& flash_shots_taken() const { return taken_; }
+  // The truth of the shots taken so far, as `mesocap simulate` writes truth.json: the rig, and
+  // each shot under the name `session_files` gives its name on the card (shots it does not name
+  // are left out).
+  Json TruthOfShotsTaken(const std::map<std::string, std::string>& session_files) const;
 
  private:
   VirtualCamera() = default;
@@ -61,6 +67,7 @@ class VirtualCamera : public Camera {
   uint64_t seed_ = 1;
   int next_flash_ = 0, next_calib_ = 0;  // the rig's hand-held flash positions, checkerboard poses
   std::vector<RigShot> taken_;
+  std::vector<RigCalibShot> calib_taken_;
   std::deque<CameraFilePath> events_;
   bool closed_ = false;
 };

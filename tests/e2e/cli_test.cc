@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "core/image_io.h"
@@ -204,6 +205,27 @@ TEST(Cli, CaptureGuidesTheFlashAfterEachShot) {
   auto manifest = ReadJsonFile(dir / "s" / "session.json");
   ASSERT_TRUE(manifest.ok());
   EXPECT_EQ(manifest->value("mirror_images", Json::array()), Json::array({"half_turn"})) << manifest->dump();
+  // The virtual rig's truth of both runs, under the session's names: the checkerboard poses, and
+  // each flash where it was (the guide's quick reading of the balls agrees with it).
+  auto truth = ReadJsonFile(dir / "s" / "truth.json");
+  ASSERT_TRUE(truth.ok()) << out;
+  EXPECT_EQ(truth->at("calib_shots").size(), 10u);
+  EXPECT_EQ(truth->at("calib_shots")[9].at("file").get<std::string>(), "calib/calib_0010.jpg");
+  ASSERT_EQ(truth->at("shots").size(), 8u);
+  std::map<std::string, Eigen::Vector3d> where;
+  for (const Json& shot : truth->at("shots")) where[shot.at("file").get<std::string>()] = JsonVector3d(shot.at("light_m"), "light_m", 100);
+  const Eigen::Vector3d top = JsonVector3d(truth->at("boards")[0].at("t"), "t", 100);
+  int compared = 0;
+  for (const Json& flash : coverage->at("flashes")) {
+    const std::string file = flash.at("shot").get<std::string>();
+    ASSERT_TRUE(where.count(file)) << file;
+    const Eigen::Vector3d seen = JsonVector3d(flash.at("position_cam_m"), "position_cam_m", 100) - top;
+    const double off_deg = std::acos(std::clamp(seen.normalized().dot((where[file] - top).normalized()), -1.0, 1.0)) * 180 / M_PI;
+    std::printf("%s: the guide's flash %.2f deg from the truth's\n", file.c_str(), off_deg);
+    EXPECT_LT(off_deg, 2.0) << file;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 8);
 }
 
 }  // namespace
