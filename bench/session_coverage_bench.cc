@@ -21,13 +21,16 @@
 //                               [--true-mean 0|1] [--regions 0|1] [--chroma-from-top 0|1]
 //                               [--white-specular 0|1] [--mean-model 0|1] [--mean-onset DEG]
 //                               [--max-view-extrapolation RINGS] [--dump-means FILE]
-//                               [--dump-shapes FILE] [--guide-images MASK]
+//                               [--dump-shapes FILE] [--guide-images MASK] [--flashes-from TRUTH_JSON]
 // With --guided START, a session of START hand-held shots is continued up to each --shots count
 // by `mesocap coverage`'s suggestions (reconstruct/light_coverage.h), one at a time. With
 // --guide-images MASK (one 0 or 1 per MirrorImages() entry, e.g. 0010000), guidance also counts
 // each board's lights' images under those (CoverageOptions::images), as `mesocap coverage` does
 // with the images a session's slices show hold; the reconstruction's own check on the virtual
 // materials finds weave 0010000, stones 1111111, corduroy 1110000.
+// With --flashes-from TRUTH_JSON, the flashes are a session's (its truth.json's shots, e.g. a
+// guided virtual `mesocap capture`), on the rig of --seeds' single seed: what that session's
+// lights give with true slices, against what its calibrated slices give (`mesocap evaluate`).
 // With --details 1: the white specular lobe fitted (reconstruct/white_lobe.h); the colour
 // saturation error (median and worst pair, and which pair); per class of pairs (inside, near,
 // far), which baseline the losses go to; the wins by the view's incidence and by the light's angle
@@ -55,6 +58,7 @@
 #include "capture/rig_render.h"
 #include "capture/rig_scene.h"
 #include "core/directions.h"
+#include "core/json.h"
 #include "reconstruct/btf_evaluation.h"
 #include "reconstruct/light_coverage.h"
 
@@ -104,6 +108,17 @@ std::vector<BoardInputs> MeasuredLights(const RigScene& scene, const RigRenderer
     boards.push_back(measured);
   }
   return boards;
+}
+
+// The flash positions of a session's truth.json (as `simulate` or a virtual `capture` writes it).
+StatusOr<std::vector<Eigen::Vector3d>> FlashesTaken(const std::string& truth_file) {
+  auto truth = ReadJsonFile(truth_file);
+  if (!truth.ok()) return truth.status();
+  std::vector<Eigen::Vector3d> flashes;
+  for (const Json& shot : truth->value("shots", Json::array()))
+    flashes.push_back(JsonVector3d(shot.at("light_m"), "light_m", 100));
+  if (flashes.empty()) return Status::Error(truth_file + ": no shots");
+  return flashes;
 }
 
 // The rig as a perfect calibration would locate it: boards, balls and grey cards where they are.
@@ -278,6 +293,7 @@ int Run(int argc, char** argv) {
   double spread_cap_deg = CoverageOptions().spread_cap_deg;
   bool board_weights = CoverageOptions().weigh_boards_by_use;
   MirrorImageSet guide_images{};
+  std::string flashes_from;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
     if (flag == "--shots") shots = Split(value);
@@ -298,6 +314,7 @@ int Run(int argc, char** argv) {
     else if (flag == "--chroma-from-top") chroma_from_top = value == "1";
     else if (flag == "--white-specular") white_specular = value == "1";
     else if (flag == "--guided") guided_start = std::stoi(value);
+    else if (flag == "--flashes-from") flashes_from = value;
     else if (flag == "--dump-means") dump_means = value;
     else if (flag == "--dump-shapes") dump_shapes = value;
     else if (flag == "--mean-model") mean_model = value == "1";
@@ -349,9 +366,18 @@ int Run(int argc, char** argv) {
         options.btf.view_blend_even_at_pole = even_at_pole;
         int dropped = 0;
         const RigRenderer renderer(*scene, *material);
-        const std::vector<Eigen::Vector3d> flashes =
-            Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg, board_weights,
-                      even_at_pole, guide_images);
+        std::vector<Eigen::Vector3d> flashes;
+        if (!flashes_from.empty()) {
+          auto taken = FlashesTaken(flashes_from);
+          if (!taken.ok()) {
+            std::fprintf(stderr, "%s\n", taken.status().message().c_str());
+            return 1;
+          }
+          flashes = std::move(*taken);
+        } else {
+          flashes = Flashes(*scene, renderer, std::stoi(shot_count), predict_shadows, objective, spread_cap_deg,
+                            board_weights, even_at_pole, guide_images);
+        }
         const std::vector<BoardInputs> measured = MeasuredLights(*scene, renderer, flashes);
         for (const BoardInputs& board : measured) {
           if (list_lights) {
