@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 
 #include "app/rig_plot.h"
 #include "app/session_stages.h"
@@ -87,14 +88,24 @@ void CaptureGuide::LocateRig(std::vector<std::string>* missing) {
   if (BallsMissing()) AddShotsSoFar();
 }
 
-void CaptureGuide::AddShotsSoFar() {
-  auto session = Session::Open(options_.session);
-  if (!session.ok()) return;
-  const std::vector<ShotRecord> shots = session->ShotsOfKind("shot");
-  ParallelFor(0, int(shots.size()), [&](int s) {
-    if (auto image = ReadImage(options_.session / shots[size_t(s)].file); image.ok()) shots_seen_.Add(*image);
+std::vector<std::string> CaptureGuide::ShotsSoFar() const {
+  std::vector<std::string> files;
+  if (auto session = Session::Open(options_.session); session.ok())
+    for (const ShotRecord& record : session->ShotsOfKind("shot")) files.push_back(record.file);
+  return files;
+}
+
+// Each readable shot of `files`, read in parallel and handed to `use` with its index.
+void CaptureGuide::ReadShots(const std::vector<std::string>& files, const std::function<void(size_t, const Image&)>& use) const {
+  ParallelFor(0, int(files.size()), [&](int s) {
+    if (auto image = ReadImage(options_.session / files[size_t(s)]); image.ok()) use(size_t(s), *image);
   });
-  next_ball_search_at_ = int(shots.size()) + 1;
+}
+
+void CaptureGuide::AddShotsSoFar() {
+  const std::vector<std::string> files = ShotsSoFar();
+  ReadShots(files, [&](size_t, const Image& image) { shots_seen_.Add(image); });
+  next_ball_search_at_ = int(files.size()) + 1;
 }
 
 // Balls are found in the per-pixel maximum: one no flash lit yet shows once a shot lights it. The
@@ -135,16 +146,14 @@ void CaptureGuide::AdoptBalls(SphereReport balls) {
   usable_ = FlashUsableTest(rig_, layout_);
   failed_suggestions_.clear();
   flashes_.clear();
-  auto session = Session::Open(options_.session);
-  if (!session.ok()) return;
-  const std::vector<ShotRecord> shots = session->ShotsOfKind("shot");
-  std::vector<std::optional<Eigen::Vector3d>> found(shots.size());
-  ParallelFor(0, int(shots.size()), [&](int s) {
+  const std::vector<std::string> files = ShotsSoFar();
+  std::vector<std::optional<Eigen::Vector3d>> found(files.size());
+  ReadShots(files, [&](size_t s, const Image& image) {
     std::string why_not;
-    if (auto image = ReadImage(options_.session / shots[size_t(s)].file); image.ok()) found[size_t(s)] = QuickFlash(*image, &why_not);
+    found[s] = QuickFlash(image, &why_not);
   });
-  for (size_t s = 0; s < shots.size(); ++s)
-    if (found[s]) flashes_[shots[s].file] = *found[s];
+  for (size_t s = 0; s < files.size(); ++s)
+    if (found[s]) flashes_[files[s]] = *found[s];
 }
 
 std::optional<Eigen::Vector3d> CaptureGuide::QuickFlash(const Image& image, std::string* why_not) const {
@@ -172,8 +181,8 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
   const auto t0 = std::chrono::steady_clock::now();
   ShotGuidance g;
   g.shot = shot;
-  auto session = Session::Open(options_.session);
-  const int shots = session.ok() ? int(session->ShotsOfKind("shot").size()) : 0;
+  // The session's journal is read only while locating or searching for balls.
+  const int shots = !located_ || SearchingForBalls() ? int(ShotsSoFar().size()) : 0;
   if (!located_) {
     if (shots < next_locate_at_) {
       g.missing.push_back(Format("the boards and balls are located after %d flash shots (%d so far): move the flash "

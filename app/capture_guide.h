@@ -7,6 +7,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -62,6 +63,8 @@ class CaptureGuide {
   // the shots have doubled after they are all found.
   bool BallsMissing() const { return located_ && int(rig_.spheres.spheres.size()) < layout_.sphere_count; }
   bool SearchingForBalls() const { return BallsMissing() || balls_settle_at_ > 0; }
+  std::vector<std::string> ShotsSoFar() const;  // the session's flash shots, as recorded
+  void ReadShots(const std::vector<std::string>& files, const std::function<void(size_t, const Image&)>& use) const;
   void AddShotsSoFar();
   void SearchForBalls(int shots, ShotGuidance* g);
   void AdoptBalls(SphereReport balls);

@@ -145,7 +145,7 @@ std::vector<Eigen::Vector3d> Flashes(const RigScene& scene, const RigRenderer& r
   std::vector<Eigen::Vector3d> flashes;
   for (const RigShot& shot : scene.shots) flashes.push_back(shot.light_m);
   const Eigen::Vector3d top_centre = scene.boards.front().t;
-  const app::FlashUsableFn usable = app::FlashUsableTest(LocatedRig(scene), LayoutOf(scene));
+  const app::FlashUsableFn usable = predict_shadows ? app::FlashUsableTest(LocatedRig(scene), LayoutOf(scene)) : nullptr;
   while (int(flashes.size()) < total) {
     std::vector<BoardLights> boards;
     const std::vector<BoardInputs> inputs = MeasuredLights(scene, renderer, flashes);

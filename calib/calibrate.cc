@@ -1,13 +1,10 @@
 #include "calib/calibrate.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <map>
-#include <mutex>
 
 #include "calib/marked_corners.h"
 #include "calib/shot_accumulator.h"
