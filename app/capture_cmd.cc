@@ -88,7 +88,12 @@ Status WriteVirtualTruth(const VirtualCamera& camera, const CaptureReport& repor
   std::map<std::string, std::string> session_files;
   for (const CapturedShot& shot : report.shots) session_files[fs::path(shot.on_card).filename().string()] = shot.file;
   Json truth = camera.TruthOfShotsTaken(session_files);
-  if (auto earlier = ReadJsonFile(session / "truth.json"); earlier.ok() && earlier->contains("shots")) {
+  // An earlier truth.json that cannot be read is left as it is, and said so.
+  if (fs::exists(session / "truth.json")) {
+    auto earlier = ReadJsonFile(session / "truth.json");
+    if (!earlier.ok()) return Status::Error(earlier.status().message() + " (not rewritten with this run's shots)");
+    if (!earlier->is_object())
+      return Status::Error((session / "truth.json").string() + ": not a JSON object (not rewritten with this run's shots)");
     for (const char* list : {"shots", "calib_shots"}) {
       Json merged = earlier->value(list, Json::array());
       for (const Json& shot : truth[list]) merged.push_back(shot);
