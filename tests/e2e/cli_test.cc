@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -226,6 +227,12 @@ TEST(Cli, CaptureGuidesTheFlashAfterEachShot) {
     ++compared;
   }
   EXPECT_EQ(compared, 8);
+  // A truth.json that cannot be read is named and left as it was, not replaced by one run's shots.
+  std::ofstream(dir / "s" / "truth.json") << "[1,2";
+  ASSERT_EQ(testing::RunMesocap("capture --out " + session + camera + " --resume --shots 1 --no-progress", &out), 0) << out;
+  EXPECT_NE(out.find("truth.json"), std::string::npos) << out;
+  std::ifstream kept(dir / "s" / "truth.json");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "[1,2");
 }
 
 }  // namespace
