@@ -155,6 +155,10 @@ SampleType SampleTypeOf(PixelFormat format) {
 StatusOr<EncodeRequest> EncodingOf(const fs::path& path, const Image& image, const ImageWriteOptions& options,
                                    PixelBytes* bytes) {
   if (image.empty()) return Status::Error(path.string() + ": refusing to write an empty image");
+  const bool eight_bit = options.format == PixelFormat::kUint8Srgb || options.format == PixelFormat::kUint8Linear;
+  if (eight_bit && Lower(path.extension().string()) == ".exr")  // the default format would silently sRGB-encode
+    return Status::Error(path.string() + ": an OpenEXR file holds half or float values, not 8-bit ones (ask for "
+                         "PixelFormat::kHalf or kFloat)");
   if (!options.channel_names.empty() && int(options.channel_names.size()) != image.channels())
     return Status::Error(path.string() + ": " + std::to_string(options.channel_names.size()) + " channel names for " +
                          std::to_string(image.channels()) + " channels");
@@ -169,7 +173,7 @@ StatusOr<EncodeRequest> EncodingOf(const fs::path& path, const Image& image, con
   request.channel_names = options.channel_names;
   request.type = SampleType::kFloat;
   request.pixels = image.data();
-  if (options.format == PixelFormat::kUint8Srgb || options.format == PixelFormat::kUint8Linear) {
+  if (eight_bit) {
     bytes->resize(image.size());
     const float* src = image.data();
     if (options.format == PixelFormat::kUint8Srgb) {

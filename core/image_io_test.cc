@@ -36,6 +36,19 @@ TEST(ImageIO, ExrFloatRoundTripIsExactAndKeepsAttributes) {
   EXPECT_EQ(std::get<std::string>(info.attributes.at("mesocap:material")), "weave");
 }
 
+TEST(ImageIO, AnExrAskedForInEightBitsIsRefusedNotSrgbEncoded) {
+  const auto dir = testing::MakeTempDir();
+  const Image im(4, 3, 3, 0.032f);
+  const Status st = WriteImage(dir / "slice.exr", im);  // the default options: 8-bit sRGB
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("slice.exr"), std::string::npos) << st.message();
+  EXPECT_FALSE(std::filesystem::exists(dir / "slice.exr"));
+  ASSERT_TRUE(WriteImage(dir / "slice.exr", im, {.format = PixelFormat::kHalf}).ok());
+  auto back = ReadImage(dir / "slice.exr");
+  ASSERT_TRUE(back.ok());
+  EXPECT_NEAR(back->at(3, 2, 1), 0.032f, 1e-4f);
+}
+
 TEST(ImageIO, Png16IsLinearAndJpegIsSrgbWithinQuantisation) {
   const auto dir = testing::MakeTempDir();
   const Image im = Ramp(64, 32, 3);
