@@ -35,7 +35,7 @@ fs::path WriteSlices(const fs::path& dir, const std::vector<Board>& boards, std:
       Image slice(16, 16, 3);
       for (size_t i = 0; i < slice.size(); ++i) slice.data()[i] = u(rng);
       const std::string file = "b" + std::to_string(b.id) + "_" + std::to_string(k) + ".exr";
-      EXPECT_TRUE(WriteImage(dir / file, slice).ok());
+      EXPECT_TRUE(WriteImage(dir / file, slice, {.format = PixelFormat::kHalf}).ok());
       slices.push_back({{"file", file}, {"board", b.id}, {"theta_i_deg", 40}, {"phi_i_deg", 360.0 * k / b.lights},
                         {"theta_o_deg", b.theta_o_deg}, {"phi_o_deg", 90}});
     }
@@ -228,7 +228,7 @@ TEST(SliceSet, TheBlurUndoneFollowsEachSlicesSizeInThePhoto) {
         slice.at(x, y, 0) = 0.3f + wave, slice.at(x, y, 1) = 0.3f - wave, slice.at(x, y, 2) = 0.3f;
       }
     const std::string file = "s" + std::to_string(k) + ".exr";
-    ASSERT_TRUE(WriteImage(dir / file, slice).ok());
+    ASSERT_TRUE(WriteImage(dir / file, slice, {.format = PixelFormat::kHalf}).ok());
     slices.push_back({{"file", file}, {"board", 0}, {"theta_i_deg", 40}, {"phi_i_deg", 90.0 * k}, {"theta_o_deg", 0},
                       {"phi_o_deg", 0}, {"texel_px", kTexelPx}});
   }
