@@ -7,8 +7,8 @@
 // Every slice listed in SESSION/slices/index.json is rendered with a directional light from its
 // (theta_i, phi_i), seen from its (theta_o, phi_o), on its board's own part of the material (the
 // rig's material_offset_m; with --top-region 1, the top board's part, as the held-out truth is)
-// at the samples per texel the rig renders the patch with. The index, truth.json and the
-// session's other files are copied as they are.
+// at the slice's own size and the samples per texel the rig renders the patch with. The index,
+// truth.json and the session's other files are copied as they are.
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -21,6 +21,8 @@
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/parallel.h"
+#include "core/slice_index.h"
+#include "reconstruct/slice_set.h"
 
 namespace mesocap {
 namespace {
@@ -34,60 +36,54 @@ int Run(int argc, char** argv) {
   }
   const fs::path session = argv[1], copy = argv[2];
   const bool top_region = argc >= 5 && std::string(argv[3]) == "--top-region" && std::string(argv[4]) == "1";
+  const fs::path index_json = session / "slices" / "index.json";
   auto truth_json = ReadJsonFile(session / "truth.json");
-  auto index = ReadJsonFile(session / "slices" / "index.json");
-  if (!truth_json.ok() || !index.ok()) {
-    std::fprintf(stderr, "%s: needs truth.json and slices/index.json\n", session.c_str());
-    return 1;
-  }
+  if (!truth_json.ok()) return std::fprintf(stderr, "%s\n", truth_json.status().message().c_str()), 1;
   auto scene = TruthFromJson(*truth_json);
   if (!scene.ok()) return std::fprintf(stderr, "%s\n", scene.status().message().c_str()), 1;
   auto material = Material::Create(scene->options.material);
   if (!material.ok()) return std::fprintf(stderr, "%s\n", material.status().message().c_str()), 1;
+  auto index = ReadSliceIndex(index_json);
+  if (!index.ok()) return std::fprintf(stderr, "%s\n", index.status().message().c_str()), 1;
+  // The top board as evaluate picks it (the most head-on with lights enough).
+  SliceSetReport top;
+  if (auto view = LoadTopView(index_json, SliceSetOptions(), &top); !view.ok())
+    return std::fprintf(stderr, "%s\n", view.status().message().c_str()), 1;
   fs::create_directories(copy / "slices");
   for (const auto& entry : fs::directory_iterator(session))
     if (entry.is_regular_file()) fs::copy_file(entry.path(), copy / entry.path().filename(), fs::copy_options::overwrite_existing);
-  fs::copy_file(session / "slices" / "index.json", copy / "slices" / "index.json", fs::copy_options::overwrite_existing);
   for (const auto& entry : fs::directory_iterator(session / "slices"))
-    if (entry.path().extension() == ".lp")
+    if (entry.path().extension() == ".lp" || entry.path().filename() == "index.json")
       fs::copy_file(entry.path(), copy / "slices" / entry.path().filename(), fs::copy_options::overwrite_existing);
 
-  const int size = index->at("size").get<int>();
-  const Json& slices = index->at("slices");
-  const int top_board = [&] {
-    int best = 0;
-    double least = 1e9;
+  const auto board_of = [&](int id) -> const RigBoard* {
     for (const RigBoard& b : scene->boards)
-      if (b.view_incidence_deg < least) least = b.view_incidence_deg, best = b.id;
-    return best;
-  }();
-  const auto board_of = [&](int id) -> const RigBoard& {
-    for (const RigBoard& b : scene->boards)
-      if (b.id == id) return b;
-    return scene->boards.front();
+      if (b.id == id) return &b;
+    return nullptr;
   };
-  std::vector<int> failed(slices.size(), 0);
+  const std::vector<SliceIndexEntry>& slices = index->slices;
+  std::vector<std::string> errors(slices.size());
   ParallelFor(0, int(slices.size()), [&](int s) {
-    const Json& slice = slices[size_t(s)];
-    const RigBoard& board = board_of(top_region ? top_board : slice.at("board").get<int>());
-    TrueBtfRequest request;
-    request.theta_i_deg = slice.at("theta_i_deg").get<double>();
-    request.phi_i_deg = slice.at("phi_i_deg").get<double>();
-    request.theta_o_deg = slice.at("theta_o_deg").get<double>();
-    request.phi_o_deg = slice.at("phi_o_deg").get<double>();
-    request.size = size;
-    request.samples_per_axis = RigTruthSamplesPerAxis(size);
-    request.patch_m = board.patch_m;
-    request.offset_m = board.material_offset_m;
-    const fs::path file = copy / "slices" / slice.at("file").get<std::string>();
+    const SliceIndexEntry& slice = slices[size_t(s)];
+    const RigBoard* board = board_of(top_region ? top.top_board : slice.board);
+    auto info = ReadImageInfo(slice.file);  // rendered at the calibrated slice's own size
+    if (!board || !info.ok()) {
+      errors[size_t(s)] = slice.file.string() + (board ? ": " + info.status().message() : ": its board is not in truth.json");
+      return;
+    }
+    TrueBtfRequest request = TrueBtfRequestFor(slice.light, slice.view, info->width, RigTruthSamplesPerAxis(info->width));
+    request.patch_m = board->patch_m;
+    request.offset_m = board->material_offset_m;
+    const fs::path file = copy / "slices" / fs::relative(slice.file, session / "slices");
     fs::create_directories(file.parent_path());
-    const Image rendered = RenderTrueBtfSlice(*material, request, 1);
-    failed[size_t(s)] = !WriteImage(file, rendered, {.format = PixelFormat::kHalf}).ok();
+    if (Status st = WriteImage(file, RenderTrueBtfSlice(*material, request, 1), {.format = PixelFormat::kHalf}); !st.ok())
+      errors[size_t(s)] = st.message();
   });
   int failures = 0;
-  for (int f : failed) failures += f;
-  std::printf("%zu true slices of %d x %d texels written to %s (%s region)%s\n", slices.size(), size, size,
-              (copy / "slices").c_str(), top_region ? "the top board's" : "each board's own",
+  for (const std::string& error : errors)
+    if (!error.empty()) ++failures, std::fprintf(stderr, "%s\n", error.c_str());
+  std::printf("%zu true slices written to %s (%s region)%s\n", slices.size(), (copy / "slices").c_str(),
+              top_region ? "the top board's" : "each board's own",
               failures ? (", " + std::to_string(failures) + " failed").c_str() : "");
   return failures ? 1 : 0;
 }
