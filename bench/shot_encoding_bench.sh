@@ -11,7 +11,8 @@
 # and views (bench_true_session_slices). Prints, per encoding: the top board's slices' red
 # chromaticity less the true slice's (median by the light's elevation), and what `mesocap
 # evaluate` fits and scores (white lobe, body colour, pairs whose 95th-percentile saturation is off
-# by more than 15%, shares beating both baselines). About 10 minutes for 70 shots on 2 cores.
+# by more than 15%, shares beating both baselines). About 13 minutes for 70 shots on 2 cores, 6 of
+# them rendering, which a rerun with the same arguments skips.
 set -euo pipefail
 BUILD=${1:-build}
 MATERIAL=${2:?material}
@@ -67,9 +68,10 @@ for name in "${ENCODINGS[@]}" true; do
 done
 
 python3 - "$WORK" "${ENCODINGS[@]}" <<'EOF'
-import json, re, statistics, subprocess, sys
+import functools, json, re, statistics, subprocess, sys
 work, names = sys.argv[1], sys.argv[2:]
 
+@functools.lru_cache(maxsize=None)  # each true slice is compared with every encoding's
 def mean_rgb(path):
     out = subprocess.run(['oiiotool', '--stats', path], capture_output=True, text=True, check=True).stdout
     return [float(v) for v in re.search(r'Stats Avg: (\S+) (\S+) (\S+)', out).groups()]

@@ -8,7 +8,9 @@
 // (theta_i, phi_i), seen from its (theta_o, phi_o), on its board's own part of the material (the
 // rig's material_offset_m; with --top-region 1, the top board's part, as the held-out truth is)
 // at the slice's own size and the samples per texel the rig renders the patch with. The index,
-// truth.json and the session's other files are copied as they are.
+// truth.json and the session's other files are copied as they are, so evaluate also undoes the
+// session's capture blur (--capture-blur-px, from each slice's texel_px) on these true slices,
+// which have none: `evaluate --capture-blur-px 0` scores them as true slices.
 #include <cstdio>
 #include <filesystem>
 #include <string>
