@@ -47,10 +47,12 @@ int Run(int argc, char** argv) {
   if (!material.ok()) return std::fprintf(stderr, "%s\n", material.status().message().c_str()), 1;
   auto index = ReadSliceIndex(index_json);
   if (!index.ok()) return std::fprintf(stderr, "%s\n", index.status().message().c_str()), 1;
-  // The top board as evaluate picks it (the most head-on with lights enough).
+  // With --top-region, the top board as evaluate picks it (the most head-on with lights enough);
+  // only then are its slices read.
   SliceSetReport top;
-  if (auto view = LoadTopView(index_json, SliceSetOptions(), &top); !view.ok())
-    return std::fprintf(stderr, "%s\n", view.status().message().c_str()), 1;
+  if (top_region)
+    if (auto view = LoadTopView(index_json, SliceSetOptions(), &top); !view.ok())
+      return std::fprintf(stderr, "%s\n", view.status().message().c_str()), 1;
   fs::create_directories(copy / "slices");
   for (const auto& entry : fs::directory_iterator(session))
     if (entry.is_regular_file()) fs::copy_file(entry.path(), copy / entry.path().filename(), fs::copy_options::overwrite_existing);
