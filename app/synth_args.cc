@@ -26,18 +26,21 @@ void AddQuiltOptions(CLI::App* sub, SynthArgs& a) {
 }
 
 void AddTextonOptions(CLI::App* sub, SynthArgs& a) {
-  sub->add_option("--k", a.texton.k, "texton: k of the k-coherence search (Tong: 11; 1 is Ashikhmin's method)")->capture_default_str();
-  sub->add_option("--neighbourhood", a.texton.neighbourhood, "texton: N, the N x N neighbourhood at a texel's level")
+  sub->add_option("--k", a.texton.k, "texton: k of the k-coherence search (Tong: 11; 1 keeps only coherent continuations)")
       ->capture_default_str();
-  sub->add_option("--parent-neighbourhood", a.texton.parent_neighbourhood, "texton: P x P neighbourhood at the level above")
+  sub->add_option("--neighbourhood", a.texton.neighbourhood,
+                  "texton: N, the N x N neighbourhood at a texel's level, spaced 2^level texels")
       ->capture_default_str();
-  sub->add_option("--passes", a.texton.passes, "texton: resynthesis passes per level (Tong: 1)")->capture_default_str();
+  sub->add_option("--passes", a.texton.passes, "texton: correction passes per level, four sub-passes each (Lefebvre & Hoppe: 2)")
+      ->capture_default_str();
+  sub->add_option("--jitter", a.texton.jitter, "texton: upsampled coordinates move by up to this x the level's spacing")
+      ->capture_default_str();
   sub->add_option("--textons", a.texton_analysis.textons, "texton: n_t, textons at the finest level (a quarter per level above)")
       ->capture_default_str();
   sub->add_option("--representative-slices", a.texton_analysis.representative_slices,
                   "texton: n_s, slices chosen by K-means whose filter responses are clustered")
       ->capture_default_str();
-  sub->add_option("--levels", a.texton_analysis.levels, "texton: pyramid levels")->capture_default_str();
+  sub->add_option("--levels", a.texton_analysis.levels, "texton: Gaussian stack levels (0: while the sample spans 8 steps of the coarsest spacing)")->capture_default_str();
   sub->add_option("--texton-dimensions", a.texton_analysis.dimensions,
                   "texton: principal directions kept of the concatenated filter responses")
       ->capture_default_str();

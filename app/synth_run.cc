@@ -120,8 +120,7 @@ StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Js
   if (a.textons.empty() && finest.textons < ao.textons && note)
     *note = "n_t = " + std::to_string(ao.textons) + " is more than the sample's texels allow: " + std::to_string(finest.textons) +
             " textons";
-  (*report)["parameters"] = {{"k", o.k}, {"neighbourhood", o.neighbourhood}, {"parent_neighbourhood", o.parent_neighbourhood},
-                             {"passes", o.passes},
+  (*report)["parameters"] = {{"k", o.k}, {"neighbourhood", o.neighbourhood}, {"passes", o.passes}, {"jitter", o.jitter},
                              {"search", o.search == TextonSearch::kCoherence ? "k-coherence" : "full"},
                              {"filters", kFilterBankSize}, {"representative_slices", ao.representative_slices},
                              {"textons", ao.textons}, {"levels", ao.levels}, {"dimensions", ao.dimensions},
@@ -130,7 +129,7 @@ StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Js
   Json levels = Json::array();
   for (size_t l = 0; l < analysis->levels.size(); ++l) {
     const TextonLevel& level = analysis->levels[l];
-    Json entry = {{"width", level.width}, {"height", level.height}, {"textons", level.textons},
+    Json entry = {{"width", level.width}, {"height", level.height}, {"spacing", level.spacing}, {"textons", level.textons},
                   {"energy_kept", level.energy_kept}};
     if (l < r.per_level.size()) {
       const TextonLevelReport& s = r.per_level[l];

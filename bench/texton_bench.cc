@@ -39,9 +39,9 @@ int main(int argc, char** argv) {
   o.width = o.height = 512;
   TextonSynthesisReport k;
   if (!TextonSynthesis(*analysis, o, &k).ok()) return 1;
-  std::printf("k-coherence synthesis 512x512 (k 11, N %d, P %d, %d passes): %.2f s = nearest lists %.2f s + search %.2f s "
+  std::printf("k-coherence synthesis 512x512 (k 11, N %d, %d passes, jitter %.2f): %.2f s = nearest lists %.2f s + search %.2f s "
               "(target 2 s); %.1f candidates per query at the finest level\n",
-              o.neighbourhood, o.parent_neighbourhood, o.passes, k.seconds, k.seconds_neighbours, k.seconds_synthesis,
+              o.neighbourhood, o.passes, o.jitter, k.seconds, k.seconds_neighbours, k.seconds_synthesis,
               k.per_level[0].mean_candidates);
   o.audit_fraction = 0.02;
   TextonSynthesisReport audit;

@@ -232,7 +232,8 @@ void SynthFiles(const fs::path& dir) {
   analysis.representative_slices = {0, 2};
   for (int l = 0; l < 2; ++l) {
     TextonLevel level;
-    level.width = level.height = 8 >> l;
+    level.width = level.height = 8;  // a Gaussian stack: every level at the sample's size
+    level.spacing = 1 << l;
     level.textons = 4 >> l;
     for (int t = 0; t < level.width * level.height; ++t) level.labels.push_back(t % level.textons);
     level.gamma = Eigen::MatrixXd::Identity(level.textons + 1, level.textons + 1);

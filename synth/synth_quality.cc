@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
+#include <unordered_set>
 
+#include "reconstruct/quantiles.h"
 #include "reconstruct/slice_statistics.h"
 #include "synth/feature_distance.h"
 
@@ -83,6 +86,116 @@ double SubbandDistance(const Image& a, const Image& b) {
   for (int c = 0; c < std::min(sa.channels, sb.channels); ++c)
     for (int k = 0; k < sa.band_count; ++k, ++count) sum += WassersteinDistance(sa.band(c, k), sb.band(c, k));
   return count ? sum / count : 0;
+}
+
+namespace {
+
+// Channel c of `image` blurred by a normalised 5-tap binomial with taps `step` apart (mirrored
+// border): one level of an a-trous Gaussian stack.
+std::vector<float> BinomialBlur(const std::vector<float>& in, int w, int h, int step) {
+  static constexpr float kTaps[5] = {1 / 16.f, 4 / 16.f, 6 / 16.f, 4 / 16.f, 1 / 16.f};
+  auto mirror = [](int i, int n) {
+    const int period = 2 * (n - 1);
+    if (n == 1) return 0;
+    i %= period;
+    if (i < 0) i += period;
+    return i < n ? i : period - i;
+  };
+  std::vector<float> across(in.size()), out(in.size());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float v = 0;
+      for (int k = -2; k <= 2; ++k) v += kTaps[k + 2] * in[size_t(y) * w + mirror(x + k * step, w)];
+      across[size_t(y) * w + x] = v;
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float v = 0;
+      for (int k = -2; k <= 2; ++k) v += kTaps[k + 2] * across[size_t(mirror(y + k * step, h)) * w + x];
+      out[size_t(y) * w + x] = v;
+    }
+  return out;
+}
+
+// The bands of one channel: Laplacian stack levels, then the four oriented derivatives.
+std::vector<std::vector<float>> LaplacianGradientBands(const Image& image, int c, int levels) {
+  const int w = image.width(), h = image.height();
+  std::vector<float> level(image.pixel_count());
+  for (size_t i = 0; i < level.size(); ++i) level[i] = image.data()[i * image.channels() + c];
+  std::vector<std::vector<float>> bands;
+  std::vector<float> oriented[4];
+  for (auto& o : oriented) o.reserve(level.size());
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      auto at = [&](int dx, int dy) { return level[size_t(y + dy) * w + x + dx]; };
+      oriented[0].push_back(0.5f * (at(1, 0) - at(-1, 0)));
+      oriented[1].push_back(0.3535534f * (at(1, 1) - at(-1, -1)));
+      oriented[2].push_back(0.5f * (at(0, 1) - at(0, -1)));
+      oriented[3].push_back(0.3535534f * (at(-1, 1) - at(1, -1)));
+    }
+  for (int l = 0, step = 1; l < levels; ++l, step *= 2) {
+    std::vector<float> blurred = BinomialBlur(level, w, h, step);
+    std::vector<float> band(level.size());
+    for (size_t i = 0; i < band.size(); ++i) band[i] = level[i] - blurred[i];
+    bands.push_back(std::move(band));
+    level = std::move(blurred);
+  }
+  for (auto& o : oriented) bands.push_back(std::move(o));
+  return bands;
+}
+
+}  // namespace
+
+double LaplacianGradientDistance(const Image& a, const Image& b) {
+  int levels = 0;
+  for (int span = 8; span <= std::min({a.width(), a.height(), b.width(), b.height()}); span *= 2) ++levels;
+  double sum = 0;
+  int count = 0;
+  for (int c = 0; c < std::min(a.channels(), b.channels()); ++c) {
+    const auto ba = LaplacianGradientBands(a, c, levels), bb = LaplacianGradientBands(b, c, levels);
+    for (size_t k = 0; k < ba.size(); ++k, ++count)
+      sum += WassersteinDistance(InverseCdfOf(ba[k]), InverseCdfOf(bb[k]));
+  }
+  return count ? sum / count : 0;
+}
+
+MapUsage MeasureMapUsage(const SynthMap& map) {
+  MapUsage u;
+  const int W = map.width, H = map.height;
+  if (W == 0 || H == 0) return u;
+  std::vector<int32_t> source(size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Eigen::Vector2i s = map.SourceTexel(x, y);
+      source[map.index(x, y)] = s.y() * map.sample_width + s.x();
+    }
+  long repeats = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int32_t s = source[map.index(x, y)];
+      repeats += (x > 0 && source[map.index(x - 1, y)] == s) || (y > 0 && source[map.index(x, y - 1)] == s);
+    }
+  u.repeat_share = double(repeats) / (double(W) * H);
+  u.used_share = double(std::unordered_set<int32_t>(source.begin(), source.end()).size()) /
+                 (double(map.sample_width) * map.sample_height);
+  // Regions: neighbours joined where the right or lower one's source is this one's source stepped
+  // by the same offset in this texel's orientation (the seam measure's continuation).
+  std::vector<int32_t> root(source.size());
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int32_t i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int d = 0; d < 2; ++d) {
+        const int qx = x + (d == 0), qy = y + (d == 1);
+        if (qx >= W || qy >= H || !Continues(map, x, y, qx, qy, d == 0, d == 1)) continue;
+        root[find(int32_t(map.index(qx, qy)))] = find(int32_t(map.index(x, y)));
+      }
+  std::vector<long> size(source.size(), 0);
+  for (size_t i = 0; i < source.size(); ++i) u.largest_coherent_region = std::max(u.largest_coherent_region, ++size[find(int32_t(i))]);
+  return u;
 }
 
 }  // namespace mesocap

@@ -27,6 +27,22 @@ SeamMeasure MeasureSeams(const SynthMap& map, const Image& output, const Image& 
 // Patches of `patch` x `patch` texels, each from a uniformly random offset of the sample.
 SynthMap RandomTilingMap(int sample_width, int sample_height, int width, int height, int patch, uint32_t seed);
 
+// Mean 1-D Wasserstein distance between the histograms of `a`'s and `b`'s Laplacian bands (a
+// Gaussian stack's differences, spacing 1, 2, 4, ... while both images span 8 of them) and of their
+// derivatives along four orientations (0, 45, 90, 135 deg, central differences), over bands and
+// channels: a second, simpler view of the local statistics than the steerable pyramid's.
+double LaplacianGradientDistance(const Image& a, const Image& b);
+
+// How a map uses its sample (docs: the synthesis issue's "no streaks" and "per-texel" rules):
+struct MapUsage {
+  // Output texels whose source texel (floor of the map's coordinates) is that of their left or
+  // upper neighbour: one sample texel stretched across the output.
+  double repeat_share = 0;
+  double used_share = 0;           // distinct sample texels used / sample texels
+  long largest_coherent_region = 0;  // texels of the largest 4-connected region continuing one source offset
+};
+MapUsage MeasureMapUsage(const SynthMap& map);
+
 // Mean 1-D Wasserstein distance between the subband histograms (steerable pyramid, 4
 // orientations, the scales both images have) of `a` and `b`, over bands and channels.
 double SubbandDistance(const Image& a, const Image& b);

@@ -6,8 +6,6 @@
 #include <numeric>
 #include <string>
 
-#include <opencv2/imgproc.hpp>
-
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "synth/exemplar.h"
@@ -17,27 +15,77 @@
 namespace mesocap {
 namespace {
 
-constexpr int kMinLevelSide = 8;  // a coarser level would hold too few texels to cluster
+constexpr int kMinLevelSpan = 8;  // the coarsest level's spacing leaves at least this many steps a side
+constexpr int kMinTextons = 16;    // coarse levels keep at least this many textons (a quarter per level otherwise)
 
-// Gaussian pyramid level `level` of a one-channel image (OpenCV's 5-tap pyrDown per level).
-Image Reduced(Image image, int level) {
-  for (int l = 0; l < level; ++l) {
-    cv::Mat down;
-    cv::pyrDown(image.AsMat(), down, cv::Size((image.width() + 1) / 2, (image.height() + 1) / 2), cv::BORDER_REFLECT101);
-    image = Image::FromMat(down);
-  }
-  return image;
+// Stack levels for a sample: spacing 2^l, while the shorter side spans at least kMinLevelSpan
+// steps of the coarsest spacing (the finest always counts); `wanted` 0 means as many as fit.
+int UsableLevels(int width, int height, int wanted) {
+  const int side = std::min(width, height);
+  int levels = 1;
+  while ((wanted == 0 || levels < wanted) && levels < kMaxTextonLevels && side / (1 << levels) >= kMinLevelSpan) ++levels;
+  return levels;
 }
 
-// The levels whose shorter side stays at least kMinLevelSide (the finest always counts).
-int UsableLevels(int width, int height, int wanted) {
-  int levels = 1;
-  while (levels < wanted) {
-    width = (width + 1) / 2, height = (height + 1) / 2;
-    if (std::min(width, height) < kMinLevelSide) break;
-    ++levels;
-  }
-  return levels;
+// Level l of the Gaussian stack of per-texel features: every channel blurred by a Gaussian of the
+// width a pyramid reaches after l reductions (sigma^2 = (4^l - 1) / 3 of the 5-tap binomial), the
+// border mirrored. Blurring the filter responses equals filtering the blurred slices.
+Image StackLevel(const Image& features, int level, int num_threads) {
+  if (level == 0) return features;
+  const double sigma = std::sqrt((std::pow(4.0, level) - 1) / 3);
+  const int radius = int(std::ceil(3 * sigma));
+  std::vector<float> kernel(2 * radius + 1);
+  double sum = 0;
+  for (int i = -radius; i <= radius; ++i) sum += kernel[i + radius] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
+  for (float& k : kernel) k = float(k / sum);
+  const int W = features.width(), H = features.height(), C = features.channels();
+  auto mirror = [](int i, int n) {
+    if (n == 1) return 0;
+    const int period = 2 * (n - 1);
+    i %= period;
+    if (i < 0) i += period;
+    return i < n ? i : period - i;
+  };
+  Image across(W, H, C), out(W, H, C);
+  ParallelFor(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      float* o = across.pixel(x, y);
+      for (int i = -radius; i <= radius; ++i) {
+        const float* in = features.pixel(mirror(x + i, W), y);
+        for (int c = 0; c < C; ++c) o[c] += kernel[i + radius] * in[c];
+      }
+    }
+  }, num_threads);
+  ParallelFor(0, H, [&](int y) {
+    for (int i = -radius; i <= radius; ++i) {
+      const float* in = across.row(mirror(y + i, H));
+      float* o = out.row(y);
+      const float k = kernel[i + radius];
+      for (int j = 0; j < W * C; ++j) o[j] += k * in[j];
+    }
+  }, num_threads);
+  return out;
+}
+
+// The filter responses followed by the slice's own values over the texel's 3 x 3 neighbourhood
+// (mirrored at the border), times `weight`: the filters' smallest scale is sqrt(2) texels, so
+// responses alone hardly tell adjacent texels apart, and a synthesis matched on them stretches
+// single texels and loses fine grain (after Lefebvre & Hoppe 2006's appearance space, whose
+// vectors are the texel's neighbourhood).
+Image WithTexelValues(const Image& responses, const Image& slice, double weight) {
+  if (weight <= 0) return responses;
+  const int W = slice.width(), H = slice.height(), R = responses.channels();
+  Image out(W, H, R + 9);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      float* o = out.pixel(x, y);
+      std::copy_n(responses.pixel(x, y), R, o);
+      for (int j = 0; j < 9; ++j) {
+        const int xx = std::abs(x + j % 3 - 1), yy = std::abs(y + j / 3 - 1);
+        o[R + j] = float(weight) * slice.at(xx >= W ? 2 * W - 2 - xx : xx, yy >= H ? 2 * H - 2 - yy : yy);
+      }
+    }
+  return out;
 }
 
 // A slice's image appearance vector: its responses on a regular grid of about `points` texels.
@@ -89,7 +137,8 @@ StatusOr<std::vector<int>> RepresentativeSlices(int count, const std::function<S
 Status TextonAnalysisOptions::Check() const {
   if (representative_slices < 1) return Status::Error("the representative slices n_s must be at least 1");
   if (textons < 1 || textons > 65534) return Status::Error("the textons n_t must be 1..65534");
-  if (levels < 1 || levels > 8) return Status::Error("the pyramid levels must be 1..8");
+  if (levels < 0 || levels > kMaxTextonLevels)
+    return Status::Error("the stack levels must be 0..8 (0: as many as the sample holds)");
   if (grid_points < 1) return Status::Error("the grid points must be at least 1");
   if (dimensions < 1) return Status::Error("the dimensions must be at least 1");
   if (kmeans_iterations < 1) return Status::Error("the K-means iterations must be at least 1");
@@ -106,7 +155,7 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
   if (!first.ok()) return first.status();
   const int width = first->width(), height = first->height();
   if (first->channels() != 1) return Status::Error("texton analysis needs one-channel (luminance) slices");
-  auto slice_at = [&](int k, int level) -> StatusOr<Image> {
+  auto slice_at = [&](int k) -> StatusOr<Image> {
     auto s = read_luminance(k);
     if (!s.ok()) return s.status();
     if (s->width() != width || s->height() != height || s->channels() != 1)
@@ -115,38 +164,39 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
     // Each slice divided by its RMS value: every light and view weighs the same in the clustering.
     // (The filters' responses are not equalised: giving the edge filters the Gaussians' weight
     // made the syntheses' subband statistics 1.8-2.4x worse on the virtual-rig weave and stones.)
-    return Reduced(DividedByRms(std::move(*s)), level);
+    return DividedByRms(std::move(*s));
   };
 
   TextonAnalysis analysis;
   analysis.slice_count = slice_count;
   const int levels = UsableLevels(width, height, o.levels);
-  const FilterBank finest(width, height);
-  auto chosen = RepresentativeSlices(slice_count, [&](int k) { return slice_at(k, 0); }, finest, o, progress);
+  const FilterBank bank(width, height);
+  auto chosen = RepresentativeSlices(slice_count, slice_at, bank, o, progress);
   if (!chosen.ok()) return chosen.status();
   analysis.representative_slices = *chosen;
   const int ns = int(chosen->size());
 
-  int level_width = width, level_height = height;
+  // The finest level's texel vectors: the representative slices' filter responses, projected.
+  auto finest = GeometryMapsOfSlices(
+      ns, [&](int i) -> StatusOr<Image> {
+        auto s = slice_at((*chosen)[i]);
+        if (!s.ok()) return s.status();
+        return WithTexelValues(bank.Responses(*s), *s, o.texel_value_weight);
+      },
+      o.dimensions, 1, /*normalize=*/false, o.num_threads,
+      [&](int done, int total, const std::string&) { return ReportProgress(progress, done, total, "filter responses"); });
+  if (!finest.ok()) return finest.status();
+
   for (int l = 0; l < levels; ++l) {
     const std::string what = "textons, level " + std::to_string(l);
-    std::unique_ptr<FilterBank> coarse;
-    if (l > 0) coarse = std::make_unique<FilterBank>(level_width, level_height);
-    const FilterBank& bank = l > 0 ? *coarse : finest;
-    auto vectors = GeometryMapsOfSlices(
-        ns, [&](int i) -> StatusOr<Image> {
-          auto s = slice_at((*chosen)[i], l);
-          if (!s.ok()) return s.status();
-          return bank.Responses(*s);
-        },
-        o.dimensions, 1, /*normalize=*/false, o.num_threads,
-        [&](int done, int total, const std::string&) { return ReportProgress(progress, done, total, what); });
-    if (!vectors.ok()) return vectors.status();
-    const Eigen::MatrixXd points = TexelMatrix(vectors->features).cast<double>();
-    const int wanted = std::max(1, o.textons >> (2 * l));  // a quarter per coarser level (Tong §5.1)
+    Image vectors = StackLevel(finest->features, l, o.num_threads);
+    const Eigen::MatrixXd points = TexelMatrix(vectors).cast<double>();
+    // A quarter of the textons per coarser level (Tong §5.1), but no fewer than kMinTextons: a
+    // stack level keeps every texel, and its blurred structure still needs telling apart.
+    const int wanted = std::max({1, o.textons >> (2 * l), std::min(o.textons, kMinTextons)});
     const KMeansResult clusters = KMeans(points, {wanted, o.kmeans_iterations, o.seed + uint32_t(l), o.num_threads});
     TextonLevel level;
-    level.width = level_width, level.height = level_height;
+    level.width = width, level.height = height, level.spacing = 1 << l;
     level.textons = int(clusters.centres.rows());
     level.labels.assign(clusters.labels.begin(), clusters.labels.end());
     Eigen::MatrixXd with_default(level.textons + 1, points.cols());
@@ -156,11 +206,10 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
     // Exactly symmetric, and in float precision, as textons.exr stores it: a run reusing the saved
     // analysis finds the same map as the run that made it.
     level.gamma = (0.5 * (level.gamma + level.gamma.transpose())).cast<float>().cast<double>();
-    level.energy_kept = vectors->energy_kept;
+    level.energy_kept = finest->energy_kept;
     analysis.levels.push_back(std::move(level));
-    if (vocabulary) vocabulary->push_back({std::move(vectors->features), clusters.centres});
+    if (vocabulary) vocabulary->push_back({std::move(vectors), clusters.centres});
     if (!ReportProgress(progress, l + 1, levels, what)) return Status::Error("cancelled");
-    level_width = (level_width + 1) / 2, level_height = (level_height + 1) / 2;
   }
   analysis.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return analysis;
@@ -178,6 +227,7 @@ std::vector<float> TextonDistances(const TextonLevel& level) {
 namespace {
 
 constexpr const char* kQuantity = "texton analysis (Tong et al. 2002)";
+constexpr const char* kLayout = "gaussian-stack";  // every level at the sample's size
 
 std::string JoinInts(const std::vector<int>& v) {
   std::string s;
@@ -209,6 +259,8 @@ Status WriteTextonAnalysis(const std::filesystem::path& path, const TextonAnalys
     labels.options.channel_names = {"texton"};
     labels.options.attributes["mesocap:quantity"] = std::string(kQuantity);
     labels.options.attributes["mesocap:level"] = int(l);
+    labels.options.attributes["mesocap:layout"] = std::string(kLayout);
+    labels.options.attributes["mesocap:spacing"] = level.spacing;
     labels.options.attributes["mesocap:levels"] = int(a.levels.size());
     labels.options.attributes["mesocap:textons"] = level.textons;
     labels.options.attributes["mesocap:energy_kept"] = float(level.energy_kept);
@@ -241,7 +293,11 @@ StatusOr<TextonAnalysis> ReadTextonAnalysis(const std::filesystem::path& path) {
   if (!info.ok()) return info.status();
   int levels = 0;
   if (!IntAttribute(*info, "mesocap:levels", &levels)) return fail("not a texton analysis (no mesocap:levels)");
-  if (levels < 1 || levels > 8) return fail("declares " + std::to_string(levels) + " levels (1..8)");
+  if (levels < 1 || levels > kMaxTextonLevels) return fail("declares " + std::to_string(levels) + " levels (1..8)");
+  const AttributeValue* layout = Find(*info, "mesocap:layout");
+  const std::string* layout_name = layout ? std::get_if<std::string>(layout) : nullptr;
+  if (!layout_name || *layout_name != kLayout)
+    return fail("a texton pyramid from an older mesocap, not a Gaussian stack: rerun synth without --analysis to make a new one");
   TextonAnalysis a;
   IntAttribute(*info, "mesocap:slice_count", &a.slice_count);
   ImageReadOptions read;
@@ -277,8 +333,9 @@ StatusOr<TextonAnalysis> ReadTextonAnalysis(const std::filesystem::path& path) {
         if (!std::isfinite(g) || g != gamma->at(i, j)) return fail("level " + std::to_string(l) + "'s Gamma is not symmetric and finite");
         level.gamma(i, j) = g;
       }
-    if (l > 0 && (level.width != (a.levels.back().width + 1) / 2 || level.height != (a.levels.back().height + 1) / 2))
-      return fail("level " + std::to_string(l) + " is not half the size of the level above");
+    if (l > 0 && (level.width != a.levels[0].width || level.height != a.levels[0].height))
+      return fail("level " + std::to_string(l) + " is not the size of level 0");
+    level.spacing = 1 << l;
     a.levels.push_back(std::move(level));
   }
   if (const AttributeValue* v = Find(*info, "mesocap:representative_slices"))

@@ -13,9 +13,13 @@
 // is exact when n_s x 48 <= dimensions, and distances and dot products are those of the
 // projections.
 //
-// Multi-resolution synthesis needs a texton map and Gamma at every level of the sample's pyramid:
-// each level is analysed from the slices reduced by a Gaussian pyramid, with a quarter of the
-// textons of the level above.
+// Multi-resolution synthesis needs a texton map and Gamma at every level. The levels form a
+// Gaussian stack (Lefebvre & Hoppe 2005), not Tong's pyramid: level l keeps every texel of the
+// sample, its texel vectors blurred as far as l pyramid reductions would, and synthesis reads its
+// neighbourhoods with a spacing of 2^l texels. A pyramid's coarse levels offer only (side / 2^l)^2
+// source positions, so a texel-by-texel synthesis on them snaps to a coarse grid; the stack offers
+// every texel at every level. Level l has a quarter of the textons of the level above (Tong §5.1),
+// at least 16.
 #pragma once
 
 #include <cstdint>
@@ -31,21 +35,27 @@
 
 namespace mesocap {
 
+inline constexpr int kMaxTextonLevels = 8;
+
 struct TextonAnalysisOptions {
   int representative_slices = 400;  // n_s (Tong: 400); all slices when there are no more
   int textons = 400;                // n_t at the finest level (Tong: 400); a quarter per coarser level
-  int levels = 3;                   // pyramid levels (Tong: three or four)
+  int levels = 0;                   // stack levels (Tong: three or four); 0: while side / 2^l >= 8
   int grid_points = 256;            // texels on a slice's subsampling grid (its appearance vector)
   int dimensions = 64;              // principal directions kept of the concatenated responses
   int kmeans_iterations = 30;
+  // The slices' own values over each texel's 3 x 3 neighbourhood, times this, join the filter
+  // responses (0: responses only, as Tong).
+  double texel_value_weight = 1.0;
   uint32_t seed = 1;
   int num_threads = -1;
   Status Check() const;
 };
 
-// The analysis of one pyramid level.
+// The analysis of one stack level: the sample's size, its neighbourhoods spaced `spacing` texels.
 struct TextonLevel {
   int width = 0, height = 0;
+  int spacing = 1;                // 2^l
   int textons = 0;                // labels 0..textons-1 are textons; label `textons` is the default one
   std::vector<int32_t> labels;    // the 2D texton map, row-major
   Eigen::MatrixXd gamma;          // (textons + 1)^2 dot products t_i . t_j, the default texton last

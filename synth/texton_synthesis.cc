@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <numeric>
-#include <optional>
 #include <string>
+
+#include <Eigen/Eigenvalues>
 
 #include "core/parallel.h"
 #include "core/splitmix.h"
@@ -14,15 +16,17 @@
 namespace mesocap {
 namespace {
 
-constexpr int kExhaustiveTexels = 64 * 64;  // the paper's limit for exhaustive k-nearest lists
-constexpr int kParentCandidates = 100;      // m: nearest texels of the parent whose children are tried
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr int kEmbeddingDimensions = 8;  // texton coordinates per slot in the neighbourhood summary
+constexpr int kSummaryDimensions = 12;   // principal components of the summary (L&H 2006 keep 8 of theirs)
+constexpr int kRerankFactor = 4;         // summary-nearest texels re-ranked by the exact distance, per list entry
+constexpr int kListBlock = 256;          // texels whose lists are built from one matrix product
 
 struct Offset {
   int dx = 0, dy = 0;
 };
 
-// The n x n template around a texel, without the texel itself, nearest offsets first: a distance
+// The n x n template around a texel without the texel itself, nearest offsets first: a distance
 // summed in this order passes a candidate's bound sooner (near texels differ most).
 std::vector<Offset> Square(int n) {
   std::vector<Offset> v;
@@ -35,126 +39,79 @@ std::vector<Offset> Square(int n) {
   return v;
 }
 
-bool Causal(const Offset& o) { return o.dy < 0 || (o.dy == 0 && o.dx < 0); }
-
-int Wrap(int i, int n) {  // offsets are a few texels: no division
-  while (i < 0) i += n;
-  while (i >= n) i -= n;
-  return i;
+int Wrap(int i, int n) {
+  i %= n;
+  return i < 0 ? i + n : i;
 }
 
-// One pyramid level of the sample with what the search needs: per texel the labels of its
-// neighbourhood (own template, then the parent's), and the list of its nearest texels.
+// One stack level of the sample with what the search needs: per texel the labels of its
+// neighbourhood (spaced by the level's spacing, clamped at the border), the texels that may be
+// chosen, and per chosen texel the list of its most similar others.
 struct SampleLevel {
   const TextonLevel* level = nullptr;
-  const TextonLevel* parent = nullptr;  // the level above; null at the coarsest
-  std::vector<float> distances, parent_distances;
-  std::vector<Offset> own, up;  // templates
-  int slots = 0;
-  std::vector<uint16_t> vectors;   // texels x slots
-  // Texels whose whole neighbourhood (and their parent's) lies inside the sample: the only
-  // candidates. A default texton in a candidate's neighbourhood sits near every texton (it is
-  // their mean), so border texels would win matches they do not deserve; the full search then
-  // collapses onto them. (All texels when no neighbourhood fits, on a tiny sample.)
+  int spacing = 1;
+  std::vector<float> distances;  // (textons + 1)^2
+  std::vector<Offset> slots;     // the template
+  std::vector<uint16_t> vectors;  // texels x slots
+  int margin = 0;                 // candidates keep this far from every border
   std::vector<uint8_t> valid;
   std::vector<int32_t> candidates;
   int list_length = 0;
-  std::vector<int32_t> nearest;    // texels x list_length: the texel itself, then the nearest others
+  std::vector<int32_t> nearest;  // texels x list_length: the texel itself, then similar others
 
   int width() const { return level->width; }
   int height() const { return level->height; }
   int texels() const { return level->width * level->height; }
-  const uint16_t* vector(int t) const { return vectors.data() + size_t(t) * slots; }
-  const float* Row(int slot, int label) const {
-    return slot < int(own.size()) ? distances.data() + size_t(label) * (level->textons + 1)
-                                  : parent_distances.data() + size_t(label) * (parent->textons + 1);
-  }
+  int slot_count() const { return int(slots.size()); }
+  const uint16_t* vector(int t) const { return vectors.data() + size_t(t) * slots.size(); }
+  const float* Row(int label) const { return distances.data() + size_t(label) * (level->textons + 1); }
+  bool Valid(int x, int y) const { return x >= 0 && y >= 0 && x < width() && y < height() && valid[y * width() + x]; }
 };
 
-SampleLevel MakeSampleLevel(const TextonLevel& level, const TextonLevel* parent, int n, int p) {
+SampleLevel MakeSampleLevel(const TextonLevel& level, int n) {
   SampleLevel s;
   s.level = &level;
-  s.parent = parent;
+  s.spacing = level.spacing;
   s.distances = TextonDistances(level);
-  s.own = Square(n);
-  if (parent) {
-    s.parent_distances = TextonDistances(*parent);
-    s.up = Square(p);
-    s.up.insert(s.up.begin(), Offset{0, 0});  // the parent itself first
-  }
-  s.slots = int(s.own.size() + s.up.size());
-  s.vectors.resize(size_t(s.texels()) * s.slots);
-  for (int y = 0; y < level.height; ++y)
-    for (int x = 0; x < level.width; ++x) {
-      uint16_t* v = s.vectors.data() + (size_t(y) * level.width + x) * s.slots;
-      for (const Offset& o : s.own) {
-        const int xx = x + o.dx, yy = y + o.dy;
-        const bool inside = xx >= 0 && yy >= 0 && xx < level.width && yy < level.height;
-        *v++ = uint16_t(inside ? level.label(xx, yy) : level.default_texton());
-      }
-      for (const Offset& o : s.up) {
-        const int xx = x / 2 + o.dx, yy = y / 2 + o.dy;
-        const bool inside = xx >= 0 && yy >= 0 && xx < parent->width && yy < parent->height;
-        *v++ = uint16_t(inside ? parent->label(xx, yy) : parent->default_texton());
-      }
+  s.slots = Square(n);
+  const int W = level.width, H = level.height, S = s.slot_count();
+  s.vectors.resize(size_t(W) * H * S);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      uint16_t* v = s.vectors.data() + (size_t(y) * W + x) * S;
+      for (const Offset& o : s.slots)
+        *v++ = uint16_t(level.label(std::clamp(x + s.spacing * o.dx, 0, W - 1), std::clamp(y + s.spacing * o.dy, 0, H - 1)));
     }
-  s.valid.assign(size_t(s.texels()), 0);
-  for (int t = 0; t < s.texels(); ++t) {
-    const uint16_t* v = s.vector(t);
-    bool complete = true;
-    for (size_t j = 0; j < s.own.size(); ++j) complete &= v[j] != level.default_texton();
-    for (size_t j = s.own.size(); j < size_t(s.slots); ++j) complete &= v[j] != parent->default_texton();
-    if (complete) s.valid[t] = 1, s.candidates.push_back(t);
-  }
-  if (s.candidates.empty()) {
-    s.valid.assign(size_t(s.texels()), 1);
-    s.candidates.resize(size_t(s.texels()));
-    std::iota(s.candidates.begin(), s.candidates.end(), 0);
-  }
+  // Whole neighbourhoods inside the sample where that leaves half of it a side; coarse levels,
+  // whose neighbourhoods span most of a small sample, take every texel but a quarter-side rim.
+  s.margin = std::min(s.spacing * (n / 2), (std::min(W, H) - 1) / 4);
+  s.valid.assign(size_t(W) * H, 0);
+  for (int y = s.margin; y < H - s.margin; ++y)
+    for (int x = s.margin; x < W - s.margin; ++x) s.valid[y * W + x] = 1, s.candidates.push_back(y * W + x);
   return s;
 }
 
-// A neighbourhood to match: one distance-table row per slot in use (the query's label at that
-// slot), and which slot of a candidate's vector each row is read with.
+// A neighbourhood to match: one distance-table row per slot.
 struct Query {
   std::vector<const float*> rows;
-  std::vector<int> slots;
-  bool all_slots = true;  // slots are 0, 1, 2, ...: read candidates without the indirection
-  void Clear() { rows.clear(), slots.clear(), all_slots = true; }
-  void Add(const SampleLevel& s, int slot, int label) {
-    all_slots &= slot == int(slots.size());
-    rows.push_back(s.Row(slot, label)), slots.push_back(slot);
-  }
   // Sum over slots; stops once it exceeds `bound` (a candidate that cannot win).
   float Distance(const uint16_t* candidate, float bound) const {
     float d = 0;
     const size_t n = rows.size();
-    if (all_slots) {  // four independent sums per block of eight slots: no chain of dependent adds
-      size_t i = 0;
-      for (; i + 8 <= n; i += 8) {
-        const float a = rows[i][candidate[i]] + rows[i + 4][candidate[i + 4]];
-        const float b = rows[i + 1][candidate[i + 1]] + rows[i + 5][candidate[i + 5]];
-        const float c = rows[i + 2][candidate[i + 2]] + rows[i + 6][candidate[i + 6]];
-        const float e = rows[i + 3][candidate[i + 3]] + rows[i + 7][candidate[i + 7]];
-        d += (a + b) + (c + e);
-        if (d > bound) return d;
-      }
-      for (; i < n; ++i) d += rows[i][candidate[i]];
-      return d;
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {  // independent pairs: no chain of dependent adds
+      d += (rows[i][candidate[i]] + rows[i + 1][candidate[i + 1]]) + (rows[i + 2][candidate[i + 2]] + rows[i + 3][candidate[i + 3]]);
+      if (d > bound) return d;
     }
-    for (size_t i = 0; i < n; ++i) {
-      d += rows[i][candidate[slots[i]]];
-      if (d > bound) break;
-    }
+    for (; i < n; ++i) d += rows[i][candidate[i]];
     return d;
   }
 };
 
-// The query of sample texel t against other sample texels (k-nearest lists).
 Query SampleQuery(const SampleLevel& s, int t) {
   Query q;
   const uint16_t* v = s.vector(t);
-  for (int j = 0; j < s.slots; ++j) q.Add(s, j, v[j]);
+  for (int j = 0; j < s.slot_count(); ++j) q.rows.push_back(s.Row(v[j]));
   return q;
 }
 
@@ -162,7 +119,7 @@ Query SampleQuery(const SampleLevel& s, int t) {
 class Nearest {
  public:
   explicit Nearest(int size) : size_(size) {}
-  float bound() const { return heap_.empty() || int(heap_.size()) < size_ ? kInfinity : heap_.front().first; }
+  float bound() const { return int(heap_.size()) < size_ ? kInfinity : heap_.front().first; }
   void Offer(float d, int32_t t) {
     if (size_ <= 0) return;
     const std::pair<float, int32_t> item(d, t);
@@ -176,47 +133,71 @@ class Nearest {
     std::sort_heap(heap_.begin(), heap_.end());
     return heap_;
   }
+  void Clear() { heap_.clear(); }
 
  private:
   int size_;
   std::vector<std::pair<float, int32_t>> heap_;
 };
 
-// Nearest lists of every texel of `s`: exhaustive on small levels, otherwise among the children
-// of the parent's nearest texels (Tong §5.2).
-void BuildNearestLists(SampleLevel& s, const SampleLevel* coarser, int length, int num_threads) {
-  const int texels = s.texels();
-  s.list_length = std::min(length, texels);
-  s.nearest.assign(size_t(texels) * s.list_length, 0);
-  const bool exhaustive = texels <= kExhaustiveTexels || !coarser;
-  ParallelFor(0, s.height(), [&](int y) {
-    std::vector<int32_t> candidates;
-    for (int x = 0; x < s.width(); ++x) {
-      const int t = y * s.width() + x;
+// Per candidate texel, a short summary of its neighbourhood whose squared distances approximate
+// the Gamma distance: each slot's texton as coordinates from Gamma's leading eigenvectors
+// (Gamma = T T^T), concatenated over slots and reduced to their principal components.
+Eigen::MatrixXf NeighbourhoodSummaries(const SampleLevel& s) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(s.level->gamma);
+  const int n = int(s.level->gamma.rows()), e = std::min(kEmbeddingDimensions, n);
+  Eigen::MatrixXf embedding(n, e);  // the leading eigenvalues come last
+  for (int j = 0; j < e; ++j)
+    embedding.col(j) = (eigen.eigenvectors().col(n - 1 - j) * std::sqrt(std::max(0.0, eigen.eigenvalues()(n - 1 - j)))).cast<float>();
+  const int S = s.slot_count(), count = int(s.candidates.size());
+  Eigen::MatrixXf x(count, S * e);
+  for (int i = 0; i < count; ++i) {
+    const uint16_t* v = s.vector(s.candidates[i]);
+    for (int j = 0; j < S; ++j) x.block(i, j * e, 1, e) = embedding.row(v[j]);
+  }
+  x.rowwise() -= x.colwise().mean();
+  const Eigen::MatrixXf covariance = (x.transpose() * x) / float(std::max(1, count));
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXf> pca(covariance);
+  const int d = std::min(kSummaryDimensions, int(covariance.rows()));
+  return x * pca.eigenvectors().rightCols(d);
+}
+
+// The similar-texel list of every candidate texel: the texel itself, then the k - 1 nearest others
+// by the exact distance among kRerankFactor x as many nearest by summary, none within the level's
+// spacing of the texel (on a blurred level those are near copies of it).
+void BuildNearestLists(SampleLevel& s, int k, int num_threads) {
+  const int count = int(s.candidates.size());
+  s.list_length = std::max(1, std::min(k, count));
+  s.nearest.assign(size_t(s.texels()) * s.list_length, -1);
+  if (s.list_length == 1) {
+    for (int32_t t : s.candidates) s.nearest[size_t(t)] = t;
+    return;
+  }
+  const Eigen::MatrixXf y = NeighbourhoodSummaries(s);
+  const Eigen::VectorXf norms = y.rowwise().squaredNorm();
+  const int W = s.width(), blocks = (count + kListBlock - 1) / kListBlock, exclusion = std::max(2, s.spacing);
+  ParallelFor(0, blocks, [&](int b) {
+    const int begin = b * kListBlock, end = std::min(count, begin + kListBlock);
+    const Eigen::MatrixXf dots = y * y.middleRows(begin, end - begin).transpose();  // count x block
+    Nearest summary(kRerankFactor * (s.list_length - 1)), exact(s.list_length - 1);
+    for (int i = begin; i < end; ++i) {
+      const int32_t t = s.candidates[i];
+      const int tx = t % W, ty = t / W;
+      summary.Clear(), exact.Clear();
+      for (int j = 0; j < count; ++j) {
+        const float d = norms(i) + norms(j) - 2 * dots(j, i - begin);
+        if (d >= summary.bound()) continue;
+        const int32_t c = s.candidates[j];
+        if (std::abs(c % W - tx) < exclusion && std::abs(c / W - ty) < exclusion) continue;
+        summary.Offer(d, c);
+      }
+      const Query q = SampleQuery(s, t);
+      for (const auto& [d, c] : summary.Sorted()) exact.Offer(q.Distance(s.vector(c), exact.bound()), c);
       int32_t* out = s.nearest.data() + size_t(t) * s.list_length;
       out[0] = t;
-      if (s.list_length == 1) continue;
-      const Query q = SampleQuery(s, t);
-      Nearest best(s.list_length - 1);
-      candidates.clear();
-      if (exhaustive) {
-        candidates = s.candidates;
-      } else {
-        const int px = std::min(x / 2, coarser->width() - 1), py = std::min(y / 2, coarser->height() - 1);
-        const int32_t* list = coarser->nearest.data() + size_t(py * coarser->width() + px) * coarser->list_length;
-        for (int i = 0; i < coarser->list_length; ++i)
-          for (int c = 0; c < 4; ++c) {
-            const int cx = 2 * (list[i] % coarser->width()) + c % 2, cy = 2 * (list[i] / coarser->width()) + c / 2;
-            if (cx < s.width() && cy < s.height() && s.valid[cy * s.width() + cx]) candidates.push_back(cy * s.width() + cx);
-          }
-      }
-      for (int32_t c : candidates)
-        if (c != t) {
-          const float d = q.Distance(s.vector(c), best.bound());
-          best.Offer(d, c);
-        }
-      int i = 1;
-      for (const auto& [d, c] : best.Sorted()) out[i++] = c;
+      int at = 1;
+      for (const auto& [d, c] : exact.Sorted()) out[at++] = c;
+      for (; at < s.list_length; ++at) out[at] = t;  // fewer similar texels than asked: repeat the texel
     }
   }, num_threads);
 }
@@ -229,138 +210,159 @@ struct Counters {
   }
 };
 
-// The output of one level being synthesized: sample texel indices, out_w x out_h, wrapping. In a
-// banded pass, rows outside the band being worked on are read from the pass's starting state.
-struct OutputGrid {
-  std::vector<int32_t>* texels = nullptr;
-  const std::vector<int32_t>* before = nullptr;  // the pass's starting state (banded passes)
-  int width = 0, height = 0, band_begin = 0, band_end = 0;
-  int32_t At(int u, int v) const {
-    u = Wrap(u, width), v = Wrap(v, height);
-    const bool own = !before || (v >= band_begin && v < band_end);
-    return (own ? *texels : *before)[size_t(v) * width + u];
-  }
+// A level's output: sample texel indices, wrapping.
+struct Grid {
+  std::vector<int32_t> texels;
+  int width = 0, height = 0;
+  int32_t At(int u, int v) const { return texels[size_t(Wrap(v, height)) * width + Wrap(u, width)]; }
 };
 
-// One scanline sweep over some rows of a level's output: builds each texel's query, forms its
-// candidates and keeps the best.
-class Sweep {
+// Corrects single texels of a level against a fixed state of the grid (a sub-pass's start).
+class Corrector {
  public:
-  Sweep(const SampleLevel& s, const TextonSynthesisOptions& o, bool causal, uint64_t salt, Counters* counters)
-      : s_(s), o_(o), causal_(causal), salt_(salt), counters_(counters), stamp_(size_t(s.texels()), 0) {
-    for (int j = 0; j < int(s_.own.size()); ++j)
-      if (!causal || Causal(s_.own[j])) own_slots_.push_back(j);
+  Corrector(const SampleLevel& s, const TextonSynthesisOptions& o, Counters* counters)
+      : s_(s), o_(o), counters_(counters), stamp_(size_t(s.texels()), 0), coherent_weight_(float(1 - o.coherence)) {
+    query_.rows.resize(s.slots.size());
   }
 
-  // Resynthesizes texel (u, v) of `grid`; `parent` (null at the coarsest level) is the level
-  // above's output.
-  void Texel(const OutputGrid& grid, const OutputGrid* parent, int u, int v) {
-    query_.Clear();
-    for (int j : own_slots_) query_.Add(s_, j, s_.level->labels[grid.At(u + s_.own[j].dx, v + s_.own[j].dy)]);
-    if (!causal_ && parent)
-      for (size_t j = 0; j < s_.up.size(); ++j)
-        query_.Add(s_, int(s_.own.size() + j), s_.parent->labels[parent->At(u / 2 + s_.up[j].dx, v / 2 + s_.up[j].dy)]);
-    int32_t& here = (*grid.texels)[size_t(v) * grid.width + u];
-    const uint64_t draw = SplitMix64(salt_ ^ (uint64_t(v) << 32 | uint32_t(u)));
-    const float chosen = Choose(grid, u, v, draw, &here);
+  // The best sample texel for output texel (u, v) of `grid`; `draw` decides the audit.
+  int32_t Texel(const Grid& grid, int u, int v, uint64_t draw) {
+    for (int j = 0; j < s_.slot_count(); ++j)
+      query_.rows[j] = s_.Row(s_.level->labels[grid.At(u + s_.slots[j].dx, v + s_.slots[j].dy)]);
+    int32_t best_texel = grid.At(u, v);
+    const bool full = o_.search == TextonSearch::kFull;
+    const float chosen = full ? FullSearch(&best_texel) : Coherent(grid, u, v, &best_texel);
     ++counters_->queries;
     if (o_.audit_fraction > 0 && double(SplitMix64(draw) >> 11) * 0x1p-53 < o_.audit_fraction) {
       ++counters_->audited;
-      counters_->agreed += chosen <= FullSearch(nullptr) * (1 + 1e-5f) + 1e-9f;
+      const float found = full ? chosen : candidates_.empty() ? kInfinity : CandidatesBest();
+      counters_->agreed += found <= FullSearch(nullptr) * (1 + 1e-5f) + 1e-9f;
     }
+    return best_texel;
   }
 
  private:
-  // Picks the best candidate for the current query into *here; returns its distance.
-  float Choose(const OutputGrid& grid, int u, int v, uint64_t draw, int32_t* here) {
-    if (o_.search == TextonSearch::kFull) {
-      counters_->candidates += long(s_.candidates.size());
-      return FullSearch(here);
-    }
+  // k-coherence: the continuations of the 3 x 3 nearest output texels and their similar texels.
+  // A candidate that continues at least one of the 8 neighbours is coherent: it wins against one
+  // up to 1 / (1 - coherence) times closer, and among equal distances (frequent: textons quantise
+  // appearance) the candidate continuing more neighbours wins. Without that rule a texel copying
+  // its neighbour's source ties with the neighbour's continuation wherever adjacent texels share
+  // a texton, and one sample texel is stretched across the output.
+  float Coherent(const Grid& grid, int u, int v, int32_t* best_texel) {
     ++query_id_;
-    candidates_.clear();
-    auto add_coherent = [&](int dx, int dy) {
+    const int W = s_.width(), h = s_.spacing;
+    int32_t continued[9];  // per 3 x 3 neighbour (the texel itself at 4), its source continued to (u, v)
+    for (int j = 0; j < 9; ++j) {
+      const int dx = j % 3 - 1, dy = j / 3 - 1;
       const int32_t t = grid.At(u + dx, v + dy);
-      const int sx = t % s_.width() - dx, sy = t / s_.width() - dy;  // forward-shifted to (u, v)
-      if (sx < 0 || sy < 0 || sx >= s_.width() || sy >= s_.height() || !s_.valid[sy * s_.width() + sx]) return;
-      const int32_t* list = s_.nearest.data() + size_t(sy * s_.width() + sx) * s_.list_length;
-      for (int i = 0; i < std::min(o_.k, s_.list_length); ++i)
-        if (stamp_[list[i]] != query_id_) stamp_[list[i]] = query_id_, candidates_.push_back(list[i]);
-    };
-    // The texel's own source first: usually close, so the others' sums stop early against it.
-    if (!causal_) add_coherent(0, 0);
-    for (int j : own_slots_) add_coherent(s_.own[j].dx, s_.own[j].dy);
-    counters_->candidates += long(candidates_.size());
-    if (candidates_.empty()) {  // every neighbour's continuation leaves the sample
-      if (causal_) *here = s_.candidates[draw % s_.candidates.size()];
-      return query_.Distance(s_.vector(*here), kInfinity);
+      const int sx = t % W - h * dx, sy = t / W - h * dy;
+      continued[j] = s_.Valid(sx, sy) ? sy * W + sx : -1;
     }
+    auto support = [&](int32_t c) {
+      int n = 0;
+      for (int j = 0; j < 9; ++j) n += j != 4 && continued[j] == c;
+      return n;
+    };
+    candidates_.clear();
+    for (int j = 0; j < 9; ++j) {
+      if (continued[j] < 0) continue;
+      const int32_t* list = s_.nearest.data() + size_t(continued[j]) * s_.list_length;
+      for (int i = 0; i < s_.list_length; ++i)
+        if (stamp_[list[i]] != query_id_) stamp_[list[i]] = query_id_, candidates_.push_back(list[i]);
+    }
+    counters_->candidates += long(candidates_.size());
+    if (candidates_.empty()) return query_.Distance(s_.vector(*best_texel), kInfinity);  // nothing continues: keep it
     float best = kInfinity;
+    int best_support = -1;
     for (int32_t c : candidates_) {
-      const float d = query_.Distance(s_.vector(c), best);
-      if (d < best) best = d, *here = c;
+      const int n = support(c);
+      const float weight = n > 0 ? coherent_weight_ : 1.f;
+      const float d = weight * query_.Distance(s_.vector(c), best / weight);
+      if (d < best || (d == best && n > best_support)) best = d, best_support = n, *best_texel = c;
     }
     return best;
   }
 
-  // The best of every sample texel (lowest index on ties) into *here if given; its distance.
-  float FullSearch(int32_t* here) const {
+  // The least distance among the last query's candidates, unweighted: what the audit compares
+  // with the full search (the search's quality, apart from the coherence bias).
+  float CandidatesBest() const {
+    float best = kInfinity;
+    for (int32_t c : candidates_) best = std::min(best, query_.Distance(s_.vector(c), best));
+    return best;
+  }
+
+  // The best of every candidate texel (lowest index on ties) into *best_texel if given.
+  float FullSearch(int32_t* best_texel) const {
     float best = kInfinity;
     int32_t best_t = 0;
     for (int32_t t : s_.candidates) {
       const float d = query_.Distance(s_.vector(t), best);
       if (d < best) best = d, best_t = t;
     }
-    if (here) *here = best_t;
+    if (best_texel) *best_texel = best_t;
     return best;
   }
 
   const SampleLevel& s_;
   const TextonSynthesisOptions& o_;
-  bool causal_;
-  uint64_t salt_;
   Counters* counters_;
-  std::vector<int> own_slots_;
   Query query_;
   std::vector<int32_t> candidates_;
   std::vector<uint32_t> stamp_;
   uint32_t query_id_ = 0;
+  float coherent_weight_;
 };
 
-constexpr int kBandRows = 32;  // rows a worker sweeps in a resynthesis pass (fixed: same result for any thread count)
-
-// The coarsest level's causal pass, in one scanline sweep: each texel sees the ones before it.
-bool CausalPass(const SampleLevel& s, const TextonSynthesisOptions& o, uint64_t salt, std::vector<int32_t>& out, int w,
-                int h, Counters* counters, const ProgressFn& progress, const std::string& what) {
-  Sweep sweep(s, o, true, salt, counters);
-  const OutputGrid grid{&out, nullptr, w, h, 0, h};
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) sweep.Texel(grid, nullptr, u, v);
-    if (!ReportProgress(progress, v + 1, h, what)) return false;
-  }
-  return true;
+// Random candidate texels: the coarsest level's start.
+Grid RandomGrid(const SampleLevel& s, int width, int height, uint64_t salt) {
+  Grid g{std::vector<int32_t>(size_t(width) * height), width, height};
+  for (size_t i = 0; i < g.texels.size(); ++i) g.texels[i] = s.candidates[SplitMix64(salt + i) % s.candidates.size()];
+  return g;
 }
 
-// A resynthesis pass with full neighbourhoods, in bands of rows swept in parallel; a band reads
-// the rows of other bands as they were when the pass began.
-bool ResynthesisPass(const SampleLevel& s, const TextonSynthesisOptions& o, uint64_t salt, std::vector<int32_t>& out, int w,
-                     int h, const OutputGrid* parent, Counters* counters, const ProgressFn& progress, const std::string& what) {
-  const std::vector<int32_t> before = out;
-  const int bands = (h + kBandRows - 1) / kBandRows;
-  std::vector<Counters> band_counters(bands);
-  std::atomic<int> rows_done{0};
-  std::atomic<bool> cancelled{false};
-  ParallelFor(0, bands, [&](int b) {
-    if (cancelled) return;
-    const OutputGrid grid{&out, &before, w, h, b * kBandRows, std::min(h, (b + 1) * kBandRows)};
-    Sweep sweep(s, o, false, salt, &band_counters[b]);
-    for (int v = grid.band_begin; v < grid.band_end; ++v) {
-      for (int u = 0; u < w; ++u) sweep.Texel(grid, parent, u, v);
-      if (!ReportProgress(progress, ++rows_done, h, what)) cancelled = true;
+// L&H §3.2: each texel of the level above spawns four whose coordinates continue it by the
+// level's spacing, each then jittered (a uniform draw of up to jitter x spacing per axis) and kept
+// inside the level's candidate region.
+Grid Upsampled(const Grid& above, const SampleLevel& s, int width, int height, double jitter, uint64_t salt) {
+  Grid g{std::vector<int32_t>(size_t(width) * height), width, height};
+  const int W = s.width(), H = s.height(), h = s.spacing, reach = int(std::floor(jitter * h));
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const int32_t p = above.texels[size_t(v / 2) * above.width + u / 2];
+      int x = p % W + h * (u % 2), y = p / W + h * (v % 2);
+      if (reach > 0) {
+        const uint64_t r = SplitMix64(salt ^ (uint64_t(v) << 32 | uint32_t(u)));
+        x += int(r % uint64_t(2 * reach + 1)) - reach;
+        y += int((r >> 32) % uint64_t(2 * reach + 1)) - reach;
+      }
+      x = std::clamp(x, s.margin, W - 1 - s.margin), y = std::clamp(y, s.margin, H - 1 - s.margin);
+      g.texels[size_t(v) * width + u] = y * W + x;
     }
-  }, o.num_threads);
-  for (const Counters& c : band_counters) *counters += c;
-  return !cancelled;
+  return g;
+}
+
+constexpr int kSubpassOrder[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};  // (x, y) parities, diagonal pairs first
+
+// One correction pass (L&H §3.4): four sub-passes, each correcting one interleaved class of texels
+// against the state the sub-pass began with (so rows run in parallel with the same result).
+bool CorrectionPass(const SampleLevel& s, const TextonSynthesisOptions& o, uint64_t salt, Grid& grid, Counters* counters,
+                    const ProgressFn& progress, long* done, long total, const std::string& what) {
+  for (const auto& parity : kSubpassOrder) {
+    const Grid before = grid;
+    const int rows = (grid.height - parity[1] + 1) / 2;
+    std::vector<Counters> row_counters(std::max(0, rows));
+    ParallelFor(0, rows, [&](int r) {
+      const int v = 2 * r + parity[1];
+      Corrector corrector(s, o, &row_counters[r]);
+      for (int u = parity[0]; u < grid.width; u += 2)
+        grid.texels[size_t(v) * grid.width + u] =
+            corrector.Texel(before, u, v, SplitMix64(salt ^ (uint64_t(v) << 32 | uint32_t(u))));
+    }, o.num_threads);
+    for (const Counters& c : row_counters) *counters += c;
+    *done += rows;
+    if (!ReportProgress(progress, int(std::min<long>(*done, total)), int(total), what)) return false;
+  }
+  return true;
 }
 
 // Patch ids: texels joined to their right and lower neighbours when those continue the same
@@ -396,10 +398,10 @@ Status TextonSynthesisOptions::Check() const {
   if (k < 1 || k > 64) return Status::Error("k must be 1..64");
   if (neighbourhood < 3 || neighbourhood % 2 == 0 || neighbourhood > 15)
     return Status::Error("the neighbourhood must be odd, 3..15");
-  if (parent_neighbourhood < 1 || parent_neighbourhood % 2 == 0 || parent_neighbourhood > 15)
-    return Status::Error("the parent neighbourhood must be odd, 1..15");
   if (levels < 0) return Status::Error("the levels must be at least 0 (0: all)");
   if (passes < 0 || passes > 16) return Status::Error("the passes must be 0..16");
+  if (!(coherence >= 0 && coherence < 1)) return Status::Error("the coherence must be 0..1 (1 excluded)");
+  if (!(jitter >= 0 && jitter <= 4)) return Status::Error("the jitter must be 0..4 (times the level's spacing)");
   if (!(audit_fraction >= 0 && audit_fraction <= 1)) return Status::Error("the audit fraction must be 0..1");
   return Status::Ok();
 }
@@ -422,63 +424,43 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
   MESOCAP_RETURN_IF_ERROR(o.Check(analysis));
   const auto start = std::chrono::steady_clock::now();
   const int levels = o.levels > 0 ? std::min<int>(o.levels, int(analysis.levels.size())) : int(analysis.levels.size());
-  // Output sizes per level, halving (rounded up) like the sample's pyramid.
+  // Output sizes per level, halving (rounded up): level l's texels stand 2^l output texels apart.
   std::vector<int> out_w(levels), out_h(levels);
   out_w[0] = o.width, out_h[0] = o.height;
   for (int l = 1; l < levels; ++l) out_w[l] = (out_w[l - 1] + 1) / 2, out_h[l] = (out_h[l - 1] + 1) / 2;
 
   std::vector<SampleLevel> samples(levels);
-  for (int l = levels - 1; l >= 0; --l) {
-    const TextonLevel* parent = l + 1 < levels ? &analysis.levels[l + 1] : nullptr;
-    samples[l] = MakeSampleLevel(analysis.levels[l], parent, o.neighbourhood, o.parent_neighbourhood);
-    if (o.search == TextonSearch::kCoherence)
-      BuildNearestLists(samples[l], l + 1 < levels ? &samples[l + 1] : nullptr, l == 0 ? o.k : std::max(o.k, kParentCandidates),
-                        o.num_threads);
+  for (int l = 0; l < levels; ++l) {
+    samples[l] = MakeSampleLevel(analysis.levels[l], o.neighbourhood);
+    if (o.search == TextonSearch::kCoherence) BuildNearestLists(samples[l], o.k, o.num_threads);
   }
   const auto lists_done = std::chrono::steady_clock::now();
 
+  long total_rows = 0;
+  for (int l = 0; l < levels; ++l) total_rows += long(o.passes) * 2 * out_h[l];
+  long rows_done = 0;
   std::vector<Counters> per_level(levels);
-  std::vector<std::vector<int32_t>> out(levels);
   const int top = levels - 1;
-  out[top].resize(size_t(out_w[top]) * out_h[top]);
-  const std::vector<int32_t>& starts = samples[top].candidates;
-  for (size_t i = 0; i < out[top].size(); ++i) out[top][i] = starts[SplitMix64(SplitMix64(o.seed) + i) % starts.size()];
+  auto salt = [&](int l, int pass) { return SplitMix64(SplitMix64(o.seed) ^ (uint64_t(l) << 8 | uint64_t(pass))); };
+  Grid grid = RandomGrid(samples[top], out_w[top], out_h[top], salt(top, 0));
   for (int l = top; l >= 0; --l) {
     const SampleLevel& s = samples[l];
-    const std::string what = "level " + std::to_string(l);
-    auto salt = [&](int pass) { return SplitMix64(SplitMix64(o.seed) ^ (uint64_t(l) << 8 | uint64_t(pass))); };
-    if (l == top) {
-      if (!CausalPass(s, o, salt(0), out[l], out_w[l], out_h[l], &per_level[l], progress, what))
-        return Status::Error("cancelled");
-    } else {  // every texel continues its parent's source
-      out[l].resize(size_t(out_w[l]) * out_h[l]);
-      const SampleLevel& up = samples[l + 1];
-      for (int v = 0; v < out_h[l]; ++v)
-        for (int u = 0; u < out_w[l]; ++u) {
-          const int32_t p = out[l + 1][size_t(v / 2) * out_w[l + 1] + u / 2];
-          const int sx = std::min(2 * (p % up.width()) + u % 2, s.width() - 1);
-          const int sy = std::min(2 * (p / up.width()) + v % 2, s.height() - 1);
-          out[l][size_t(v) * out_w[l] + u] = sy * s.width() + sx;
-        }
-    }
-    // Resynthesis with full neighbourhoods; the counters keep the last pass, whose choices are the
-    // level's output.
-    std::optional<OutputGrid> parent;
-    if (l < top) parent = OutputGrid{&out[l + 1], nullptr, out_w[l + 1], out_h[l + 1], 0, out_h[l + 1]};
+    if (l < top) grid = Upsampled(grid, s, out_w[l], out_h[l], o.jitter, salt(l, 0));
+    // The counters keep the last pass, whose choices are the level's output.
     for (int pass = 1; pass <= o.passes; ++pass) {
       per_level[l] = Counters();
-      if (!ResynthesisPass(s, o, salt(pass), out[l], out_w[l], out_h[l], parent ? &*parent : nullptr, &per_level[l], progress,
-                           what))
+      if (!CorrectionPass(s, o, salt(l, pass), grid, &per_level[l], progress, &rows_done, total_rows,
+                          "level " + std::to_string(l)))
         return Status::Error("cancelled");
     }
   }
 
   const SampleLevel& finest = samples[0];
   SynthMap map(o.width, o.height, finest.width(), finest.height(), "texton");
-  const std::vector<int32_t> patch = CoherentPatches(out[0], o.width, o.height, finest.width());
+  const std::vector<int32_t> patch = CoherentPatches(grid.texels, o.width, o.height, finest.width());
   for (int y = 0; y < o.height; ++y)
     for (int x = 0; x < o.width; ++x) {
-      const int32_t t = out[0][size_t(y) * o.width + x];
+      const int32_t t = grid.texels[size_t(y) * o.width + x];
       map.Set(x, y, float(t % finest.width()) + 0.5f, float(t / finest.width()) + 0.5f, 0.f, patch[size_t(y) * o.width + x]);
     }
   if (report) {

