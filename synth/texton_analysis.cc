@@ -81,8 +81,9 @@ Image WithTexelValues(const Image& responses, const Image& slice, double weight)
       float* o = out.pixel(x, y);
       std::copy_n(responses.pixel(x, y), R, o);
       for (int j = 0; j < 9; ++j) {
-        const int xx = std::abs(x + j % 3 - 1), yy = std::abs(y + j / 3 - 1);
-        o[R + j] = float(weight) * slice.at(xx >= W ? 2 * W - 2 - xx : xx, yy >= H ? 2 * H - 2 - yy : yy);
+        const int xx = std::abs(x + j % 3 - 1), yy = std::abs(y + j / 3 - 1);  // mirrored; clamped on a 1-texel side
+        o[R + j] = float(weight) * slice.at(std::clamp(xx >= W ? 2 * W - 2 - xx : xx, 0, W - 1),
+                                            std::clamp(yy >= H ? 2 * H - 2 - yy : yy, 0, H - 1));
       }
     }
   return out;
