@@ -56,7 +56,10 @@ CLI::App* AddSynthOptions(CLI::App& app, SynthArgs* args) {
   CLI::App* sub = app.add_subcommand(
       "synth", "Enlarge a material: a texture-coordinate map by the BTF roller, graphcut quilting, block synthesis (ptm-block) "
                "or 3D textons with k-coherence search (texton)");
-  sub->add_option("--method", args->method, "roller, quilt, ptm-block or texton")->capture_default_str();
+  sub->add_option("--method", args->method,
+                  "roller (periodic materials: weaves, knits, tiles; it repeats one tile set), quilt, ptm-block or texton "
+                  "(any material)")
+      ->capture_default_str();
   AddCommonOptions(sub, *args, true);
   AddQuiltOptions(sub, *args);
   sub->add_option("--tiles", args->roller.tiles, "Roller: tiles with identical borders")->capture_default_str();

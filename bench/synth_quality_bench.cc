@@ -61,6 +61,14 @@ Scores Measure(const SynthMap& map, const Image& sample) {
 StatusOr<SynthMap> Synthesize(const std::string& method, const Image& sample, const TextonAnalysis* textons, const Args& a,
                               uint32_t seed) {
   if (method == "random") return RandomTilingMap(sample.width(), sample.height(), a.size, a.size, 24, seed);
+  if (method == "centre") {  // TEMP: random tiling from the central region only
+    const int m = sample.width() / 6;
+    SynthMap map = RandomTilingMap(sample.width() - 2 * m, sample.height() - 2 * m, a.size, a.size, 24, seed);
+    map.sample_width = sample.width(), map.sample_height = sample.height();
+    for (auto& x : map.source_x) x += m;
+    for (auto& y : map.source_y) y += m;
+    return map;
+  }
   if (method == "quilt") {
     QuiltOptions o;
     o.width = o.height = a.size;

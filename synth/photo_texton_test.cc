@@ -5,8 +5,9 @@
 // sample), seams, and the subband statistics against random tiling of 24 x 24 patches.
 //
 // Where the method falls short of the targets the bounds below are what it reaches, kept
-// as regression guards and listed in README.md's synthesis section: repeats 2.5-3.8% (target 2%),
-// subband statistics up to 2.1x random tiling's on these textures (target 1x).
+// as regression guards and listed in README.md's synthesis section: brick's seams 1.41 (target
+// 1.2), subband statistics up to 2.6x random tiling's (target 1x; paving, reptile and crackle are
+// within 0.66-1.0x, with up to 10% for the seeds' spread on paving and crackle).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -36,40 +37,46 @@ Image Crop(const std::string& name) {
 
 struct PhotoCase {
   std::string texture;
+  double max_seam_ratio;     // target 1.2 (see the file comment)
   double max_subband_ratio;  // against random tiling (target 1; see the file comment)
 };
 
 class TextonOnPhotographs : public ::testing::TestWithParam<PhotoCase> {};
 
+// Over three seeds: every map's usage within bounds; seams and statistics as the seeds' mean (one
+// seed's swings by several percent either way).
 TEST_P(TextonOnPhotographs, NoStreaksPerTexelSeamsAndStatistics) {
   const Image sample = Crop(GetParam().texture);
   const Exemplar e = ImageExemplar(sample);
   auto analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, {});
   ASSERT_TRUE(analysis.ok()) << analysis.status().message();
-  TextonSynthesisOptions o;
-  o.width = o.height = kOutput;
-  o.seed = testing::SeedFromTestName();
-  auto map = TextonSynthesis(*analysis, o, nullptr);
-  ASSERT_TRUE(map.ok()) << map.status().message();
-
-  const MapUsage usage = MeasureMapUsage(*map);
-  EXPECT_LE(usage.repeat_share, 0.045) << "texels copying their left or upper neighbour's source";
-  EXPECT_GE(usage.used_share, 0.5) << "share of the sample's texels used";
-  EXPECT_LE(usage.largest_coherent_region, kCrop * kCrop / 4) << "a block copied whole";
-
-  const Image out = ApplyMapToImage(*map, sample);
-  EXPECT_LE(MeasureSeams(*map, out, sample).ratio(), 1.2);
-  double random_subband = 0;
-  for (uint32_t s = 1; s <= 3; ++s)
-    random_subband += SubbandDistance(ApplyMapToImage(RandomTilingMap(kCrop, kCrop, kOutput, kOutput, kRandomTile, o.seed + s), sample),
-                                      sample) / 3;
-  EXPECT_LE(SubbandDistance(out, sample), GetParam().max_subband_ratio * random_subband);
+  constexpr int kSeeds = 3;
+  double seams = 0, subband = 0, random_subband = 0;
+  for (int s = 0; s < kSeeds; ++s) {
+    TextonSynthesisOptions o;
+    o.width = o.height = kOutput;
+    o.seed = testing::SeedFromTestName() + uint32_t(s);
+    auto map = TextonSynthesis(*analysis, o, nullptr);
+    ASSERT_TRUE(map.ok()) << map.status().message();
+    const MapUsage usage = MeasureMapUsage(*map);
+    EXPECT_LE(usage.repeat_share, 0.02) << "texels copying their left or upper neighbour's source, seed " << o.seed;
+    EXPECT_GE(usage.used_share, 0.5) << "share of the sample's texels used, seed " << o.seed;
+    EXPECT_LE(usage.largest_coherent_region, kCrop * kCrop / 4) << "a block copied whole, seed " << o.seed;
+    const Image out = ApplyMapToImage(*map, sample);
+    seams += MeasureSeams(*map, out, sample).ratio() / kSeeds;
+    subband += SubbandDistance(out, sample) / kSeeds;
+    const SynthMap random = RandomTilingMap(kCrop, kCrop, kOutput, kOutput, kRandomTile, o.seed);
+    random_subband += SubbandDistance(ApplyMapToImage(random, sample), sample) / kSeeds;
+  }
+  EXPECT_LE(seams, GetParam().max_seam_ratio);
+  EXPECT_LE(subband, GetParam().max_subband_ratio * random_subband) << subband / random_subband << "x random tiling's";
 }
 
 // Structured (brick, paving, reptile, crackle), directional (bark) and large-scale (leaves).
 INSTANTIATE_TEST_SUITE_P(Corpus, TextonOnPhotographs,
-                         ::testing::Values(PhotoCase{"brick", 2.5}, PhotoCase{"paving", 2.5}, PhotoCase{"reptile", 1.0},
-                                           PhotoCase{"crackle", 1.7}, PhotoCase{"bark", 2.0}, PhotoCase{"leaves", 1.7}),
+                         ::testing::Values(PhotoCase{"brick", 1.5, 3.0}, PhotoCase{"paving", 1.2, 1.1},
+                                           PhotoCase{"reptile", 1.2, 1.0}, PhotoCase{"crackle", 1.2, 1.1},
+                                           PhotoCase{"bark", 1.2, 2.4}, PhotoCase{"leaves", 1.2, 2.3}),
                          [](const auto& info) { return info.param.texture; });
 
 }  // namespace

@@ -13,7 +13,8 @@
 //   same pass. A texel's query is the N x N neighbourhood of labels at its neighbours'
 //   coordinates; a candidate sample texel's is the labels at its own coordinate plus h x the
 //   offset. Candidates: for each of the 3 x 3 nearest output neighbours, the sample texel that
-//   continues its coordinate, and that texel's k - 1 most similar sample texels (k-coherence).
+//   continues its coordinate, and that texel's k - 1 most similar sample texels (k-coherence); a
+//   candidate continuing neighbours is favoured (`coherence`).
 // Why: Tong's pyramid with scanline passes smeared structured photographs (a brick wall) into
 // horizontal streaks: a pyramid level of a 96-texel sample holds 24 x 24 positions, and scanline
 // order lets one choice propagate along a row. The stack keeps every sample position at every
@@ -22,8 +23,9 @@
 // - Similar-texel lists exclude texels within h of the texel itself (they are near copies on a
 //   blurred level and would only repeat it) and are ranked by the exact Gamma distance among the
 //   nearest by a principal-component summary of the neighbourhoods.
-// - Candidates are sample texels whose neighbourhood at the level lies inside the sample, where
-//   that leaves at least half the sample a side; coarse levels read beyond the border clamped.
+// - Every sample texel is a candidate; a neighbourhood slot beyond the sample costs half the
+//   typical distance between two sample texels (see kOutsideCost), so the output draws on the
+//   whole sample, borders included.
 // - The output wraps around, so the result tiles; each sub-pass reads the state at its start, so
 //   the map is the same for any thread count.
 #pragma once

@@ -189,7 +189,7 @@ INSTANTIATE_TEST_SUITE_P(Materials, KCoherence, ::testing::Values("weave", "ston
 // The texels of the last sub-pass (even x, odd y) are final when the map is returned, and so are
 // their 3 x 3 neighbours (the other three classes): with k = 1 each such texel continues the
 // source of one of those neighbours, shifted by its offset, wherever one of them continues inside
-// the candidate region.
+// the sample to a texel that is not a neighbour's own source (never chosen: it would be a streak).
 TEST(KCoherence, OneContinuesANeighboursSource) {
   const TextonAnalysis a = SmallAnalysis("stones");
   TextonSynthesisOptions o;
@@ -200,21 +200,24 @@ TEST(KCoherence, OneContinuesANeighboursSource) {
   o.seed = testing::SeedFromTestName();
   auto map = TextonSynthesis(a, o, nullptr);
   ASSERT_TRUE(map.ok()) << map.status().message();
-  const int margin = o.neighbourhood / 2, sw = map->sample_width, sh = map->sample_height;
+  const int sw = map->sample_width, sh = map->sample_height;
+  auto source = [&](int x, int y) { return map->SourceTexel((x + map->width) % map->width, (y + map->height) % map->height); };
   int checked = 0;
   for (int y = 1; y < map->height; y += 2)
     for (int x = 0; x < map->width; x += 2) {
-      const Eigen::Vector2i s = map->SourceTexel(x, y);
-      bool continues = false, any_inside = false;
+      const Eigen::Vector2i s = source(x, y);
+      bool continues = false, any = false;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const Eigen::Vector2i c =
-              map->SourceTexel((x + dx + map->width) % map->width, (y + dy + map->height) % map->height) - Eigen::Vector2i(dx, dy);
-          if (c.x() < margin || c.y() < margin || c.x() >= sw - margin || c.y() >= sh - margin) continue;
-          any_inside = true;
+          const Eigen::Vector2i c = source(x + dx, y + dy) - Eigen::Vector2i(dx, dy);
+          if (c.x() < 0 || c.y() < 0 || c.x() >= sw || c.y() >= sh) continue;
+          bool beside = false;
+          for (int j = 0; j < 9; ++j) beside |= j != 4 && source(x + j % 3 - 1, y + j / 3 - 1) == c;
+          if (beside) continue;
+          any = true;
           continues |= c == s;
         }
-      if (!any_inside) continue;
+      if (!any) continue;
       ++checked;
       EXPECT_TRUE(continues) << "texel " << x << "," << y;
     }
@@ -222,9 +225,10 @@ TEST(KCoherence, OneContinuesANeighboursSource) {
 }
 
 // The full search against a brute-force reference written here: for every texel of the last
-// sub-pass, the sum of Gamma distances over its final neighbourhood, minimised over every sample
-// texel whose neighbourhood lies inside, equals the chosen texel's. (A 3 x 3 neighbourhood holds
-// only texels of the other three classes, final when the map is returned.)
+// sub-pass, the sum of Gamma distances over its final neighbourhood (a slot beyond the sample
+// costing half the mean distance between two of the sample's texels), minimised over every sample
+// texel but its neighbours' sources, equals the chosen texel's. (A 3 x 3 neighbourhood holds only
+// texels of the other three classes, final when the map is returned.)
 TEST(KCoherence, FullSearchFindsTheBruteForceMinimum) {
   const TextonAnalysis a = SmallAnalysis("weave");
   TextonSynthesisOptions o;
@@ -238,24 +242,37 @@ TEST(KCoherence, FullSearchFindsTheBruteForceMinimum) {
   ASSERT_TRUE(map.ok()) << map.status().message();
   const TextonLevel& level = a.levels[0];
   const std::vector<float> table = TextonDistances(level);
-  const int n = level.textons + 1, half = o.neighbourhood / 2;
-  auto label = [&](const Eigen::Vector2i& s) { return level.label(s.x(), s.y()); };
-  auto distance = [&](int x, int y, const Eigen::Vector2i& c) {
+  const int n = level.textons + 1, texels = level.width * level.height;
+  double outside = 0;  // half the mean distance over pairs of texels
+  std::vector<double> count(n, 0);
+  for (int32_t l : level.labels) ++count[l];
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) outside += count[i] * count[j] * table[size_t(i) * n + j];
+  outside *= 0.5 / (double(texels) * texels);
+  auto source = [&](int x, int y) { return map->SourceTexel((x + o.width) % o.width, (y + o.height) % o.height); };
+  auto distance = [&](int x, int y, int cx, int cy) {
     double d = 0;
-    for (int dy = -half; dy <= half; ++dy)
-      for (int dx = -half; dx <= half; ++dx) {
-        if (!dx && !dy) continue;
-        const int q = label(map->SourceTexel((x + dx + o.width) % o.width, (y + dy + o.height) % o.height));
-        d += table[size_t(q) * n + level.label(c.x() + dx, c.y() + dy)];
-      }
+    for (int j = 0; j < 9; ++j) {
+      const int dx = j % 3 - 1, dy = j / 3 - 1;
+      if (j == 4) continue;
+      const Eigen::Vector2i q = source(x + dx, y + dy);
+      const int ex = cx + dx, ey = cy + dy;
+      const bool inside = ex >= 0 && ey >= 0 && ex < level.width && ey < level.height;
+      d += inside ? table[size_t(level.label(q.x(), q.y())) * n + level.label(ex, ey)] : outside;
+    }
     return d;
   };
   for (int y = 1; y < o.height; y += 2)
     for (int x = 0; x < o.width; x += 2) {
       double best = 1e300;
-      for (int cy = half; cy < level.height - half; ++cy)
-        for (int cx = half; cx < level.width - half; ++cx) best = std::min(best, distance(x, y, {cx, cy}));
-      EXPECT_NEAR(distance(x, y, map->SourceTexel(x, y)), best, 1e-4 * (1 + best)) << "texel " << x << "," << y;
+      for (int cy = 0; cy < level.height; ++cy)
+        for (int cx = 0; cx < level.width; ++cx) {
+          bool beside = false;
+          for (int j = 0; j < 9; ++j) beside |= j != 4 && source(x + j % 3 - 1, y + j / 3 - 1) == Eigen::Vector2i(cx, cy);
+          if (!beside) best = std::min(best, distance(x, y, cx, cy));
+        }
+      const Eigen::Vector2i chosen = source(x, y);
+      EXPECT_NEAR(distance(x, y, chosen.x(), chosen.y()), best, 1e-4 * (1 + best)) << "texel " << x << "," << y;
     }
 }
 
