@@ -13,6 +13,7 @@
 //                            [--seeds 3] [--sheet OUT.png|.jpg] [--peer resynth_fill_serial]
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
+//                            [--randomness 0] [--patch-radius 0]   (quilt)
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -40,6 +41,7 @@ struct Args {
   int crop = 96, size = 256, seeds = 3;
   TextonSynthesisOptions texton;
   TextonAnalysisOptions analysis;
+  QuiltOptions quilt;
 };
 
 struct Scores {
@@ -61,16 +63,8 @@ Scores Measure(const SynthMap& map, const Image& sample) {
 StatusOr<SynthMap> Synthesize(const std::string& method, const Image& sample, const TextonAnalysis* textons, const Args& a,
                               uint32_t seed) {
   if (method == "random") return RandomTilingMap(sample.width(), sample.height(), a.size, a.size, 24, seed);
-  if (method == "centre") {  // TEMP: random tiling from the central region only
-    const int m = sample.width() / 6;
-    SynthMap map = RandomTilingMap(sample.width() - 2 * m, sample.height() - 2 * m, a.size, a.size, 24, seed);
-    map.sample_width = sample.width(), map.sample_height = sample.height();
-    for (auto& x : map.source_x) x += m;
-    for (auto& y : map.source_y) y += m;
-    return map;
-  }
   if (method == "quilt") {
-    QuiltOptions o;
+    QuiltOptions o = a.quilt;
     o.width = o.height = a.size;
     o.seed = seed;
     QuiltReport r;
@@ -121,6 +115,8 @@ int main(int argc, char** argv) {
     else if (arg == "--methods") a.methods = next();
     else if (arg == "--sheet") a.sheet = next();
     else if (arg == "--peer") a.peer = next();
+    else if (arg == "--randomness") a.quilt.randomness = std::atof(next().c_str());
+    else if (arg == "--patch-radius") a.quilt.patch_radius = std::atoi(next().c_str());
     else if (arg == "--k") a.texton.k = std::atoi(next().c_str());
     else if (arg == "--jitter") a.texton.jitter = std::atof(next().c_str());
     else if (arg == "--coherence") a.texton.coherence = std::atof(next().c_str());

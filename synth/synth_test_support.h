@@ -31,10 +31,8 @@ std::vector<Image> RelitUnderThreeLights(const Ptm& ptm);
 // at most `max_seam_ratio` and below 0.8 x random placement's (patches of `block` texels); per
 // image, the subband distance to the sample summed over the seeds below random tiling's (one
 // seed's comparison swings by a few percent either way with where the first patches land), times
-// `statistics_slack` where a method is known to fall short (said where it is used); the seams
-// below `random_seam_factor` x random placement's.
+// `statistics_slack` where a method is known to fall short (said where it is used).
 void ExpectGoodSeamsAndStatistics(const std::function<SynthMap(uint32_t)>& synthesize, const std::vector<Image>& images,
-                                  int block, uint32_t seed, double max_seam_ratio = 1.2, double statistics_slack = 1.0,
-                                  double random_seam_factor = 0.8);
+                                  int block, uint32_t seed, double max_seam_ratio = 1.2, double statistics_slack = 1.0);
 
 }  // namespace mesocap::testing

@@ -32,15 +32,12 @@ std::function<SynthMap(uint32_t)> Synthesizer(const TextonAnalysis& a, int size)
 }
 
 // The issue asks seams at most 1.2 and statistics below random tiling's. Texel-by-texel synthesis
-// falls short on the stones (cells broken where no sample neighbourhood continues both sides:
-// seams 1.27-1.33, statistics up to 1.45x random tiling's) and on the PTMs (up to 1.27x on the
-// weave's, 2x on the corduroy's): those cases are held to what they reach, so a regression still
-// fails (see the texton issue's closing note). The Gaussian-stack synthesis that removed the
-// streaks on photographs (synthesis-quality issue) lost a little here, and these bounds were
-// raised to what it reaches (README, synthesis): weave statistics up to 1.1x random tiling's and
-// corduroy's up to 1.35x (both were below 1x), corduroy seams up to 1.31 (were at most 1.2), the corduroy slice as a
-// plain image seams up to 1.33 and statistics 1.2x, the weave PTM 1.65x random tiling's statistics
-// (was 1.4x) and seams up to 0.82x random placement's (were below 0.8x).
+// falls short on the stones (cells broken where no sample neighbourhood continues both sides) and
+// on the PTMs; those cases are held to what they reach, so a regression still fails. Since the
+// Gaussian-stack synthesis (synthesis-quality issue; README, synthesis): weave statistics up to
+// 1.05x random tiling's (were below 1x), corduroy seams up to 1.28 (were at most 1.2), stones
+// seams 1.21 and statistics 1.37x (were 1.33 and 1.45x), the corduroy slice as a plain image
+// seams 1.26 and statistics 1.01x, the weave PTM 1.62x random tiling's statistics (was 1.27x).
 struct SeamCase {
   std::string material;
   double max_seam_ratio, statistics_slack;
@@ -57,8 +54,8 @@ TEST_P(TextonSynthesisOnMaterial, BtfSeamsAndStatistics) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Materials, TextonSynthesisOnMaterial,
-                         ::testing::Values(SeamCase{"weave", 1.2, 1.15}, SeamCase{"corduroy", 1.35, 1.4},
-                                           SeamCase{"stones", 1.4, 1.6}),
+                         ::testing::Values(SeamCase{"weave", 1.2, 1.1}, SeamCase{"corduroy", 1.3, 1.0},
+                                           SeamCase{"stones", 1.25, 1.4}),
                          [](const auto& info) { return info.param.material; });
 
 TEST(TextonSynthesis, PtmOfAVirtualRigMaterial) {
@@ -69,15 +66,14 @@ TEST(TextonSynthesis, PtmOfAVirtualRigMaterial) {
   e.width = ptm.width(), e.height = ptm.height();
   const TextonAnalysis a = AnalysisOf(e);
   testing::ExpectGoodSeamsAndStatistics(Synthesizer(a, 200), testing::RelitUnderThreeLights(ptm), kRandomTile,
-                                        testing::SeedFromTestName(), 1.2, /*statistics_slack=*/1.7,
-                                        /*random_seam_factor=*/0.85);
+                                        testing::SeedFromTestName(), 1.2, /*statistics_slack=*/1.7);
 }
 
 TEST(TextonSynthesis, PlainImage) {
   const Image image = *testing::VirtualRigExemplar("corduroy").ReadSlice(2);
   const TextonAnalysis a = AnalysisOf(ImageExemplar(image));
-  testing::ExpectGoodSeamsAndStatistics(Synthesizer(a, 256), {image}, kRandomTile, testing::SeedFromTestName(), 1.38,
-                                        /*statistics_slack=*/1.3);
+  testing::ExpectGoodSeamsAndStatistics(Synthesizer(a, 256), {image}, kRandomTile, testing::SeedFromTestName(), 1.3,
+                                        /*statistics_slack=*/1.05);
 }
 
 TEST(TextonSynthesis, TheMapDoesNotDependOnTheThreadCount) {
