@@ -20,8 +20,10 @@
 // order lets one choice propagate along a row. The stack keeps every sample position at every
 // level, and the interleaved sub-passes correct texels against neighbours on all sides.
 //
-// - Similar-texel lists exclude texels within h of the texel itself (they are near copies on a
-//   blurred level and would only repeat it) and are ranked by the exact Gamma distance among the
+// - A sample texel that is the source of one of the texel's 8 neighbours is never chosen (it would
+//   stretch one sample texel across the output: a streak).
+// - Similar-texel lists exclude texels within max(2, h) of the texel itself (near copies on a
+//   blurred level, direct neighbours on the finest) and are ranked by the exact Gamma distance among the
 //   nearest by a principal-component summary of the neighbourhoods.
 // - Every sample texel is a candidate; a neighbourhood slot beyond the sample costs half the
 //   typical distance between two sample texels (see kOutsideCost), so the output draws on the
