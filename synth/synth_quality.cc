@@ -9,6 +9,7 @@
 #include "reconstruct/quantiles.h"
 #include "reconstruct/slice_statistics.h"
 #include "synth/feature_distance.h"
+#include "synth/separable_filter.h"
 
 namespace mesocap {
 
@@ -90,53 +91,27 @@ double SubbandDistance(const Image& a, const Image& b) {
 
 namespace {
 
-// Channel c of `image` blurred by a normalised 5-tap binomial with taps `step` apart (mirrored
-// border): one level of an a-trous Gaussian stack.
-std::vector<float> BinomialBlur(const std::vector<float>& in, int w, int h, int step) {
-  static constexpr float kTaps[5] = {1 / 16.f, 4 / 16.f, 6 / 16.f, 4 / 16.f, 1 / 16.f};
-  auto mirror = [](int i, int n) {
-    const int period = 2 * (n - 1);
-    if (n == 1) return 0;
-    i %= period;
-    if (i < 0) i += period;
-    return i < n ? i : period - i;
-  };
-  std::vector<float> across(in.size()), out(in.size());
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      float v = 0;
-      for (int k = -2; k <= 2; ++k) v += kTaps[k + 2] * in[size_t(y) * w + mirror(x + k * step, w)];
-      across[size_t(y) * w + x] = v;
-    }
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      float v = 0;
-      for (int k = -2; k <= 2; ++k) v += kTaps[k + 2] * across[size_t(mirror(y + k * step, h)) * w + x];
-      out[size_t(y) * w + x] = v;
-    }
-  return out;
-}
-
 // The bands of one channel: Laplacian stack levels, then the four oriented derivatives.
 std::vector<std::vector<float>> LaplacianGradientBands(const Image& image, int c, int levels) {
+  static const std::vector<float> kBinomial = {1 / 16.f, 4 / 16.f, 6 / 16.f, 4 / 16.f, 1 / 16.f};
   const int w = image.width(), h = image.height();
-  std::vector<float> level(image.pixel_count());
-  for (size_t i = 0; i < level.size(); ++i) level[i] = image.data()[i * image.channels() + c];
+  Image level(w, h, 1);
+  for (size_t i = 0; i < level.pixel_count(); ++i) level.data()[i] = image.data()[i * image.channels() + c];
   std::vector<std::vector<float>> bands;
   std::vector<float> oriented[4];
-  for (auto& o : oriented) o.reserve(level.size());
+  for (auto& o : oriented) o.reserve(level.pixel_count());
   for (int y = 1; y + 1 < h; ++y)
     for (int x = 1; x + 1 < w; ++x) {
-      auto at = [&](int dx, int dy) { return level[size_t(y + dy) * w + x + dx]; };
+      auto at = [&](int dx, int dy) { return level.at(x + dx, y + dy); };
       oriented[0].push_back(0.5f * (at(1, 0) - at(-1, 0)));
       oriented[1].push_back(0.3535534f * (at(1, 1) - at(-1, -1)));
       oriented[2].push_back(0.5f * (at(0, 1) - at(0, -1)));
       oriented[3].push_back(0.3535534f * (at(-1, 1) - at(1, -1)));
     }
-  for (int l = 0, step = 1; l < levels; ++l, step *= 2) {
-    std::vector<float> blurred = BinomialBlur(level, w, h, step);
-    std::vector<float> band(level.size());
-    for (size_t i = 0; i < band.size(); ++i) band[i] = level[i] - blurred[i];
+  for (int l = 0, step = 1; l < levels; ++l, step *= 2) {  // an a-trous Laplacian stack
+    Image blurred = SeparableFilter(level, kBinomial, step, 1);
+    std::vector<float> band(level.pixel_count());
+    for (size_t i = 0; i < band.size(); ++i) band[i] = level.data()[i] - blurred.data()[i];
     bands.push_back(std::move(band));
     level = std::move(blurred);
   }
@@ -178,9 +153,15 @@ MapUsage MeasureMapUsage(const SynthMap& map) {
   u.repeat_share = double(repeats) / (double(W) * H);
   u.used_share = double(std::unordered_set<int32_t>(source.begin(), source.end()).size()) /
                  (double(map.sample_width) * map.sample_height);
-  // Regions: neighbours joined where the right or lower one's source is this one's source stepped
-  // by the same offset in this texel's orientation (the seam measure's continuation).
-  std::vector<int32_t> root(source.size());
+  const std::vector<int32_t> region = CoherentRegions(map);
+  std::vector<long> size(region.size(), 0);
+  for (int32_t r : region) u.largest_coherent_region = std::max(u.largest_coherent_region, ++size[r]);
+  return u;
+}
+
+std::vector<int32_t> CoherentRegions(const SynthMap& map) {
+  const int W = map.width, H = map.height;
+  std::vector<int32_t> root(size_t(W) * H);
   std::iota(root.begin(), root.end(), 0);
   auto find = [&](int32_t i) {
     while (root[i] != i) i = root[i] = root[root[i]];
@@ -193,9 +174,14 @@ MapUsage MeasureMapUsage(const SynthMap& map) {
         if (qx >= W || qy >= H || !Continues(map, x, y, qx, qy, d == 0, d == 1)) continue;
         root[find(int32_t(map.index(qx, qy)))] = find(int32_t(map.index(x, y)));
       }
-  std::vector<long> size(source.size(), 0);
-  for (size_t i = 0; i < source.size(); ++i) u.largest_coherent_region = std::max(u.largest_coherent_region, ++size[find(int32_t(i))]);
-  return u;
+  std::vector<int32_t> id(root.size(), -1), region(root.size());
+  int32_t next = 0;
+  for (size_t i = 0; i < root.size(); ++i) {
+    const int32_t r = find(int32_t(i));
+    if (id[r] < 0) id[r] = next++;
+    region[i] = id[r];
+  }
+  return region;
 }
 
 }  // namespace mesocap

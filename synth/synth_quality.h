@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/image.h"
 #include "synth/synth_map.h"
@@ -42,6 +43,11 @@ struct MapUsage {
   long largest_coherent_region = 0;  // texels of the largest 4-connected region continuing one source offset
 };
 MapUsage MeasureMapUsage(const SynthMap& map);
+
+// Per output texel, the id (0, 1, ... in row-major order of first appearance) of its coherent
+// region: 4-connected texels each of which continues its left or upper neighbour's source, stepped
+// in that neighbour's orientation (the seam measure's continuation). Texton synthesis's patch ids.
+std::vector<int32_t> CoherentRegions(const SynthMap& map);
 
 // Mean 1-D Wasserstein distance between the subband histograms (steerable pyramid, 4
 // orientations, the scales both images have) of `a` and `b`, over bands and channels.

@@ -11,6 +11,7 @@
 #include "synth/exemplar.h"
 #include "synth/filter_bank.h"
 #include "synth/kmeans.h"
+#include "synth/separable_filter.h"
 
 namespace mesocap {
 namespace {
@@ -38,33 +39,7 @@ Image StackLevel(const Image& features, int level, int num_threads) {
   double sum = 0;
   for (int i = -radius; i <= radius; ++i) sum += kernel[i + radius] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
   for (float& k : kernel) k = float(k / sum);
-  const int W = features.width(), H = features.height(), C = features.channels();
-  auto mirror = [](int i, int n) {
-    if (n == 1) return 0;
-    const int period = 2 * (n - 1);
-    i %= period;
-    if (i < 0) i += period;
-    return i < n ? i : period - i;
-  };
-  Image across(W, H, C), out(W, H, C);
-  ParallelFor(0, H, [&](int y) {
-    for (int x = 0; x < W; ++x) {
-      float* o = across.pixel(x, y);
-      for (int i = -radius; i <= radius; ++i) {
-        const float* in = features.pixel(mirror(x + i, W), y);
-        for (int c = 0; c < C; ++c) o[c] += kernel[i + radius] * in[c];
-      }
-    }
-  }, num_threads);
-  ParallelFor(0, H, [&](int y) {
-    for (int i = -radius; i <= radius; ++i) {
-      const float* in = across.row(mirror(y + i, H));
-      float* o = out.row(y);
-      const float k = kernel[i + radius];
-      for (int j = 0; j < W * C; ++j) o[j] += k * in[j];
-    }
-  }, num_threads);
-  return out;
+  return SeparableFilter(features, kernel, 1, num_threads);
 }
 
 // The filter responses followed by the slice's own values over the texel's 3 x 3 neighbourhood
@@ -81,9 +56,7 @@ Image WithTexelValues(const Image& responses, const Image& slice, double weight)
       float* o = out.pixel(x, y);
       std::copy_n(responses.pixel(x, y), R, o);
       for (int j = 0; j < 9; ++j) {
-        const int xx = std::abs(x + j % 3 - 1), yy = std::abs(y + j / 3 - 1);  // mirrored; clamped on a 1-texel side
-        o[R + j] = float(weight) * slice.at(std::clamp(xx >= W ? 2 * W - 2 - xx : xx, 0, W - 1),
-                                            std::clamp(yy >= H ? 2 * H - 2 - yy : yy, 0, H - 1));
+        o[R + j] = float(weight) * slice.at(MirrorIndex101(x + j % 3 - 1, W), MirrorIndex101(y + j / 3 - 1, H));
       }
     }
   return out;

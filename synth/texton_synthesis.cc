@@ -12,6 +12,7 @@
 
 #include "core/parallel.h"
 #include "core/splitmix.h"
+#include "synth/synth_quality.h"
 
 namespace mesocap {
 namespace {
@@ -21,7 +22,7 @@ constexpr int kEmbeddingDimensions = 8;  // texton coordinates per slot in the n
 constexpr int kSummaryDimensions = 12;   // principal components of the summary (L&H 2006 keep 8 of theirs)
 constexpr int kRerankFactor = 4;         // summary-nearest texels re-ranked by the exact distance, per list entry
 constexpr int kListBlock = 64;           // texels whose lists one task builds
-constexpr int kPcaRows = 4096;           // candidates the summaries' principal components are found from
+constexpr int kPcaRows = 4096;           // texels the summaries' principal components are found from
 
 struct Offset {
   int dx = 0, dy = 0;
@@ -40,9 +41,10 @@ std::vector<Offset> Square(int n) {
   return v;
 }
 
-int Wrap(int i, int n) {
-  i %= n;
-  return i < 0 ? i + n : i;
+int Wrap(int i, int n) {  // offsets are a few texels: no division
+  while (i < 0) i += n;
+  while (i >= n) i -= n;
+  return i;
 }
 
 // One stack level of the sample with what the search needs: per texel the labels of its
@@ -58,7 +60,6 @@ struct SampleLevel {
   int stride = 0, outside = 0;
   std::vector<Offset> slots;     // the template
   std::vector<uint16_t> vectors;  // texels x slots
-  std::vector<int32_t> candidates;
   int list_length = 0;
   std::vector<int32_t> nearest;  // texels x list_length: the texel itself, then similar others
 
@@ -106,8 +107,6 @@ SampleLevel MakeSampleLevel(const TextonLevel& level, int n) {
         *v++ = uint16_t(s.Inside(xx, yy) ? level.label(xx, yy) : s.outside);
       }
     }
-  s.candidates.resize(size_t(W) * H);
-  std::iota(s.candidates.begin(), s.candidates.end(), 0);
   return s;
 }
 
@@ -160,7 +159,7 @@ class Nearest {
   std::vector<std::pair<float, int32_t>> heap_;
 };
 
-// Per candidate texel, a short summary of its neighbourhood whose squared distances approximate
+// Per sample texel, a short summary of its neighbourhood whose squared distances approximate
 // the Gamma distance: each slot's texton as coordinates from Gamma's leading eigenvectors
 // (Gamma = T T^T), concatenated over slots and reduced to their principal components. Stored
 // component-major (summary[k * count + i]). Plain loops in a fixed order, not matrix products:
@@ -172,13 +171,13 @@ std::vector<float> NeighbourhoodSummaries(const SampleLevel& s, int* dimensions)
   Eigen::MatrixXd embedding(n, e);  // the leading eigenvalues come last
   for (int j = 0; j < e; ++j)
     embedding.col(j) = eigen.eigenvectors().col(n - 1 - j) * std::sqrt(std::max(0.0, eigen.eigenvalues()(n - 1 - j)));
-  const int S = s.slot_count(), D = S * e, count = int(s.candidates.size());
-  auto row = [&](int i, std::vector<double>& x) {  // the concatenated coordinates of candidate i
-    const uint16_t* v = s.vector(s.candidates[i]);
+  const int S = s.slot_count(), D = S * e, count = s.texels();
+  auto row = [&](int i, std::vector<double>& x) {  // the concatenated coordinates of texel i
+    const uint16_t* v = s.vector(i);
     for (int j = 0; j < S; ++j)
       for (int c = 0; c < e; ++c) x[size_t(j) * e + c] = embedding(v[j] == s.outside ? n - 1 : v[j], c);  // outside: the mean
   };
-  // Mean and covariance from at most kPcaRows candidates, evenly spaced.
+  // Mean and covariance from at most kPcaRows texels, evenly spaced.
   const int step = std::max(1, count / kPcaRows);
   std::vector<double> x(D), mean(D, 0);
   Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(D, D);
@@ -210,16 +209,16 @@ std::vector<float> NeighbourhoodSummaries(const SampleLevel& s, int* dimensions)
   return summary;
 }
 
-// The similar-texel list of every candidate texel: the texel itself, then the k - 1 nearest others
+// The similar-texel list of every sample texel: the texel itself, then the k - 1 nearest others
 // by the exact distance among kRerankFactor x as many nearest by summary, none within the level's
 // spacing (at least 2) of the texel: on a blurred level those are near copies of it, and on the
 // finest its direct neighbours, which would stretch it across the output.
 void BuildNearestLists(SampleLevel& s, int k, int num_threads) {
-  const int count = int(s.candidates.size());
+  const int count = s.texels();
   s.list_length = std::max(1, std::min(k, count));
-  s.nearest.assign(size_t(s.texels()) * s.list_length, -1);
+  s.nearest.resize(size_t(count) * s.list_length);
   if (s.list_length == 1) {
-    for (int32_t t : s.candidates) s.nearest[size_t(t)] = t;
+    std::iota(s.nearest.begin(), s.nearest.end(), 0);
     return;
   }
   int d = 0;
@@ -235,14 +234,13 @@ void BuildNearestLists(SampleLevel& s, int k, int num_threads) {
         const float own = component[i];
         for (int j = 0; j < count; ++j) distance[j] += (component[j] - own) * (component[j] - own);
       }
-      const int32_t t = s.candidates[i];
+      const int32_t t = i;
       const int tx = t % W, ty = t / W;
       summary.Clear(), exact.Clear();
-      for (int j = 0; j < count; ++j) {
-        if (distance[j] >= summary.bound()) continue;
-        const int32_t c = s.candidates[j];
+      for (int32_t c = 0; c < count; ++c) {
+        if (distance[c] >= summary.bound()) continue;
         if (std::abs(c % W - tx) < exclusion && std::abs(c / W - ty) < exclusion) continue;
-        summary.Offer(distance[j], c);
+        summary.Offer(distance[c], c);
       }
       const Query q = SampleQuery(s, t);
       for (const auto& [dist, c] : summary.Sorted()) exact.Offer(q.Distance(s.vector(c), exact.bound()), c);
@@ -357,11 +355,11 @@ class Corrector {
     return best;
   }
 
-  // The best of every candidate texel (lowest index on ties) into *best_texel if given.
+  // The best of every sample texel (lowest index on ties) into *best_texel if given.
   float FullSearch(int32_t* best_texel) const {
     float best = kInfinity;
     int32_t best_t = 0;
-    for (int32_t t : s_.candidates) {
+    for (int32_t t = 0; t < s_.texels(); ++t) {
       if (Beside(t)) continue;
       const float d = query_.Distance(s_.vector(t), best);
       if (d < best) best = d, best_t = t;
@@ -381,10 +379,10 @@ class Corrector {
   float coherent_weight_;
 };
 
-// Random candidate texels: the coarsest level's start.
+// Random sample texels: the coarsest level's start.
 Grid RandomGrid(const SampleLevel& s, int width, int height, uint64_t salt) {
   Grid g{std::vector<int32_t>(size_t(width) * height), width, height};
-  for (size_t i = 0; i < g.texels.size(); ++i) g.texels[i] = s.candidates[SplitMix64(salt + i) % s.candidates.size()];
+  for (size_t i = 0; i < g.texels.size(); ++i) g.texels[i] = int32_t(SplitMix64(salt + i) % uint64_t(s.texels()));
   return g;
 }
 
@@ -434,32 +432,6 @@ bool CorrectionPass(const SampleLevel& s, const TextonSynthesisOptions& o, uint6
     if (!ReportProgress(progress, int(std::min<long>(*done, total)), int(total), what)) return false;
   }
   return true;
-}
-
-// Patch ids: texels joined to their right and lower neighbours when those continue the same
-// source (coherent runs), so seams are where the source jumps.
-std::vector<int32_t> CoherentPatches(const std::vector<int32_t>& out, int w, int h, int sample_w) {
-  std::vector<int32_t> root(out.size());
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](int32_t i) {
-    while (root[i] != i) i = root[i] = root[root[i]];
-    return i;
-  };
-  auto join = [&](int32_t a, int32_t b) { root[find(a)] = find(b); };
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int32_t i = y * w + x, t = out[i];
-      if (x + 1 < w && out[i + 1] == t + 1 && (t + 1) % sample_w != 0) join(i + 1, i);
-      if (y + 1 < h && out[i + w] == t + sample_w) join(i + w, i);
-    }
-  std::vector<int32_t> id(out.size(), -1), patch(out.size());
-  int32_t next = 0;
-  for (size_t i = 0; i < out.size(); ++i) {
-    const int32_t r = find(int32_t(i));
-    if (id[r] < 0) id[r] = next++;
-    patch[i] = id[r];
-  }
-  return patch;
 }
 
 }  // namespace
@@ -528,12 +500,12 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
 
   const SampleLevel& finest = samples[0];
   SynthMap map(o.width, o.height, finest.width(), finest.height(), "texton");
-  const std::vector<int32_t> patch = CoherentPatches(grid.texels, o.width, o.height, finest.width());
   for (int y = 0; y < o.height; ++y)
     for (int x = 0; x < o.width; ++x) {
       const int32_t t = grid.texels[size_t(y) * o.width + x];
-      map.Set(x, y, float(t % finest.width()) + 0.5f, float(t / finest.width()) + 0.5f, 0.f, patch[size_t(y) * o.width + x]);
+      map.Set(x, y, float(t % finest.width()) + 0.5f, float(t / finest.width()) + 0.5f, 0.f, 0);
     }
+  map.patch = CoherentRegions(map);  // seams are where the source jumps
   if (report) {
     const auto end = std::chrono::steady_clock::now();
     Counters counters;
