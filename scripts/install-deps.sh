@@ -12,6 +12,7 @@ packages=(
   libtbb-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfftw3-dev
   libmaxflow-dev libcgal-dev libxxhash-dev libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libpng-dev  # the Resynthesizer peer's driver (bench/resynth_peer/build.sh)
   ccache  # every build compiles through it (CMakeLists.txt)
   chromium  # the report page's viewer is tested in it, headless (tests/e2e/process_test)
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
