@@ -17,6 +17,8 @@ function(mesocap_test)
   string(REPLACE "/" "_" target "${T_NAME}")
   add_executable(${target} ${T_SOURCES})
   target_link_libraries(${target} PRIVATE ${T_LIBS} mesocap_testing GTest::gtest GTest::gtest_main)
+  # Tests that read checked-in data (photographs, corpora) find it from the source tree.
+  target_compile_definitions(${target} PRIVATE MESOCAP_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   add_test(NAME ${T_NAME} COMMAND ${target})
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 300)
