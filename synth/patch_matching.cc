@@ -183,7 +183,8 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
   const auto& spectra = m.copy_spectra[copy_index];
   ComplexBuffer total(m.spectrum);
   const float inv_overlap = ws.overlap > 0 ? float(1.0 / ws.overlap) : 0.f;
-  const float lambda = ws.use_constraint ? float(m.options.constraint_weight / ws.area) : 0.f;
+  const double weight = m.options.constraint_weight * w.constraint_scale;
+  const float lambda = ws.use_constraint ? float(weight / ws.area) : 0.f;
   for (size_t i = 0; i < m.spectrum; ++i) {
     Complex cross(0);
     for (int c = 0; c < m.channels; ++c) cross += spectra[c].data[i] * std::conj(ws.masked_features[c].data[i]);
@@ -197,7 +198,7 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
   fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
   const double scale = 1.0 / (double(m.px) * m.py);
   const double constant = (ws.overlap > 0 ? ws.masked_norm / ws.overlap : 0) +
-                          (ws.use_constraint ? m.options.constraint_weight * ws.target_norm / ws.area : 0);
+                          (ws.use_constraint ? weight * ws.target_norm / ws.area : 0);
   std::vector<double> costs(size_t(*valid_w) * *valid_h);
   for (int v = 0; v < *valid_h; ++v)
     for (int u = 0; u < *valid_w; ++u)

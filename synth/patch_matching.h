@@ -41,6 +41,7 @@ struct MatchWindow {
   const std::vector<uint8_t>* synthesized = nullptr;  // whole output, 1 = has a value
   const Image* target_constraint = nullptr;  // whole output, 1 channel, or null
   int x0 = 0, y0 = 0;                 // window origin in the output
+  double constraint_scale = 1;        // multiplies the matcher's constraint weight for this window
 };
 
 struct MatchResult {

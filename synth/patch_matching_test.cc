@@ -26,13 +26,14 @@ TEST(PatchMatching, FftCostsEqualBruteForceWithRotationsAndConstraint) {
   for (auto& s : synthesized) s = rng() % 3 != 0;
   std::vector<RotatedSample> copies;
   for (double r : {0.0, 30.0, 90.0, 215.0}) copies.push_back(MakeRotatedSample(sample, sample_mask, r));
-  for (double weight : {0.0, 0.7}) {
+  // A window's constraint scale multiplies the matcher's weight (painting's region rule raises it).
+  for (auto [weight, scale] : {std::pair{0.0, 1.0}, {0.7, 1.0}, {0.7, 8.0}}) {
     PatchMatcher matcher(copies, {weight, 2});
-    MatchWindow window{11, 9, &output, &synthesized, &target, 17, 23};
+    MatchWindow window{11, 9, &output, &synthesized, &target, 17, 23, scale};
     for (int k = 0; k < int(copies.size()); ++k) {
       int fw = 0, fh = 0, bw = 0, bh = 0;
       const auto fft = matcher.Costs(window, k, &fw, &fh);
-      const auto brute = BruteForceCosts(copies[k], window, weight, &bw, &bh);
+      const auto brute = BruteForceCosts(copies[k], window, weight * scale, &bw, &bh);
       ASSERT_EQ(fw, bw);
       ASSERT_EQ(fh, bh);
       ASSERT_GT(fw, 0);

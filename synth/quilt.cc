@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include <opencv2/imgproc.hpp>
@@ -89,28 +90,29 @@ class Quilter {
   SynthCanvas& canvas() { return canvas_; }
   const std::vector<RotatedSample>& copies() const { return copies_; }
 
-  // Fills every texel; returns false when cancelled.
-  bool FillAll(const FitOptions& fit, const ProgressFn& progress) {
+  // Fills every texel (or, given `region`, every texel where region > 0.5) in most-constrained
+  // order; returns false when cancelled.
+  bool FillAll(const FitOptions& fit, const ProgressFn& progress, const Image* region = nullptr) {
     const int total = options_.width * options_.height;
-    int filled = 0;
-    while (filled < total) {
-      const auto [vx, vy] = MostConstrained();
-      PlaceAround(vx, vy, fit, /*repair=*/false);
-      filled = canvas_.map.FilledCount();
-      if (!ReportProgress(progress, filled, total, "quilting")) return false;
+    while (true) {
+      const auto texel = MostConstrained(region);
+      if (!texel) return true;
+      PlaceAround(texel->first, texel->second, fit, /*repair=*/false);
+      if (!ReportProgress(progress, canvas_.map.FilledCount(), total, "quilting")) return false;
     }
-    return true;
   }
 
-  // Places one patch centred on (vx, vy); returns the number of texels it changed.
-  int PlaceAround(int vx, int vy, const FitOptions& fit, bool repair) {
-    int r = report_.patch_radius;
+  // Places one patch centred on (vx, vy) in a window of `radius` (0: r_w), shrunk while the cut is
+  // too costly or no copy of the sample is that large; returns the number of texels it changed.
+  int PlaceAround(int vx, int vy, const FitOptions& fit, bool repair, int radius = 0) {
+    int r = radius > 0 ? radius : report_.patch_radius;
+    double escalation = 1;  // region rule: the constraint's weight grows while no placement keeps the sides
     while (true) {
       const int x0 = std::max(0, vx - r), y0 = std::max(0, vy - r);
       const int x1 = std::min(options_.width - 1, vx + r), y1 = std::min(options_.height - 1, vy + r);
       PlacedPatch patch;
       patch.x0 = x0, patch.y0 = y0, patch.width = x1 - x0 + 1, patch.height = y1 - y0 + 1;
-      MatchResult match = Match(patch);
+      MatchResult match = Match(patch, escalation);
       if (!match.found) {
         MESOCAP_CHECK(r > options_.min_patch_radius, "no copy of the sample is as large as the smallest window");
         r = std::max(options_.min_patch_radius, int(r * options_.shrink));
@@ -119,10 +121,21 @@ class Quilter {
       patch.copy = &copies_[match.rotation];
       patch.u0 = match.u, patch.v0 = match.v;
       const auto start = std::chrono::steady_clock::now();
-      const CutResult cut = FitPatch(canvas_, patch, DefaultFreedom(canvas_, patch), fit);
+      std::vector<FitFreedom> freedom = DefaultFreedom(canvas_, patch);
+      if (region_) KeepSatisfiedTexels(patch, &freedom);
+      CutResult cut = FitPatch(canvas_, patch, freedom, fit);
       report_.seconds_cutting += SecondsSince(start);
       const bool last_try = r <= options_.min_patch_radius;
-      if (cut.mean_seam_cost() <= options_.seam_threshold * report_.sample_neighbour_step || last_try) {
+      // Under a region rule, a cut that fills no empty texel on the right side is matched again with
+      // the constraint weighted more, then in smaller windows; the last try fills its empty texels
+      // whatever side they land on, so every texel gets filled.
+      const bool sides_kept = !region_ || KeepRegionSides(patch, &cut);
+      if (!sides_kept && escalation < kMaxEscalation) {
+        escalation *= 8;
+        ++report_.rejected_cuts;
+        continue;
+      }
+      if ((cut.mean_seam_cost() <= options_.seam_threshold * report_.sample_neighbour_step && sides_kept) || last_try) {
         if (cut.new_texels == 0) return 0;
         CommitPatch(&canvas_, patch, cut);
         UpdateNeighbours(patch);
@@ -138,6 +151,12 @@ class Quilter {
     }
   }
 
+  // The region rule (Zhou's constrained quilt: F is textured only by S_f, and here the background
+  // only by S_b): while set, an empty texel inside `region` (> 0.5) takes only the sample's feature
+  // texels from a patch and one outside only background texels (the rest wait for a later patch),
+  // and a filled texel on the right side is never turned to the wrong one.
+  void SetRegionRule(const Image* region) { region_ = region; }
+
   // Commits a fixed placement with a given freedom (verbatim copying).
   void PlaceFixed(const PlacedPatch& patch, const std::vector<FitFreedom>& freedom, const FitOptions& fit) {
     const CutResult cut = FitPatch(canvas_, patch, freedom, fit);
@@ -148,12 +167,15 @@ class Quilter {
   }
 
  private:
-  MatchResult Match(const PlacedPatch& patch) {
+  static constexpr double kMaxEscalation = 512;
+
+  MatchResult Match(const PlacedPatch& patch, double escalation) {
     MatchWindow w;
     w.width = patch.width, w.height = patch.height, w.x0 = patch.x0, w.y0 = patch.y0;
     w.features = &canvas_.features;
     w.synthesized = &canvas_.synthesized;
     w.target_constraint = canvas_.target;
+    w.constraint_scale = escalation;
     bool any = false;
     for (int y = 0; y < w.height && !any; ++y)
       for (int x = 0; x < w.width && !any; ++x) any = canvas_.synthesized[size_t(w.y0 + y) * options_.width + w.x0 + x];
@@ -173,19 +195,59 @@ class Quilter {
     return m;
   }
 
-  std::pair<int, int> MostConstrained() const {
+  // Drops the cut's new texels that would fill an empty texel on the wrong side of the region's edge
+  // (a feature texel outside, a background texel inside); false, with the cut unchanged, when the
+  // cut would fill empty texels but none on the right side.
+  bool KeepRegionSides(const PlacedPatch& patch, CutResult* cut) const {
+    std::vector<uint8_t> kept = cut->take_new;
+    int left = 0, filled = 0, empty_taken = 0;
+    for (int y = 0; y < patch.height; ++y)
+      for (int x = 0; x < patch.width; ++x) {
+        const size_t k = size_t(y) * patch.width + x;
+        const int ox = patch.x0 + x, oy = patch.y0 + y;
+        const bool empty = !canvas_.synthesized[size_t(oy) * options_.width + ox];
+        empty_taken += kept[k] && empty;
+        if (kept[k] && empty &&
+            (region_->at(ox, oy) > 0.5f) != (patch.copy->constraint.at(patch.u0 + x, patch.v0 + y) > 0.5f))
+          kept[k] = 0;
+        left += kept[k];
+        filled += kept[k] && empty;
+      }
+    if (filled == 0) return empty_taken == 0;  // a window over filled texels only has nothing to check
+    cut->take_new = std::move(kept);
+    cut->new_texels = left;
+    return true;
+  }
+
+  // Filled texels on the right side of the region's edge keep their value where the patch would put
+  // them on the wrong side.
+  void KeepSatisfiedTexels(const PlacedPatch& patch, std::vector<FitFreedom>* freedom) const {
+    for (int y = 0; y < patch.height; ++y)
+      for (int x = 0; x < patch.width; ++x) {
+        const int ox = patch.x0 + x, oy = patch.y0 + y;
+        if (!canvas_.synthesized[size_t(oy) * options_.width + ox]) continue;
+        const bool wanted = region_->at(ox, oy) > 0.5f;
+        if ((canvas_.MaskAt(ox, oy) > 0.5f) == wanted &&
+            (patch.copy->constraint.at(patch.u0 + x, patch.v0 + y) > 0.5f) != wanted)
+          (*freedom)[size_t(y) * patch.width + x] = FitFreedom::kForceOld;
+      }
+  }
+
+  // The unfilled texel (inside `region` if given) with the most filled neighbours, or none left.
+  std::optional<std::pair<int, int>> MostConstrained(const Image* region) const {
     int best = -1, bx = 0, by = 0;
     for (int y = 0; y < options_.height; ++y)
       for (int x = 0; x < options_.width; ++x) {
         const size_t i = size_t(y) * options_.width + x;
-        if (canvas_.synthesized[i] || neighbours_[i] <= best) continue;
+        if (canvas_.synthesized[i] || neighbours_[i] <= best || (region && region->at(x, y) <= 0.5f)) continue;
         best = neighbours_[i], bx = x, by = y;
-        if (best == 8) return {bx, by};
+        if (best == 8) return std::pair{bx, by};
       }
+    if (best < 0) return std::nullopt;
     if (best == 0 && canvas_.next_patch == 0)  // the very first patch: anywhere
-      return {std::uniform_int_distribution<int>(0, options_.width - 1)(rng_),
-              std::uniform_int_distribution<int>(0, options_.height - 1)(rng_)};
-    return {bx, by};
+      return std::pair{std::uniform_int_distribution<int>(0, options_.width - 1)(rng_),
+                       std::uniform_int_distribution<int>(0, options_.height - 1)(rng_)};
+    return std::pair{bx, by};
   }
 
   void UpdateNeighbours(const PlacedPatch& p) {
@@ -210,6 +272,7 @@ class Quilter {
   QuiltReport& report_;
   std::vector<uint8_t> neighbours_;
   double variance_ = 0;
+  const Image* region_ = nullptr;
   double seam_cost_sum_ = 0;
   long seam_edges_ = 0;
 };
@@ -251,6 +314,26 @@ MaskRegion RegionOf(const Image& mask) {
   return r;
 }
 
+// The mask's 8-connected regions, largest first.
+std::vector<MaskRegion> RegionsOf(const Image& mask) {
+  cv::Mat inside(mask.height(), mask.width(), CV_8U);
+  for (int y = 0; y < mask.height(); ++y)
+    for (int x = 0; x < mask.width(); ++x) inside.at<uint8_t>(y, x) = mask.at(x, y) > 0.5f;
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(inside, labels, stats, centroids, 8, CV_32S);
+  std::vector<MaskRegion> regions;
+  for (int k = 1; k < n; ++k) {  // label 0 is the outside
+    MaskRegion r;
+    r.cx = centroids.at<double>(k, 0), r.cy = centroids.at<double>(k, 1);
+    r.x0 = stats.at<int>(k, cv::CC_STAT_LEFT), r.y0 = stats.at<int>(k, cv::CC_STAT_TOP);
+    r.x1 = r.x0 + stats.at<int>(k, cv::CC_STAT_WIDTH) - 1, r.y1 = r.y0 + stats.at<int>(k, cv::CC_STAT_HEIGHT) - 1;
+    r.count = stats.at<int>(k, cv::CC_STAT_AREA);
+    regions.push_back(r);
+  }
+  std::stable_sort(regions.begin(), regions.end(), [](const auto& a, const auto& b) { return a.count > b.count; });
+  return regions;
+}
+
 }  // namespace
 
 StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask, const Image& target_mask,
@@ -280,6 +363,21 @@ StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask,
   quilter.canvas().map.method = "paint";
   FitOptions fit;
   fit.data_weight = paint.data_weight * rep.sample_neighbour_step;
+  if (!paint.verbatim) {
+    // The constrained quilt Q(F) (Zhou §IV-A) comes first: each target region opens with one window
+    // over it and its transition zone (as large as the sample allows), so that the joint search
+    // places the feature by the constraint alone, and the rest of F grows from it; the background
+    // then grows around F. Quilting the background first makes the feature's placement trade its
+    // fit to m0 against the background already there (IoU 0.56-0.67 on the disk test, 0.44 on the
+    // stain test, against 0.9-1.0 in this order).
+    quilter.SetRegionRule(&target_mask);
+    for (const MaskRegion& region : RegionsOf(target_mask)) {
+      const double half_extent = 0.5 * (std::max(region.x1 - region.x0, region.y1 - region.y0) + 1);
+      const int radius = std::max(rep.patch_radius, int(std::ceil(half_extent + paint.transition_width)));
+      quilter.PlaceAround(int(std::lround(region.cx)), int(std::lround(region.cy)), fit, /*repair=*/false, radius);
+    }
+    if (!quilter.FillAll(fit, progress, &target_mask)) return Status::Error("cancelled");
+  }
   if (!quilter.FillAll(fit, progress)) return Status::Error("cancelled");
 
   SynthCanvas& canvas = quilter.canvas();

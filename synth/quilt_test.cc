@@ -1,5 +1,7 @@
 #include "synth/quilt.h"
 
+#include "synth/map_apply.h"
+
 #include <random>
 
 #include <gtest/gtest.h>
@@ -85,43 +87,96 @@ TEST(Quilt, RefusesASampleSmallerThanTheWorkPatch) {
   EXPECT_NE(map.status().message().find("smaller than the work patch"), std::string::npos) << map.status().message();
 }
 
-// Verbatim copying (Zhou §IV-B) meets the issue's IoU >= 0.85; the synthesized feature (the
-// constrained quilt alone) reaches about 0.58 here and is reported, not asserted (closing note).
-TEST(Paint, VerbatimFeatureLandsOnTheTargetAndNothingIsLeftUnfilled) {
-  // A striped background with one bright disk (the feature); the target asks for a disk elsewhere.
-  std::mt19937 rng(testing::SeedFromTestName());
+// A striped background with one bright disk (the feature) at (60, 40); the target asks for the disk
+// at (50, 100) of a 160 x 160 output.
+struct PaintScene {
+  Image sample{96, 96, 3}, mask{96, 96, 1}, target{160, 160, 1};
+};
+PaintScene DiskScene(uint32_t seed) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<float> noise(0, 0.05f);
-  Image sample(96, 96, 3), mask(96, 96, 1);
+  PaintScene s;
   for (int y = 0; y < 96; ++y)
     for (int x = 0; x < 96; ++x) {
       const bool disk = std::hypot(x - 60.0, y - 40.0) < 12;
       const float stripe = 0.3f + 0.2f * float((x / 4) % 2);
-      for (int c = 0; c < 3; ++c) sample.at(x, y, c) = (disk ? 0.9f - 0.2f * c : stripe) + noise(rng);
-      mask.at(x, y) = disk;
+      for (int c = 0; c < 3; ++c) s.sample.at(x, y, c) = (disk ? 0.9f - 0.2f * c : stripe) + noise(rng);
+      s.mask.at(x, y) = disk;
     }
-  Image target(160, 160, 1);
   for (int y = 0; y < 160; ++y)
-    for (int x = 0; x < 160; ++x) target.at(x, y) = std::hypot(x - 50.0, y - 100.0) < 12;
-  QuiltOptions o;
-  o.width = o.height = 160;
-  o.patch_radius = 16;
-  PaintOptions p;
-  p.verbatim = true;
-  QuiltReport rep;
-  auto map = PaintSynthesis(sample, mask, target, o, p, &rep);
-  ASSERT_TRUE(map.ok()) << map.status().message();
-  ASSERT_TRUE(ValidateMap(*map).ok());
+    for (int x = 0; x < 160; ++x) s.target.at(x, y) = std::hypot(x - 50.0, y - 100.0) < 12;
+  return s;
+}
+
+// The feature as a texture rather than a shape: a 40 x 40 square of bright noise in the striped
+// sample; the target is a disk of radius 30 (area 2830 > 1600), so the feature must be synthesized
+// from several patches joined by the constrained graphcut.
+PaintScene StainScene(uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> noise(0, 0.05f), stain(0, 0.3f);
+  PaintScene s;
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) {
+      const bool feature = x >= 48 && x < 88 && y >= 8 && y < 48;
+      const float stripe = 0.3f + 0.2f * float((x / 4) % 2), bright = 0.6f + stain(rng);
+      for (int c = 0; c < 3; ++c) s.sample.at(x, y, c) = (feature ? bright - 0.1f * c : stripe) + noise(rng);
+      s.mask.at(x, y) = feature;
+    }
+  for (int y = 0; y < 160; ++y)
+    for (int x = 0; x < 160; ++x) s.target.at(x, y) = std::hypot(x - 80.0, y - 80.0) < 30;
+  return s;
+}
+
+// Intersection over union of the output's feature texels (looked up in the sample's mask) and the target.
+double FeatureIoU(const SynthMap& map, const Image& mask, const Image& target) {
   int both = 0, either = 0;
-  for (int y = 0; y < 160; ++y)
-    for (int x = 0; x < 160; ++x) {
-      const Eigen::Vector2i s = map->SourceTexel(x, y);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const Eigen::Vector2i s = map.SourceTexel(x, y);
       const bool feature = mask.at(s.x(), s.y()) > 0.5f, wanted = target.at(x, y) > 0.5f;
       both += feature && wanted;
       either += feature || wanted;
     }
-  EXPECT_GE(double(both) / either, 0.85) << "IoU; repair patches " << rep.repair_patches << " both " << both << " either " << either;
-  // m0 is graded across the transition zone: 1 inside, strictly between 0 and 1 just outside.
-  const Image m0 = TargetConstraint(target, p.transition_width);
+  return either ? double(both) / either : 0;
+}
+
+// The issue asks IoU >= 0.85 both for verbatim copying (Zhou §IV-B) and for the synthesized feature.
+struct PaintCase {
+  std::string name;
+  PaintScene (*scene)(uint32_t seed);
+  bool verbatim;
+};
+class PaintFeature : public ::testing::TestWithParam<PaintCase> {};
+
+TEST_P(PaintFeature, LandsOnTheTargetAndNothingIsLeftUnfilled) {
+  const bool verbatim = GetParam().verbatim;
+  for (uint32_t seed : {1u, 2u, 3u}) {
+    const PaintScene scene = GetParam().scene(seed);
+    QuiltOptions o;
+    o.width = o.height = 160;
+    o.patch_radius = 16;
+    o.seed = seed;
+    PaintOptions p;
+    p.verbatim = verbatim;
+    QuiltReport rep;
+    auto map = PaintSynthesis(scene.sample, scene.mask, scene.target, o, p, &rep);
+    ASSERT_TRUE(map.ok()) << map.status().message();
+    ASSERT_TRUE(ValidateMap(*map).ok());
+    const Image out = ApplyMapToImage(*map, scene.sample);
+    EXPECT_LE(MeasureSeams(*map, out, scene.sample).ratio(), 1.2) << "seed " << seed;
+    EXPECT_GE(FeatureIoU(*map, scene.mask, scene.target), 0.85) << "seed " << seed << ", repair patches " << rep.repair_patches;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PaintFeature,
+                         ::testing::Values(PaintCase{"DiskSynthesized", DiskScene, false},
+                                           PaintCase{"DiskVerbatim", DiskScene, true},
+                                           PaintCase{"StainSynthesized", StainScene, false}),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(Paint, TargetConstraintFallsLinearlyAcrossTheTransitionZone) {
+  const PaintScene scene = DiskScene(1);
+  const Image m0 = TargetConstraint(scene.target, PaintOptions().transition_width);
   EXPECT_EQ(m0.at(50, 100), 1.f);
   const float near = m0.at(50 + 14, 100), far = m0.at(50 + 18, 100);
   EXPECT_GT(near, far);
