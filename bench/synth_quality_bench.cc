@@ -9,11 +9,17 @@
 // and is scored on the rows below the crop (wholly outside the sample), from the source
 // coordinates it reports.
 //
-// Usage: bench_synth_quality SAMPLE.png [--crop 96] [--size 256] [--methods quilt,texton,resynth]
+// With --ptm the sample becomes a PTM rendered from the photograph (the photograph as albedo, its
+// luminance as a height field of --relief texels, lit from 16 directions and fitted as an RGB PTM);
+// the methods then synthesize its Legendre coefficients (block, quilt) and every method, random
+// tiling included, is scored on the output relit under two lights (0, 0) and (40, 60) deg, the mean.
+// Usage: bench_synth_quality SAMPLE.png [--crop 96] [--size 256] [--methods quilt,texton,block,resynth]
 //                            [--seeds 3] [--sheet OUT.png|.jpg] [--peer resynth_fill_serial]
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
 //                            [--randomness 0] [--patch-radius 0]   (quilt)
+//                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.1] (block)
+//                            [--ptm] [--relief 4]
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -25,7 +31,11 @@
 
 #include <unistd.h>
 
+#include "core/directions.h"
 #include "core/image_io.h"
+#include "reconstruct/ptm.h"
+#include "reconstruct/ptm_legendre.h"
+#include "synth/block_synthesis.h"
 #include "synth/exemplar.h"
 #include "synth/quilt.h"
 #include "synth/synth_quality.h"
@@ -42,6 +52,9 @@ struct Args {
   TextonSynthesisOptions texton;
   TextonAnalysisOptions analysis;
   QuiltOptions quilt;
+  BlockSynthesisOptions block;
+  bool ptm = false;
+  double relief = 4;
 };
 
 struct Scores {
@@ -49,12 +62,15 @@ struct Scores {
   long region = 0;
 };
 
-Scores Measure(const SynthMap& map, const Image& sample) {
-  const Image out = ApplyMapToImage(map, sample);
+// The mean over the images the map is applied to (the sample, or the PTM's relit images).
+Scores Measure(const SynthMap& map, const std::vector<Image>& images) {
   Scores s;
-  s.seams = MeasureSeams(map, out, sample).ratio();
-  s.subband = SubbandDistance(out, sample);
-  s.lapgrad = LaplacianGradientDistance(out, sample);
+  for (const Image& image : images) {
+    const Image out = ApplyMapToImage(map, image);
+    s.seams += MeasureSeams(map, out, image).ratio() / double(images.size());
+    s.subband += SubbandDistance(out, image) / double(images.size());
+    s.lapgrad += LaplacianGradientDistance(out, image) / double(images.size());
+  }
   const MapUsage u = MeasureMapUsage(map);
   s.repeat = u.repeat_share, s.used = u.used_share, s.region = u.largest_coherent_region;
   return s;
@@ -69,6 +85,13 @@ StatusOr<SynthMap> Synthesize(const std::string& method, const Image& sample, co
     o.seed = seed;
     QuiltReport r;
     return QuiltSynthesis(sample, o, &r);
+  }
+  if (method == "block") {
+    BlockSynthesisOptions o = a.block;
+    o.width = o.height = a.size;
+    o.seed = seed;
+    BlockSynthesisReport r;
+    return BlockSynthesis(sample, o, &r);
   }
   if (method == "resynth") {
     if (a.peer.empty()) return Status::Error("resynth needs --peer (bench/resynth_peer/build.sh)");
@@ -102,6 +125,36 @@ StatusOr<SynthMap> Synthesize(const std::string& method, const Image& sample, co
   return Status::Error("unknown method " + method);
 }
 
+// The photograph as albedo over its luminance as a height field (`relief` texels per unit),
+// Lambertian under the 16 lights of the tests' virtual-rig PTMs, fitted as an RGB PTM.
+Ptm PtmFromPhotograph(const Image& photo, double relief) {
+  const int w = photo.width(), h = photo.height();
+  auto height = [&](int x, int y) {
+    x = std::clamp(x, 0, w - 1), y = std::clamp(y, 0, h - 1);
+    return relief * (0.2126 * photo.at(x, y, 0) + 0.7152 * photo.at(x, y, 1) + 0.0722 * photo.at(x, y, 2));
+  };
+  std::vector<Image> photos;
+  std::vector<Eigen::Vector3d> lights;
+  for (int k = 0; k < 16; ++k) {
+    lights.push_back(DirectionFromAnglesDeg(k < 8 ? 30 : 55, 45.0 * (k % 8) + (k < 8 ? 0 : 22.5)));
+    Image lit(w, h, 3);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        // Image rows run down; the material frame's y runs up the slice.
+        const Eigen::Vector3d n = Eigen::Vector3d(-(height(x + 1, y) - height(x - 1, y)) / 2,
+                                                  (height(x, y + 1) - height(x, y - 1)) / 2, 1).normalized();
+        const double shade = std::max(0.0, n.dot(lights.back()));
+        for (int c = 0; c < 3; ++c) lit.at(x, y, c) = float(photo.at(x, y, c) * shade);
+      }
+    photos.push_back(std::move(lit));
+  }
+  PtmFitOptions fit;
+  fit.format = PtmFormat::kRgb;
+  auto ptm = FitPtm(photos, lights, fit);
+  MESOCAP_CHECK(ptm.ok(), ptm.status().message());
+  return std::move(*ptm);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -117,6 +170,12 @@ int main(int argc, char** argv) {
     else if (arg == "--peer") a.peer = next();
     else if (arg == "--randomness") a.quilt.randomness = std::atof(next().c_str());
     else if (arg == "--patch-radius") a.quilt.patch_radius = std::atoi(next().c_str());
+    else if (arg == "--block") a.block.block = std::atoi(next().c_str());
+    else if (arg == "--overlap") a.block.overlap = std::atoi(next().c_str());
+    else if (arg == "--exclusion") a.block.continuation_exclusion = std::atoi(next().c_str());
+    else if (arg == "--tolerance") a.block.tolerance = std::atof(next().c_str());
+    else if (arg == "--ptm") a.ptm = true;
+    else if (arg == "--relief") a.relief = std::atof(next().c_str());
     else if (arg == "--k") a.texton.k = std::atoi(next().c_str());
     else if (arg == "--jitter") a.texton.jitter = std::atof(next().c_str());
     else if (arg == "--coherence") a.texton.coherence = std::atof(next().c_str());
@@ -137,6 +196,15 @@ int main(int argc, char** argv) {
     for (int x = 0; x < a.crop; ++x)
       for (int c = 0; c < sample.channels(); ++c) sample.at(x, y, c) = photo->at(x, y, c);
 
+  // What the methods synthesize (features) and what the scores look at (images).
+  Image features = sample;
+  std::vector<Image> images{sample};
+  if (a.ptm) {
+    const Ptm ptm = PtmFromPhotograph(sample, a.relief);
+    features = PtmLegendreCoefficients(ptm);
+    images = {RelightPtm(ptm, DirectionFromAnglesDeg(0, 0)), RelightPtm(ptm, DirectionFromAnglesDeg(40, 60))};
+  }
+
   std::vector<std::string> methods{"random"};
   std::stringstream list(a.methods);
   for (std::string m; std::getline(list, m, ',');) methods.push_back(m);
@@ -144,7 +212,7 @@ int main(int argc, char** argv) {
   double analysis_seconds = 0;
   for (const std::string& m : methods)
     if (m == "texton") {
-      const Exemplar e = ImageExemplar(sample);
+      const Exemplar e = ImageExemplar(images[0]);
       auto r = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, a.analysis);
       if (!r.ok()) return std::fprintf(stderr, "%s\n", r.status().message().c_str()), 1;
       textons = std::move(*r);
@@ -158,7 +226,7 @@ int main(int argc, char** argv) {
       for (int x = 0; x < img.width(); ++x)
         for (int c = 0; c < img.channels(); ++c) sheet.at(column * (a.size + 8) + x, y, c) = img.at(x, y, c);
   };
-  if (!sheet.empty()) paste(sample, 0);
+  if (!sheet.empty()) paste(images[0], 0);
 
   Scores baseline;
   std::printf("%-28s %-8s %6s %8s %8s %8s %8s %7s %6s %7s %6s\n", "sample", "method", "seams", "subband", "xrandom", "lapgrad",
@@ -167,14 +235,15 @@ int main(int argc, char** argv) {
     Scores mean;
     for (int s = 0; s < a.seeds; ++s) {
       const auto start = std::chrono::steady_clock::now();
-      auto map = Synthesize(methods[m], sample, &textons, a, uint32_t(s + 1));
+      auto map = Synthesize(methods[m], methods[m] == "resynth" || methods[m] == "texton" ? images[0] : features, &textons, a,
+                            uint32_t(s + 1));
       if (!map.ok()) return std::fprintf(stderr, "%s: %s\n", methods[m].c_str(), map.status().message().c_str()), 1;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      Scores sc = Measure(*map, sample);
+      Scores sc = Measure(*map, images);
       mean.seams += sc.seams / a.seeds, mean.subband += sc.subband / a.seeds, mean.lapgrad += sc.lapgrad / a.seeds;
       mean.repeat += sc.repeat / a.seeds, mean.used += sc.used / a.seeds, mean.seconds += seconds / a.seeds;
       mean.region = std::max(mean.region, sc.region);
-      if (s == 0 && !sheet.empty()) paste(ApplyMapToImage(*map, sample), int(m) + 1);
+      if (s == 0 && !sheet.empty()) paste(ApplyMapToImage(*map, images[0]), int(m) + 1);
     }
     if (m == 0) baseline = mean;
     if (methods[m] == "texton") mean.seconds += analysis_seconds;

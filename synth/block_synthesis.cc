@@ -183,7 +183,8 @@ BlockSearcher::~BlockSearcher() = default;
 int BlockSearcher::candidate_columns() const { return sample_.width() - block_ + 1; }
 long BlockSearcher::candidate_count() const { return long(candidate_columns()) * (sample_.height() - block_ + 1); }
 
-BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, double tolerance, BlockSearch search) const {
+BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, double tolerance, BlockSearch search,
+                                        const std::function<bool(int, int)>& excluded) const {
   MESOCAP_CHECK(x0 > 0 || y0 > 0, "the first block has no neighbourhood to search with");
   const BlockSearchIndex& index = *indexes_[x0 > 0 && y0 > 0 ? kBoth : (x0 > 0 ? kLeft : kTop)];
   const int columns = candidate_columns();
@@ -198,8 +199,9 @@ BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, dou
         0, int(candidates),
         [&](int c) { distance[size_t(c)] = NeighbourhoodDistance(index, sample_, query.data(), c % columns, c / columns, inf); },
         num_threads_);
-    std::vector<BlockCandidate> all(static_cast<size_t>(candidates));
-    for (long c = 0; c < candidates; ++c) all[size_t(c)] = {c, distance[size_t(c)]};
+    std::vector<BlockCandidate> all;
+    for (long c = 0; c < candidates; ++c)
+      if (!excluded || !excluded(int(c % columns), int(c / columns))) all.push_back({c, distance[size_t(c)]});
     result.full_distances = candidates;
     result.candidates = WithinTolerance(std::move(all), tolerance);
     return result;
@@ -227,6 +229,7 @@ BlockSearchResult BlockSearcher::Search(const Image& output, int x0, int y0, dou
     // The bound is exact up to rounding (relative 1e-12 in doubles): a small margin keeps a
     // candidate whose distance equals the threshold.
     if (bound[size_t(c)] * (1 - 1e-9) > threshold) break;
+    if (excluded && excluded(int(c % columns), int(c / columns))) continue;
     const double d = NeighbourhoodDistance(index, sample_, query.data(), int(c % columns), int(c / columns), threshold);
     ++result.full_distances;
     if (d > threshold) continue;
@@ -295,15 +298,30 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
   long rejected = 0;
   double cut_error_sum = 0;
   int cuts = 0;
+  // Each block's sample position, for the continuation rule.
+  std::vector<Eigen::Vector2i> source(size_t(blocks_x) * blocks_y, Eigen::Vector2i(-1, -1));
   for (int by = 0; by < blocks_y; ++by) {
     for (int bx = 0; bx < blocks_x; ++bx) {
       const int x0 = bx * step, y0 = by * step;
+      std::vector<Eigen::Vector2i> continuations;
+      if (bx > 0) continuations.push_back(source[size_t(by) * blocks_x + bx - 1] + Eigen::Vector2i(step, 0));
+      if (by > 0) continuations.push_back(source[size_t(by - 1) * blocks_x + bx] + Eigen::Vector2i(0, step));
+      const int reach = options.continuation_exclusion;
+      std::function<bool(int, int)> continues;
+      if (reach > 0)
+        continues = [&continuations, reach](int x, int y) {
+          for (const Eigen::Vector2i& c : continuations)
+            if (std::abs(x - c.x()) < reach && std::abs(y - c.y()) < reach) return true;
+          return false;
+        };
       long chosen = 0;
       auto search_start = std::chrono::steady_clock::now();
       if (bx == 0 && by == 0) {
         chosen = std::uniform_int_distribution<long>(0, searcher.candidate_count() - 1)(rng);
       } else {
-        const BlockSearchResult found = searcher.Search(canvas, x0, y0, options.tolerance, options.search);
+        BlockSearchResult found = searcher.Search(canvas, x0, y0, options.tolerance, options.search, continues);
+        if (found.candidates.empty())  // a sample too small to hold anything but continuations
+          found = searcher.Search(canvas, x0, y0, options.tolerance, options.search);
         ++r.queries;
         r.full_distances += found.full_distances;
         rejected += found.rejected;
@@ -312,6 +330,7 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
       r.seconds_search += SecondsSince(search_start);
       const auto cut_start = std::chrono::steady_clock::now();
       const int sx = int(chosen % searcher.candidate_columns()), sy = int(chosen / searcher.candidate_columns());
+      source[size_t(by) * blocks_x + bx] = {sx, sy};
       // The cuts: the new block starts right of the vertical cut and below the horizontal one.
       std::vector<int> column_cut(static_cast<size_t>(block), 0), row_cut(static_cast<size_t>(block), 0);
       double cut_error = 0;

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +41,11 @@ struct BlockSynthesisOptions {
   // Candidates whose neighbourhood distance is within (1 + tolerance) of the best are equally
   // good; one is drawn at random (Efros & Freeman: 0.1). 0 takes the best.
   double tolerance = 0.1;
+  // Candidates within this many texels (in both axes) of the sample position that continues the
+  // left or the upper neighbour's block are left out: the continuation matches its overlap
+  // exactly (distance 0), so with it the tolerance admits nothing else and the output copies the
+  // sample verbatim until its edge, then tiles it. 0 keeps them.
+  int continuation_exclusion = 0;
   int projections = 8;            // basis vectors of the lower bounds
   BlockBasis basis = BlockBasis::kPrincipal;
   BlockSearch search = BlockSearch::kRejection;
@@ -68,7 +74,8 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample_features, const BlockSynth
 // One search, exposed for tests and benchmarks: the candidates (sample positions, row-major
 // index y * (sample width - block + 1) + x) whose neighbourhood distance to `output`'s at block
 // position (x0, y0) (neighbourhood: left strip if x0 > 0, top strip if y0 > 0) is within (1 +
-// tolerance) of the best, in index order, with their distances.
+// tolerance) of the best, in index order, with their distances; candidates an `excluded` predicate
+// names take no part.
 struct BlockCandidate {
   long index = 0;
   double distance = 0;
@@ -88,7 +95,9 @@ class BlockSearcher {
   BlockSearcher& operator=(const BlockSearcher&) = delete;
   long candidate_count() const;
   int candidate_columns() const;
-  BlockSearchResult Search(const Image& output, int x0, int y0, double tolerance, BlockSearch search) const;
+  // Candidates for which `excluded(x, y)` (sample position) is true are never returned.
+  BlockSearchResult Search(const Image& output, int x0, int y0, double tolerance, BlockSearch search,
+                           const std::function<bool(int, int)>& excluded = nullptr) const;
   double seconds_basis() const { return seconds_basis_; }
 
  private:

@@ -65,6 +65,47 @@ TEST(BlockSynthesis, RejectionSearchReturnsExactlyTheBruteForceBest) {
   }
 }
 
+// Excluded candidates take no part in either search, and both still agree exactly.
+TEST(BlockSynthesis, ExcludedCandidatesTakeNoPartAndBothSearchesAgree) {
+  const Exemplar e = testing::VirtualRigExemplar("stones", 64);
+  const BlockSearcher searcher(e.features, 16, 4, 8, -1);
+  const Image canvas = QueryCanvas(e.features, 60, 60, testing::SeedFromTestName());
+  for (int x0 : {12, 40}) {
+    const BlockSearchResult open = searcher.Search(canvas, x0, 12, 0.1, BlockSearch::kBruteForce);
+    ASSERT_FALSE(open.candidates.empty());
+    const int columns = searcher.candidate_columns();
+    const int bx = int(open.candidates[0].index % columns), by = int(open.candidates[0].index / columns);
+    const auto near_best = [&](int x, int y) { return std::abs(x - bx) < 3 && std::abs(y - by) < 3; };
+    const BlockSearchResult fast = searcher.Search(canvas, x0, 12, 0.1, BlockSearch::kRejection, near_best);
+    const BlockSearchResult brute = searcher.Search(canvas, x0, 12, 0.1, BlockSearch::kBruteForce, near_best);
+    ASSERT_FALSE(brute.candidates.empty());
+    ASSERT_EQ(fast.candidates.size(), brute.candidates.size());
+    for (size_t i = 0; i < brute.candidates.size(); ++i) {
+      EXPECT_EQ(fast.candidates[i].index, brute.candidates[i].index);
+      EXPECT_EQ(fast.candidates[i].distance, brute.candidates[i].distance);
+      EXPECT_FALSE(near_best(int(brute.candidates[i].index % columns), int(brute.candidates[i].index / columns)));
+    }
+  }
+}
+
+// Without the continuation rule a block continues its neighbour's source (its overlap matches
+// exactly) and coherent regions span several blocks; with it none is larger than one block.
+TEST(BlockSynthesis, ContinuationRuleKeepsCoherentRegionsWithinABlock) {
+  const Exemplar e = testing::VirtualRigExemplar("stones", 64);
+  BlockSynthesisOptions o;
+  o.width = o.height = 128;
+  o.block = 16;
+  o.seed = testing::SeedFromTestName();
+  BlockSynthesisReport r;
+  o.continuation_exclusion = 0;
+  auto free = BlockSynthesis(e.features, o, &r);
+  o.continuation_exclusion = o.EffectiveOverlap();
+  auto ruled = BlockSynthesis(e.features, o, &r);
+  ASSERT_TRUE(free.ok() && ruled.ok());
+  EXPECT_GT(MeasureMapUsage(*free).largest_coherent_region, 2 * o.block * o.block);
+  EXPECT_LE(MeasureMapUsage(*ruled).largest_coherent_region, o.block * o.block);
+}
+
 // The map is valid and reproduces the assembled features bit for bit; brute force makes the same
 // map (the same candidates, so the same random draws).
 TEST(BlockSynthesis, ValidMapReproducedBitForBitAndBruteForceAgrees) {
