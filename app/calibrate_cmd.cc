@@ -8,6 +8,8 @@
 
 #include "app/commands.h"
 #include "app/session_stages.h"
+#include "core/session.h"
+#include "core/session_lock.h"
 
 namespace mesocap::app {
 namespace {
@@ -27,6 +29,9 @@ int RunCalibrate(CalibrateArgs& a) {
   a.resample.restore_chroma_detail = !a.no_chroma_detail;
   a.resample.num_threads = a.options.num_threads;
   if (std::string why = a.resample.Check(); !why.empty()) return Fail("calibrate", why, kExitUsage);
+  if (auto session = Session::Open(a.options.session); !session.ok()) return Fail("calibrate", session.status().message());
+  auto lock = SessionLock::Acquire(a.options.session, "calibrate");
+  if (!lock.ok()) return Fail("calibrate", lock.status().message());
   auto calibrated = RunCalibrateStage(stage);
   if (!calibrated.ok()) return Fail("calibrate", calibrated.status().message());
   std::printf("calibrate: %s -> %s\n", calibrated->brief.c_str(), (a.options.session / "calibration" / "rig.json").string().c_str());

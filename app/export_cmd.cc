@@ -4,10 +4,12 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/session_export.h"
 #include "core/session.h"
+#include "core/session_lock.h"
 
 namespace mesocap::app {
 namespace {
@@ -25,6 +27,14 @@ int RunExport(const ExportArgs& a) {
   }
   if (auto session = Session::Open(a.session); !session.ok()) return Fail("export", session.status().message());
   const fs::path out = a.out.empty() ? a.session / "export" : a.out;
+  // Into the session, export is one of its writers; elsewhere it only reads the session.
+  const std::string inside = fs::absolute(out).lexically_normal().lexically_relative(fs::absolute(a.session).lexically_normal()).string();
+  std::optional<SessionLock> lock;
+  if (!inside.empty() && inside.rfind("..", 0) != 0) {
+    auto taken = SessionLock::Acquire(a.session, "export");
+    if (!taken.ok()) return Fail("export", taken.status().message());
+    lock.emplace(std::move(*taken));
+  }
   for (ExportFormat f : formats) {
     auto written = ExportSession(a.session, f, out, a.options);
     if (!written.ok()) return Fail("export", written.status().message());

@@ -17,6 +17,7 @@
 #include "core/image_io.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_lock.h"
 #include "core/slice_index.h"
 #include "core/stage_cache.h"
 #include "core/text_format.h"
@@ -229,6 +230,9 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
   a.reconstruct.slices.btf.num_threads = a.threads;
   if (std::string why = a.Check(); !why.empty()) return Status::Error(why);
   if (auto session = Session::Open(a.session); !session.ok()) return session.status();
+  // One writer at a time: stages.json is rewritten from memory after each stage.
+  auto lock = SessionLock::Acquire(a.session, "process");
+  if (!lock.ok()) return lock.status();
   a.reconstruct.method.TakeSessionMirrorImages(a.session);  // in the stage's key: a change reruns it
   const std::set<std::string> force(a.force.begin(), a.force.end());
   auto cache = StageCache::Open(a.session);

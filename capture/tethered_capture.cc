@@ -24,6 +24,7 @@
 #include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_lock.h"
 #include "core/text_format.h"
 
 namespace mesocap {
@@ -336,23 +337,17 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
   std::optional<Session> session;
   const fs::path root = fs::absolute(options.out).lexically_normal();
   report.out = root;
-  // One writer per session: a second capture into it would pick the same indices. Taken before
-  // a resumed session's journal is read; released when the run ends (closing the descriptor).
-  struct SessionLock {
-    int fd = -1;
-    ~SessionLock() {
-      if (fd >= 0) ::close(fd);
-    }
-    Status Acquire(const fs::path& root) {
-      fd = ::open((root / ".capture.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-      if (fd < 0) return Status::Error((root / ".capture.lock").string() + ": cannot create: " + std::strerror(errno));
-      if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
-        return Status::Error(root.string() + ": another mesocap capture is writing to this session");
-      return Status::Ok();
-    }
-  } lock;
+  // One writer per session (core/session_lock.h): a second capture into it would pick the same
+  // indices. Taken before a resumed session's journal is read; released when the run ends.
+  std::optional<SessionLock> lock;
+  const auto acquire = [&lock, &root]() -> Status {
+    auto taken = SessionLock::Acquire(root, "capture");
+    if (!taken.ok()) return taken.status();
+    lock.emplace(std::move(*taken));
+    return Status::Ok();
+  };
   if (options.resume) {
-    MESOCAP_RETURN_IF_ERROR(lock.Acquire(root));
+    MESOCAP_RETURN_IF_ERROR(acquire());
     auto opened = Session::Open(root);
     if (!opened.ok()) return opened.status();
     session.emplace(std::move(*opened));
@@ -371,7 +366,7 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
     auto created = Session::Create(root, manifest);
     if (!created.ok()) return created.status();
     session.emplace(std::move(*created));
-    MESOCAP_RETURN_IF_ERROR(lock.Acquire(root));
+    MESOCAP_RETURN_IF_ERROR(acquire());
   }
   const fs::path dir = session->DirFor(kind);
   std::error_code ec;

@@ -2,6 +2,8 @@
 // disk), settings, resume numbering and recovery, and kill -9 at a random moment.
 #include "capture/tethered_capture.h"
 
+#include "core/session_lock.h"
+
 #include <gtest/gtest.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -432,18 +434,19 @@ TEST(TetheredCapture, OneWriterPerSession) {
   fo.photos = MakePhotos(tmp / "photos");
   FakeCamera camera(fo);
   ASSERT_TRUE(RunCapture(camera, FastOptions(root, 1)).ok());
-  // Another process holding the session's lock (flock locks are per open file description).
-  const int fd = ::open((root / ".capture.lock").c_str(), O_RDWR);
-  ASSERT_GE(fd, 0);
-  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
   auto options = FastOptions(root, 1);
   options.resume = true;
-  auto refused = RunCapture(camera, options);
-  EXPECT_FALSE(refused.ok());
-  if (!refused.ok()) {
-    EXPECT_NE(refused.status().message().find("another mesocap capture"), std::string::npos);
+  {
+    // Another writer holding the session's lock (flock locks are per open file description).
+    auto held = SessionLock::Acquire(root, "process");
+    ASSERT_TRUE(held.ok()) << held.status().message();
+    auto refused = RunCapture(camera, options);
+    EXPECT_FALSE(refused.ok());
+    if (!refused.ok()) {
+      EXPECT_NE(refused.status().message().find("is being written by mesocap process"), std::string::npos)
+          << refused.status().message();
+    }
   }
-  ::close(fd);
   EXPECT_TRUE(RunCapture(camera, options).ok());
   ExpectIntactSession(root, 2, fo.photos);
 }

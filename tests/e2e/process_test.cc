@@ -20,6 +20,7 @@
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/slice_index.h"
+#include "core/stage_cache.h"
 #include "export/lp_file.h"
 #include "export/ptm_file.h"
 #include "reconstruct/slice_set.h"
@@ -235,6 +236,11 @@ TEST_F(ProcessTest, AKilledRunResumesAtItsStageAndShowsNothingHalfWritten) {
       if (e.path().filename().string().rfind(".btf.partial-", 0) == 0) seen = true;
     if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
+  // A second writer meanwhile is refused, with the holder named, and changes nothing.
+  std::string refused;
+  EXPECT_EQ(testing::RunMesocap("process " + s.string() + Options(s, " --btf-grid bonn"), &refused), 1) << refused;
+  EXPECT_NE(refused.find("is being written by mesocap process (pid " + std::to_string(pid) + " on host"), std::string::npos)
+      << refused;
   ::kill(pid, SIGKILL);
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -256,6 +262,11 @@ TEST_F(ProcessTest, AKilledRunResumesAtItsStageAndShowsNothingHalfWritten) {
   EXPECT_EQ(resumed->slices.size(), 81u * 81u);
   for (const auto& e : fs::directory_iterator(s))
     EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << "left behind: " << e.path();
+  // stages.json, rewritten by one writer at a time, is whole and names every stage.
+  auto stages = StageCache::Open(s);
+  ASSERT_TRUE(stages.ok()) << stages.status().message();
+  for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "export"})
+    EXPECT_NE(stages->Find(stage), nullptr) << stage;
 }
 
 TEST_F(ProcessTest, ExportsReadBackAsTheStagesWroteThem) {
