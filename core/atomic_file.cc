@@ -1,5 +1,7 @@
 #include "core/atomic_file.h"
 
+#include "core/provenance.h"
+
 #include <signal.h>
 
 #include <fmt/format.h>
@@ -22,17 +24,24 @@ namespace {
 
 std::string ErrnoText() { return std::strerror(errno); }
 
-// Whether `pid_text` names a process id (decimal) of a process that has ended: what it left may
-// go (a live process may be another run at work; one of another user answers EPERM and stays).
-bool ProcessEnded(const std::string& pid_text) {
+// "PID@HOST", what temp and staging names carry to say which run made them.
+std::string RunTag() { return fmt::format("{}@{}", ::getpid(), HostName()); }
+
+// Whether `owner` ("PID@HOST", or "PID" as older versions wrote it) names a process of this host
+// that has ended: what it left may go. A live process may be another run at work; one of another
+// user answers EPERM; a run on another host sharing the folder cannot be judged here: all stay.
+bool ProcessEnded(const std::string& owner) {
+  const size_t at = owner.find('@');
+  const std::string pid_text = owner.substr(0, at);
+  if (at != std::string::npos && owner.substr(at + 1) != HostName()) return false;
   if (pid_text.empty() || pid_text.size() > 9 || pid_text.find_first_not_of("0123456789") != std::string::npos)
     return false;
   const pid_t pid = pid_t(std::stol(pid_text));
   return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
 }
 
-// Removes the temps that killed runs left in `folder` (`.NAME.tmpPID_N...`, also nested ones
-// such as `..NAME.tmpPID_0.tmpPID_1.ext` of a file set's member): a run interrupted by Ctrl-C
+// Removes the temps that killed runs of this host left in `folder` (`.NAME.tmpPID@HOST_N...`,
+// also nested ones such as `..NAME.tmpPID@HOST_0.tmpPID@HOST_1.ext` of a file set's member): a run interrupted by Ctrl-C
 // or the machine stopping cannot remove its own. Once per folder and process, so a folder written
 // file by file is listed once.
 void RemoveStaleTempsOnce(const fs::path& folder) {
@@ -60,7 +69,7 @@ fs::path TempPathFor(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   // {fmt}, not string operator+: GCC 12 warns falsely (-Wrestrict) on "." + std::string.
   return path.parent_path() /
-         fmt::format(".{}.tmp{}_{}{}", path.stem().string(), ::getpid(), counter++, path.extension().string());
+         fmt::format(".{}.tmp{}_{}{}", path.stem().string(), RunTag(), counter++, path.extension().string());
 }
 
 Status WriteAll(int fd, std::string_view text, const fs::path& path) {
@@ -91,9 +100,9 @@ Status SyncPath(const fs::path& path) {
   return Status::Ok();
 }
 
-// `.NAME.TAG-PID` beside `path`: hidden, and unique to this process.
+// `.NAME.TAG-PID@HOST` beside `path`: hidden, and unique to this process.
 static fs::path HiddenSibling(const fs::path& path, const char* tag) {
-  return path.parent_path() / fmt::format(".{}.{}-{}", path.filename().string(), tag, ::getpid());
+  return path.parent_path() / fmt::format(".{}.{}-{}", path.filename().string(), tag, RunTag());
 }
 
 fs::path StagingFolderFor(const fs::path& out) { return HiddenSibling(out, "partial"); }
@@ -119,8 +128,9 @@ StagingFolder::~StagingFolder() {
   fs::remove_all(staging_, ec);
 }
 
-// Removes `.NAME.partial-PID` and `.NAME.old-PID` beside `out` whose process has ended: what a
-// killed run left (a live PID may be another run at work, and is left alone).
+// Removes `.NAME.partial-PID@HOST` and `.NAME.old-PID@HOST` beside `out` whose process on this
+// host has ended: what a killed run left (a live PID may be another run at work, and a run on
+// another host sharing the folder cannot be judged: both are left alone).
 static void RemoveStaleSiblings(const fs::path& out) {
   const std::string name = out.filename().string();
   std::error_code ec;

@@ -59,7 +59,7 @@ StatusOr<std::string> ReadTextFile(const std::filesystem::path& path);
 Status SyncPath(const std::filesystem::path& path);
 
 // Output folders that appear whole or not at all: the work goes into StagingFolderFor(out), a
-// hidden sibling `.NAME.partial-PID`, and PublishStagingFolder moves it onto `out` (missing or an
+// hidden sibling `.NAME.partial-PID@HOST`, and PublishStagingFolder moves it onto `out` (missing or an
 // empty folder) and makes the rename durable. An interrupted run leaves nothing under `out`.
 std::filesystem::path StagingFolderFor(const std::filesystem::path& out);
 Status PublishStagingFolder(const std::filesystem::path& staging, const std::filesystem::path& out);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/provenance.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -46,8 +47,12 @@ TEST(AtomicFile, AWriteRemovesTheTempsOfEndedRunsAndKeepsLiveOnes) {
   const auto dir = testing::MakeTempDir();
   // What runs killed mid-write leave: a temp and a file set member's nested temp (pid 999999999
   // cannot exist: pid_max is at most 2^22), next to a live run's temp and a user's hidden file.
-  const std::vector<std::string> stale = {".a.tmp999999999_0.txt", "..b.tmp999999999_0.tmp999999999_1.ptm"};
-  const std::vector<std::string> kept = {".c.tmp1_0.txt", ".notes.tmp", ".x.tmpfile_1.txt"};
+  // Names carry PID@HOST (older versions wrote the PID alone); another host's run is never judged.
+  const std::string here = "@" + HostName();
+  const std::vector<std::string> stale = {".a.tmp999999999_0.txt", "..b.tmp999999999_0.tmp999999999_1.ptm",
+                                          ".d.tmp999999999" + here + "_0.txt"};
+  const std::vector<std::string> kept = {".c.tmp1_0.txt", ".notes.tmp", ".x.tmpfile_1.txt", ".e.tmp999999999@elsewhere_0.txt",
+                                         ".f.tmp1" + here + "_0.txt"};
   for (const auto& name : stale) ASSERT_TRUE(WriteTextAtomically(dir / name, "left").ok());
   for (const auto& name : kept) ASSERT_TRUE(WriteTextAtomically(dir / name, "keep").ok());
   // The sweep runs once per folder and process: a fresh subfolder sees this write's sweep.

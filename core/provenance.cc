@@ -1,5 +1,7 @@
 #include "core/provenance.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <ctime>
 
@@ -13,6 +15,12 @@ std::string& CommandLineStorage() {
 }  // namespace
 
 const char* Version() { return MESOCAP_VERSION; }
+
+std::string HostName() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof(name) - 1) != 0 || !name[0]) return "localhost";
+  return name;
+}
 
 void SetCommandLine(int argc, char** argv) {
   std::string s;

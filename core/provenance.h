@@ -16,6 +16,10 @@ const char* Version();
 void SetCommandLine(int argc, char** argv);
 const std::string& CommandLine();
 
+// This machine's host name: what the session lock and the staging names record, so that a run on
+// another host sharing the folder is never judged by this host's process table.
+std::string HostName();
+
 std::string UtcNowIso8601();
 // A time (seconds since the epoch) as ISO 8601 UTC, "2026-12-05T10:00:00Z".
 std::string UtcIso8601(std::time_t time);

@@ -59,12 +59,6 @@ std::string Describe(const fs::path& session, const Json& holder) {
 
 }  // namespace
 
-std::string HostName() {
-  char name[256] = {};
-  if (::gethostname(name, sizeof(name) - 1) != 0 || !name[0]) return "localhost";
-  return name;
-}
-
 Json SessionLock::Holder(const fs::path& session) {
   const fs::path path = session / kFileName;
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

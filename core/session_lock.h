@@ -38,7 +38,4 @@ class SessionLock {
   int fd_ = -1;
 };
 
-// This machine's host name (what the lock and the staging folders record).
-std::string HostName();
-
 }  // namespace mesocap

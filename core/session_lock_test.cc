@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/provenance.h"
 #include "tests/testing.h"
 
 namespace mesocap {

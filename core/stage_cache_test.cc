@@ -1,11 +1,14 @@
 #include "core/stage_cache.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
+#include "core/provenance.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -100,13 +103,18 @@ TEST(StageCache, ACorruptFileIsNamedNotIgnored) {
 
 TEST(StagingFolder, RemovesWhatAKilledRunLeftButNotALiveRunsFolder) {
   const fs::path dir = testing::MakeTempDir();
-  const fs::path dead = dir / ".btf.partial-999999999", live = dir / (".btf.partial-" + std::to_string(1));
+  const std::string here = "@" + HostName();
+  const fs::path dead = dir / (".btf.partial-999999999" + here), live = dir / (".btf.partial-1" + here);
+  const fs::path old_style = dir / ".btf.partial-999999999", remote = dir / ".btf.old-999999999@elsewhere";
   const fs::path other = dir / ".btfx.partial-999999999";
-  for (const fs::path& p : {dead, live, other}) fs::create_directories(p);
+  for (const fs::path& p : {dead, live, old_style, remote, other}) fs::create_directories(p);
   auto staging = StagingFolder::Begin(dir / "btf");
   ASSERT_TRUE(staging.ok());
-  EXPECT_FALSE(fs::exists(dead)) << "no process 999999999: left by a killed run";
+  EXPECT_EQ(staging->path().filename().string(), ".btf.partial-" + std::to_string(::getpid()) + here);
+  EXPECT_FALSE(fs::exists(dead)) << "no process 999999999 here: left by a killed run";
+  EXPECT_FALSE(fs::exists(old_style)) << "an older version's name, from this host";
   EXPECT_TRUE(fs::exists(live)) << "process 1 is alive";
+  EXPECT_TRUE(fs::exists(remote)) << "a run on another host sharing the folder";
   EXPECT_TRUE(fs::exists(other)) << "another output's folder";
 }
 
