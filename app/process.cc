@@ -20,6 +20,7 @@
 #include "core/session_lock.h"
 #include "core/slice_index.h"
 #include "core/stage_cache.h"
+#include "core/stage_versions.h"
 #include "core/text_format.h"
 #include "export/gltf_material.h"
 #include "export/material_preview.h"
@@ -174,18 +175,21 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
 }
 
 
-// Hash of everything a stage reads: program version, stage name, options, the recorded outputs
-// of the stages it follows and the contents of its input files (hashed once per run).
+// Hash of everything a stage reads: its name and algorithm version (core/stage_versions.h), its
+// options, the stages it follows (each one's recorded key, so a new version upstream reruns every
+// stage downstream, and its outputs as they are on disk) and the contents of its input files
+// (hashed once per run).
 StatusOr<std::string> InputsHash(const Stage& stage, const StageCache& cache,
                                  std::map<fs::path, std::string>* file_hashes) {
   ContentHasher h;
-  h.Add(Version());
   h.Add(stage.name);
+  h.Add("version " + std::to_string(StageVersion(stage.name)));
   h.Add(stage.options.dump());
   for (const std::string& before : stage.after) {
     auto outputs = cache.OutputsHash(before);
     if (!outputs.ok()) return outputs.status();
     h.Add(before);
+    h.Add(cache.Find(before)->inputs_hash);
     h.Add(*outputs);
   }
   for (const fs::path& file : stage.input_files) {
@@ -244,7 +248,7 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
     const Stage& stage = stages[k];
     auto inputs = InputsHash(stage, *cache, &file_hashes);
     if (!inputs.ok()) return Status::Error("stage " + stage.name + ": " + inputs.status().message());
-    std::string why = force.count(stage.name) || force.count("all") ? "forced" : cache->WhyRun(stage.name, *inputs);
+    std::string why = force.count(stage.name) || force.count("all") ? "forced" : cache->WhyRun(stage.name, *inputs, StageVersion(stage.name));
     StageOutcome outcome{stage.name, "", 0, {}};
     if (why.empty()) {
       const StageRecord* record = cache->Find(stage.name);
@@ -266,6 +270,7 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
     outcome.summary = *summary;
     StageRecord record;
     record.inputs_hash = *inputs;
+    record.version = StageVersion(stage.name);
     record.outputs = stage.outputs;
     record.seconds = outcome.seconds;
     record.finished_utc = UtcNowIso8601();

@@ -1,5 +1,7 @@
 #include "core/provenance.h"
 
+#include "core/stage_versions.h"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -15,6 +17,7 @@ std::string& CommandLineStorage() {
 }  // namespace
 
 const char* Version() { return MESOCAP_VERSION; }
+const char* SourceRevision() { return MESOCAP_SOURCE_REVISION; }
 
 std::string HostName() {
   char name[256] = {};
@@ -44,7 +47,8 @@ std::string UtcIso8601(std::time_t time) {
 std::string UtcNowIso8601() { return UtcIso8601(std::chrono::system_clock::to_time_t(std::chrono::system_clock::now())); }
 
 Json MakeProvenance(const Json& options) {
-  return {{"program", "mesocap"}, {"version", Version()}, {"command_line", CommandLine()},
+  return {{"program", "mesocap"}, {"version", Version()}, {"source_revision", SourceRevision()},
+          {"stage_versions", StageVersions()}, {"command_line", CommandLine()},
           {"time_utc", UtcNowIso8601()}, {"options", options}};
 }
 

@@ -8,13 +8,16 @@ namespace mesocap {
 namespace fs = std::filesystem;
 
 Json StageRecord::ToJson() const {
-  return {{"inputs_hash", inputs_hash}, {"outputs_hash", outputs_hash}, {"outputs", outputs},
-          {"seconds", seconds},         {"finished_utc", finished_utc}, {"summary", summary}};
+  return {{"inputs_hash", inputs_hash}, {"version", version},           {"outputs_hash", outputs_hash},
+          {"outputs", outputs},         {"seconds", seconds},           {"finished_utc", finished_utc},
+          {"summary", summary}};
 }
 
 StageRecord StageRecord::FromJson(const Json& j) {
   StageRecord r;
   r.inputs_hash = JsonString(JsonField(j, "", "inputs_hash"), "inputs_hash");
+  // Older files have no version: 0, which no stage has, so those stages rerun once.
+  if (j.contains("version")) r.version = int(JsonNumber(j.at("version"), "version", 0, 1e6));
   r.outputs_hash = JsonString(JsonField(j, "", "outputs_hash"), "outputs_hash");
   const Json& outputs = JsonArray(JsonField(j, "", "outputs"), "outputs", 0, 64);
   for (size_t k = 0; k < outputs.size(); ++k)
@@ -60,10 +63,12 @@ const StageRecord* StageCache::Find(const std::string& stage) const {
   return it == stages_.end() ? nullptr : &it->second;
 }
 
-std::string StageCache::WhyRun(const std::string& stage, const std::string& inputs_hash) const {
+std::string StageCache::WhyRun(const std::string& stage, const std::string& inputs_hash, int version) const {
   const StageRecord* r = Find(stage);
   if (!r) return "never run";
-  if (r->inputs_hash != inputs_hash) return "its inputs or options changed";
+  if (version >= 0 && r->version != version)
+    return "a new version of the stage (" + std::to_string(r->version) + " -> " + std::to_string(version) + ")";
+  if (r->inputs_hash != inputs_hash) return "its inputs, options or an earlier stage changed";
   for (const std::string& o : r->outputs)
     if (!fs::exists(session_ / o)) return "its output " + o + " is missing";
   auto now = HashOutputs(session_, r->outputs);

@@ -1,5 +1,5 @@
 // What `mesocap process` remembers between runs: for every stage, the hash of what it read (its
-// options, the program version, input files and the outputs of the stages before it) and of
+// algorithm version and options, input files and the stages before it) and of
 // what it wrote. A stage is skipped when both still match; anything else (an option, an input
 // file, a deleted or edited output, a stage interrupted before it was recorded) runs it again.
 // Stored in SESSION/stages.json (docs/formats.md), rewritten atomically after each stage.
@@ -17,6 +17,7 @@ namespace mesocap {
 
 struct StageRecord {
   std::string inputs_hash;
+  int version = 0;                   // the stage's algorithm version when it ran (core/stage_versions.h)
   std::string outputs_hash;
   std::vector<std::string> outputs;  // files and folders, relative to the session
   double seconds = 0;
@@ -35,9 +36,10 @@ class StageCache {
   static StatusOr<StageCache> Open(const std::filesystem::path& session);
 
   const StageRecord* Find(const std::string& stage) const;
-  // Empty when `stage` was recorded with `inputs_hash` and its outputs still hash as recorded;
-  // otherwise why it must run ("never run", "inputs changed", "output slices/ changed" ...).
-  std::string WhyRun(const std::string& stage, const std::string& inputs_hash) const;
+  // Empty when `stage` was recorded with `inputs_hash` (and `version`, when given) and its outputs
+  // still hash as recorded; otherwise why it must run ("never run", "a new version of the stage",
+  // "its inputs ... changed", "its output slices/ is missing" ...).
+  std::string WhyRun(const std::string& stage, const std::string& inputs_hash, int version = -1) const;
   // The recorded outputs hash of `stage` as it is on disk now (what a later stage's inputs
   // hash includes), or an error when the stage has no record.
   StatusOr<std::string> OutputsHash(const std::string& stage) const;

@@ -133,6 +133,18 @@ TEST_F(ProcessTest, RunsEveryStageOnceThenOnlyWhatAChangeAffects) {
   EXPECT_EQ(after_delete.at("calibrate"), "skipped");
   EXPECT_TRUE(fs::exists(ptm_file));
 
+  // A build whose reconstruct stage changed (its version injected, as core/stage_versions.h
+  // allows for tests): that stage and the one that reads it rerun, the others not.
+  ::setenv("MESOCAP_STAGE_VERSIONS", "reconstruct=99", 1);
+  const Statuses upgraded = Process(s, " --btf-size 64");
+  ::unsetenv("MESOCAP_STAGE_VERSIONS");
+  EXPECT_EQ(upgraded, (Statuses{{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
+                                {"reconstruct", "ran"}, {"export", "ran"}}));
+  auto stages = StageCache::Open(s);
+  ASSERT_TRUE(stages.ok());
+  EXPECT_EQ(stages->Find("reconstruct")->version, 99);
+  EXPECT_EQ(stages->Find("calibrate")->version, 1);
+
   // --force reruns a stage; the stages after it rerun because its outputs were rewritten.
   const Statuses forced = Process(s, " --btf-size 64 --force calibrate");
   EXPECT_EQ(forced.at("calibrate"), "ran");
