@@ -271,6 +271,8 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
     StageRecord record;
     record.inputs_hash = *inputs;
     record.version = StageVersion(stage.name);
+    for (const std::string& before : stage.after)
+      if (auto hash = cache->OutputsHash(before); hash.ok()) record.read[before] = *hash;
     record.outputs = stage.outputs;
     record.seconds = outcome.seconds;
     record.finished_utc = UtcNowIso8601();

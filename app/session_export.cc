@@ -9,6 +9,7 @@
 #include "core/image_io.h"
 #include "core/slice_attributes.h"
 #include "core/slice_index.h"
+#include "core/stage_cache.h"
 #include "core/text_format.h"
 #include "export/ggx_fit.h"
 #include "export/gltf_material.h"
@@ -220,14 +221,17 @@ StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_di
   MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "fit.json", report));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   std::string synthesized;
-  // A synthesis older than the BTF was found on another reconstruction: left out.
-  std::error_code ec;
-  const bool synth_current = fs::exists(session / "synth" / "map.exr") &&
-                             fs::last_write_time(session / "synth" / "map.exr", ec) >= fs::last_write_time(index, ec);
-  if (synth_current) {
+  // The synthesized material only when the stage cache says synth/ was made from the BTF as it is
+  // now; one made from an earlier reconstruction is left out, and an export of it removed.
+  auto cache = StageCache::Open(session);
+  if (!cache.ok()) return cache.status();
+  if (cache->MadeFromCurrent("synth", "reconstruct")) {
     auto written = ExportSynthesizedGltf(session, *maps, gltf, out_dir);
     if (!written.ok()) return written.status();
     synthesized = *written;
+  } else if (std::error_code ec; fs::exists(out_dir / "gltf_synth", ec)) {
+    fs::remove_all(out_dir / "gltf_synth", ec);
+    synthesized = "; " + (out_dir / "gltf_synth").string() + " removed: synth/ was not made from this BTF (mesocap process --synth)";
   }
   return Format("%s (%dx%d texels from %d slices, median relative error %.1f%%, %.1f s)%s",
                 (out_dir / "gltf" / "material.gltf").string().c_str(), maps->base_color.width(),

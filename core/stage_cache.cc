@@ -10,7 +10,7 @@ namespace fs = std::filesystem;
 Json StageRecord::ToJson() const {
   return {{"inputs_hash", inputs_hash}, {"version", version},           {"outputs_hash", outputs_hash},
           {"outputs", outputs},         {"seconds", seconds},           {"finished_utc", finished_utc},
-          {"summary", summary}};
+          {"summary", summary},         {"read", read}};
 }
 
 StageRecord StageRecord::FromJson(const Json& j) {
@@ -25,6 +25,11 @@ StageRecord StageRecord::FromJson(const Json& j) {
   r.seconds = JsonNumber(JsonField(j, "", "seconds"), "seconds", 0, 1e9);
   r.finished_utc = JsonString(JsonField(j, "", "finished_utc"), "finished_utc");
   if (j.contains("summary") && j.at("summary").is_object()) r.summary = j.at("summary");
+  if (j.contains("read")) {
+    const Json& read = j.at("read");
+    if (!read.is_object() || read.size() > 64) throw JsonFieldError("read is not an object of at most 64 stages");
+    for (const auto& [stage, hash] : read.items()) r.read[stage] = JsonString(hash, "read." + stage);
+  }
   return r;
 }
 
@@ -75,6 +80,14 @@ std::string StageCache::WhyRun(const std::string& stage, const std::string& inpu
   if (!now.ok()) return now.status().message();
   if (*now != r->outputs_hash) return "its outputs were changed since it ran";
   return "";
+}
+
+bool StageCache::MadeFromCurrent(const std::string& stage, const std::string& before) const {
+  const StageRecord* r = Find(stage);
+  if (!r || !r->read.count(before)) return false;
+  auto outputs = HashOutputs(session_, r->outputs);
+  auto source = OutputsHash(before);
+  return outputs.ok() && *outputs == r->outputs_hash && source.ok() && *source == r->read.at(before);
 }
 
 StatusOr<std::string> StageCache::OutputsHash(const std::string& stage) const {

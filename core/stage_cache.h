@@ -20,6 +20,7 @@ struct StageRecord {
   int version = 0;                   // the stage's algorithm version when it ran (core/stage_versions.h)
   std::string outputs_hash;
   std::vector<std::string> outputs;  // files and folders, relative to the session
+  std::map<std::string, std::string> read;  // each stage it followed -> that stage's outputs_hash then
   double seconds = 0;
   std::string finished_utc;
   Json summary = Json::object();  // the stage's own brief report
@@ -43,6 +44,10 @@ class StageCache {
   // The recorded outputs hash of `stage` as it is on disk now (what a later stage's inputs
   // hash includes), or an error when the stage has no record.
   StatusOr<std::string> OutputsHash(const std::string& stage) const;
+
+  // Whether `stage`'s outputs are as it wrote them and were made from `before`'s outputs as they
+  // are now: the one freshness rule for anything that combines two stages' outputs (export).
+  bool MadeFromCurrent(const std::string& stage, const std::string& before) const;
 
   // Hashes the record's outputs, stores it and rewrites the file.
   Status Record(const std::string& stage, StageRecord record);
