@@ -170,7 +170,9 @@ GgxMaterialMaps ApplyMapToMaterial(const SynthMap& map, const GgxMaterialMaps& m
 }
 
 // SESSION/synth/'s map applied to the fitted material -> OUT/gltf_synth/. It repeats seamlessly
-// (sampler REPEAT) when the roller made it of whole tiles: every roller tile has the same borders.
+// (sampler REPEAT) when the roller made it of whole tiles (every roller tile has the same
+// borders) and when texton synthesis made it (its output wraps around: the seams across its
+// edges are as good as inside, synth/photo_texton_test.cc).
 StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMaterialMaps& maps, GltfMaterialOptions gltf,
                                             const fs::path& out_dir) {
   auto map = ReadSynthMap(session / "synth" / "map.exr");
@@ -178,7 +180,7 @@ StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMa
   if (map->sample_width != maps.base_color.width() || map->sample_height != maps.base_color.height())
     return Status::Error((session / "synth" / "map.exr").string() + ": points into a sample of another size than the BTF; "
                          "run `mesocap process " + session.string() + " --force synth`");
-  bool tileable = false;
+  bool tileable = map->method == "texton";
   if (auto report = ReadJsonFile(session / "synth" / "report.json"); report.ok() && map->method == "roller") {
     const Json derived = report->value("derived", Json::object());
     const int tw = derived.value("tile_width", 0), th = derived.value("tile_height", 0);
@@ -192,7 +194,9 @@ StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMa
   MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staging->path(), ApplyMapToMaterial(*map, maps), gltf));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   return Format("; %s (%s %dx%d, %s)", (out_dir / "gltf_synth" / "material.gltf").string().c_str(), map->method.c_str(),
-                map->width, map->height, tileable ? "tileable: whole roller tiles" : "not tileable");
+                map->width, map->height, !tileable                 ? "not tileable"
+                : map->method == "texton" ? "tileable: it wraps around"
+                                          : "tileable: whole roller tiles");
 }
 
 StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_dir) {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/text_format.h"
 #include "synth/filter_bank.h"
 
 namespace mesocap::app {
@@ -32,6 +33,9 @@ StatusOr<SynthMap> RunRoller(const Exemplar& e, const SynthMethodOptions& a, Jso
   auto map = RollerSynthesis(e.features, luminance, o, &r);
   if (!map.ok()) return map.status();
   if (r.frequency_fallback && note) *note = r.fallback_reason;
+  if (r.tiles_made < o.tiles && note)
+    *note += (note->empty() ? "" : "; ") + Format("made %d of the %d tiles asked: the sample has no room for another "
+                                                  "distinct interior", r.tiles_made, o.tiles);
   (*report)["parameters"] = {{"tiles", o.tiles}, {"alpha", o.alpha}, {"interior_alpha", o.interior_alpha}, {"seed", o.seed},
                              {"width", o.width}, {"height", o.height}, {"svd_components", a.svd_components}};
   Json interiors = Json::array();
@@ -39,7 +43,7 @@ StatusOr<SynthMap> RunRoller(const Exemplar& e, const SynthMethodOptions& a, Jso
   (*report)["derived"] = {{"frequency_rows", r.frequency_rows}, {"frequency_columns", r.frequency_columns},
                           {"frequency_fallback", r.frequency_fallback}, {"fallback_reason", r.fallback_reason},
                           {"overlap_rows", r.overlap_rows}, {"overlap_columns", r.overlap_columns},
-                          {"tile_width", r.tile_width}, {"tile_height", r.tile_height},
+                          {"tile_width", r.tile_width}, {"tile_height", r.tile_height}, {"tiles_made", r.tiles_made},
                           {"rectangle", {r.rectangle_x, r.rectangle_y}}, {"vertex", {r.vertex_row, r.vertex_column}},
                           {"mean_cut_error", r.mean_cut_error}, {"interior_sources", interiors}};
   (*report)["seconds_analysis"] = r.seconds_analysis;

@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <string>
 
+#include "calib/calibrate.h"
 #include "core/camera_model.h"
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/rig_layout.h"
 #include "core/session.h"
+#include "core/stage_cache.h"
 #include "export/lp_file.h"
 #include "synth/synth_map.h"
 #include "synth/texton_analysis.h"
@@ -149,6 +151,42 @@ void Cameras(const fs::path& dir) {
   fuzz::WriteText(dir / "calibrate_camera_out.json", wrapped.dump() + "\n");
 }
 
+// calibration/rig.json as calibrate writes it: two boards (one not found), two shots (one with
+// its flash found); stages.json as process writes it; a hand-marked corners file.
+void SessionRecords(const fs::path& rig_dir, const fs::path& stages_dir, const fs::path& marked_dir) {
+  CalibrationResult rig;
+  rig.camera.width = 1500, rig.camera.height = 1000;
+  rig.camera.K << 3000, 0, 749.5, 0, 3000, 499.5, 0, 0, 1;
+  rig.camera.dist = {-0.08, 0.12, 0.0004, -0.0003, -0.02};
+  BoardPose top;
+  top.id = 0, top.found = true, top.t = {0.01, -0.02, 0.6}, top.corners_used = 48, top.shots_seen = 12;
+  top.rms_reprojection_px = 0.4;
+  BoardPose hidden;
+  hidden.id = 1, hidden.why_not = "tags never detected (hidden or unlit)";
+  rig.boards = {top, hidden};
+  ShotCalibration lit;
+  lit.file = "shots/shot_0001.jpg", lit.light.ok = true, lit.light.light_m = {0.3, 0.2, 0.5}, lit.power = 1;
+  lit.light.highlights_used = 3;
+  ShotCalibration dark;
+  dark.file = "shots/shot_0002.jpg", dark.light.flag = "no highlight", dark.flag = "flash not found";
+  rig.shots = {lit, dark};
+  Check(WriteJsonFile(rig_dir / "rig.json", rig.RigJson()));
+
+  StageCache cache = *StageCache::Open(stages_dir);
+  StageRecord calibrate;
+  calibrate.inputs_hash = "00112233445566778899aabbccddeeff", calibrate.version = 1, calibrate.seconds = 2.5;
+  calibrate.finished_utc = "2026-12-06T10:00:00Z", calibrate.summary = {{"brief", "2 boards"}, {"warnings", {"w"}}};
+  StageRecord synth = calibrate;
+  synth.read["calibrate"] = "ffeeddccbbaa99887766554433221100";
+  Check(cache.Record("calibrate", calibrate));
+  Check(cache.Record("synth", synth));  // no outputs: hashes of nothing
+
+  const Json marked = {{"format", "mesocap-marked-corners"},
+                       {"shots", {{{"file", "shots/shot_0001.jpg"},
+                                   {"boards", {{{"id", 1}, {"corners_px", {{100, 120}, {300, 118}, {302, 320}, {98, 322}}}}}}}}}};
+  fuzz::WriteText(marked_dir / "marked.json", marked.dump(2) + "\n");
+}
+
 Json SliceEntry(const std::string& file, int board, double ti, double pi, double to, double po) {
   return {{"file", file}, {"board", board}, {"shot", "shots/shot_0001.jpg"}, {"theta_i_deg", ti}, {"phi_i_deg", pi},
           {"theta_o_deg", to}, {"phi_o_deg", po}, {"light_distance_m", 1.0}, {"scale", 1.0}};
@@ -264,5 +302,6 @@ int main(int argc, char** argv) {
   fs::copy(out / "slice_index", dir("slice_set"), fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   Images(dir("image"), dir("image_u8"));
   SynthFiles(dir("synth_files"));
+  SessionRecords(dir("rig_json"), dir("stages_json"), dir("marked_corners"));
   return 0;
 }

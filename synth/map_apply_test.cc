@@ -1,10 +1,14 @@
 #include "synth/map_apply.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "capture/btf_render.h"
 #include "capture/true_btf_folder.h"
 #include "core/directions.h"
+#include "core/image_io.h"
+#include "synth/synth_map.h"
 #include "reconstruct/statistical_btf.h"
 #include "tests/testing.h"
 
@@ -86,6 +90,31 @@ TEST(MapApply, ARotatedPatchShowsTheTurnedMaterialsTrueBtf) {
                 rotated, unrotated, blind);
   }
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mesocap
+
+namespace mesocap {
+namespace {
+
+// A crafted map.exr whose sample size is a float NaN or beyond int: refused by name, not cast
+// (UBSan in CI would flag the cast).
+TEST(SynthMapFile, AFloatSampleSizeOutOfRangeIsRefusedNotCast) {
+  const auto dir = testing::MakeTempDir();
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), 1e30f, -1e30f}) {
+    Image planes(4, 4, 4, 0.5f);
+    ImageWriteOptions options;
+    options.format = PixelFormat::kFloat;
+    options.channel_names = {"source_x", "source_y", "rotation_deg", "patch_id"};
+    options.attributes["mesocap:sample_width"] = bad;
+    options.attributes["mesocap:sample_height"] = 8;
+    const auto path = dir / "map.exr";
+    ASSERT_TRUE(WriteImage(path, planes, options).ok());
+    auto map = ReadSynthMap(path);
+    ASSERT_FALSE(map.ok()) << bad;
+    EXPECT_NE(map.status().message().find("map.exr"), std::string::npos) << map.status().message();
+  }
 }
 
 }  // namespace

@@ -286,6 +286,7 @@ StatusOr<RollerTiles> AnalyseRoller(const Image& f, const Image& lum, const Roll
       tiles.tiles.push_back(std::move(tile));
     }
   }
+  rep.tiles_made = int(tiles.tiles.size());
   rep.seconds_analysis = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return tiles;
 }

@@ -47,6 +47,7 @@ struct RollerReport {
   int vertex_row = 0, vertex_column = 0;             // r*, inside the corner overlap
   double mean_cut_error = 0;                         // mean psi along both cuts (feature units squared)
   std::vector<Eigen::Vector2i> interior_sources;     // sample position of each extra tile's interior
+  int tiles_made = 0;  // may be fewer than asked: the sample had no room for another distinct interior
   double seconds_analysis = 0, seconds_synthesis = 0;
 };
 

@@ -21,6 +21,7 @@ TEST(Roller, WeaveTilesWrapSeamlesslyAndTheOutputHasNoVisibleSeams) {
   ASSERT_TRUE(tiles.ok()) << tiles.status().message();
   EXPECT_FALSE(rep.frequency_fallback) << rep.fallback_reason;
   ASSERT_EQ(tiles->tiles.size(), 3u);
+  EXPECT_EQ(rep.tiles_made, 3);  // what report.json records as made
   const SynthMap map = RollTiles(*tiles, e.width, e.height, o.width, o.height, o.seed);
   ASSERT_TRUE(ValidateMap(map).ok());
   for (int k = 0; k < int(e.slices.size()); ++k) {

@@ -108,7 +108,9 @@ StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path) {
     auto it = info.attributes.find(name);
     if (it == info.attributes.end()) return 0;
     if (auto* v = std::get_if<int>(&it->second)) return *v;
-    if (auto* v = std::get_if<float>(&it->second)) return int(*v);
+    // A float attribute of a crafted file may be NaN or beyond int: cast only what an int holds
+    // (0 is refused below as a sample size).
+    if (auto* v = std::get_if<float>(&it->second)) return std::isfinite(*v) && std::abs(*v) < 1e9f ? int(*v) : 0;
     return 0;
   };
   SynthMap map(planes->width(), planes->height(), int_attribute("mesocap:sample_width"),
