@@ -90,7 +90,7 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
   report->Paragraph("The calibrate stage estimated the intrinsics from the checkerboard shots (" + intrinsics_rms +
                     "), then every board pose from its AprilTags, the balls from their outlines, the flash of every "
                     "shot from the balls' mirror highlights and its power from the grey cards. Errors against truth.json:");
-  report->Table({"quantity", "error", "issue 4 target"},
+  report->Table({"quantity", "error", "target"},
                 {{"focal length fx / fy", Format("%.3f%% / %.3f%%", score.fx_error_pct, score.fy_error_pct), "< 0.3%"},
                  {"board rotation (max)", Format("%.3f deg (%d/%d boards)", score.board_rotation_max_deg, score.boards_posed, score.boards_total), "< 0.3 deg"},
                  {"board translation (max)", Format("%.3f mm", score.board_translation_max_mm), "< 1 mm"},

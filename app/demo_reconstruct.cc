@@ -234,7 +234,7 @@ Status AddEvaluation(const DemoReconstructionInputs& in, Report* report) {
   report->Heading("The paper's validation (mesocap evaluate)");
   report->Paragraph(Format("With the true BTF at the rig's 13 views under the 81 Bonn lights as input, %zu held-out pairs of "
                            "the 81 x 81 grid (64 x 64 texels): the statistical reconstruction beats both baselines on "
-                           "pixel W1 in %.1f%% of pairs (issue 5 asks for 80%%), on subband W1 in %.1f%%. "
+                           "pixel W1 in %.1f%% of pairs (target: 80%%), on subband W1 in %.1f%%. "
                            "`mesocap evaluate --material NAME` runs all 5832 pairs.",
                            eval->pairs.size(), 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_pixels), 100 * eval->FractionBeatingBoth(&PairScore::wasserstein_bands)));
   report->Table({"method", "median RMSE", "median W1 pixels", "median W1 subbands"}, rows);

@@ -3,6 +3,12 @@
 #include <map>
 
 #include "app/process.h"
+
+#include <algorithm>
+
+#include <cctype>
+
+#include <set>
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -81,7 +87,23 @@ void AddCalibrationTables(const fs::path& session, Report* report) {
   report->Table({"board", "shots seen", "tag corners", "RMS reprojection px", "rotation sd deg", "translation sd mm"}, rows);
 }
 
-// Every rejected calibration item and every skipped (board, shot) with its reason.
+// A reason with its figures replaced by "N" ("12.5% of the patch saturated" -> "N% of the patch
+// saturated"): rows that differ only in their numbers group together.
+std::string ReasonKind(const std::string& reason) {
+  std::string kind;
+  for (size_t i = 0; i < reason.size();) {
+    if (std::isdigit(static_cast<unsigned char>(reason[i]))) {
+      while (i < reason.size() && (std::isdigit(static_cast<unsigned char>(reason[i])) || reason[i] == '.')) ++i;
+      kind += "N";
+    } else {
+      kind += reason[i++];
+    }
+  }
+  return kind;
+}
+
+// Every rejected calibration item and every skipped (board, shot): grouped by reason with counts,
+// the full list folded away under them.
 void AddRejectedItems(const fs::path& session, Report* report) {
   std::vector<std::vector<std::string>> rows;
   if (auto calibration = ReadJsonFile(session / "calibration" / "report.json"); calibration.ok())
@@ -90,9 +112,23 @@ void AddRejectedItems(const fs::path& session, Report* report) {
   if (auto slices = ReadJsonFile(session / "slices" / "index.json"); slices.ok())
     for (const Json& s : slices->value("skipped", Json::array()))
       rows.push_back({s.value("shot", std::string()), std::to_string(s.value("board", -1)), s.value("reason", std::string())});
-  report->Heading(Format("Every rejected shot and skipped slice (%zu)", rows.size()));
-  if (rows.empty()) report->Paragraph("None.");
-  else report->Table({"shot", "board", "reason"}, rows);
+  report->Heading(Format("Rejected shots and skipped slices (%zu)", rows.size()));
+  if (rows.empty()) return report->Paragraph("None.");
+  std::map<std::string, std::pair<int, std::set<std::string>>> groups;  // kind -> count, boards
+  for (const auto& row : rows) {
+    auto& [count, boards] = groups[ReasonKind(row[2])];
+    ++count;
+    if (!row[1].empty()) boards.insert(row[1]);
+  }
+  std::vector<std::vector<std::string>> grouped;
+  for (const auto& [kind, group] : groups) {
+    std::string boards;
+    for (const std::string& b : group.second) boards += (boards.empty() ? "" : ", ") + b;
+    grouped.push_back({kind, std::to_string(group.first), boards});
+  }
+  std::stable_sort(grouped.begin(), grouped.end(), [](const auto& a, const auto& b) { return std::stoi(a[1]) > std::stoi(b[1]); });
+  report->Table({"reason", "count", "boards"}, grouped);
+  report->FoldedTable(Format("Every one of the %zu, with its shot", rows.size()), {"shot", "board", "reason"}, rows);
 }
 
 }  // namespace

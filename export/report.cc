@@ -12,6 +12,10 @@ void Report::Paragraph(const std::string& text) { blocks_.push_back({Block::kPar
 void Report::Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
   blocks_.push_back({Block::kTable, "", "", header, rows});
 }
+void Report::FoldedTable(const std::string& summary, const std::vector<std::string>& header,
+                         const std::vector<std::vector<std::string>>& rows) {
+  blocks_.push_back({Block::kTable, summary, "", header, rows});
+}
 void Report::Picture(const std::string& path, const std::string& caption) {
   blocks_.push_back({Block::kPicture, caption, path, {}, {}});
 }
@@ -50,6 +54,10 @@ Status Report::Write(const std::filesystem::path& dir) const {
         html += "<p>" + Escape(b.text) + "</p>\n";
         break;
       case Block::kTable: {
+        if (!b.text.empty()) {  // folded
+          md += "<details><summary>" + Escape(b.text) + "</summary>\n\n";
+          html += "<details><summary>" + Escape(b.text) + "</summary>\n";
+        }
         std::string sep;
         md += "|";
         html += "<table><tr>";
@@ -72,6 +80,7 @@ Status Report::Write(const std::filesystem::path& dir) const {
         }
         md += "\n";
         html += "</table>\n";
+        if (!b.text.empty()) md += "</details>\n\n", html += "</details>\n";
         break;
       }
       case Block::kPicture:

@@ -18,6 +18,9 @@ class Report {
   void Heading(const std::string& text);
   void Paragraph(const std::string& text);
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  // A table folded away under `summary` (HTML <details>; GitHub renders it in report.md too).
+  void FoldedTable(const std::string& summary, const std::vector<std::string>& header,
+                   const std::vector<std::vector<std::string>>& rows);
   // `relative_path` is relative to the report's folder.
   void Picture(const std::string& relative_path, const std::string& caption);
   // Markup placed as it is in report.html (trusted, made by mesocap: e.g. the interactive viewer);

@@ -94,6 +94,13 @@ TEST_F(ProcessTest, RunsEveryStageOnceThenOnlyWhatAChangeAffects) {
   ASSERT_TRUE(report.ok());
   for (const char* shown : {"calibration/flash_positions.png", "report_files/light_coverage.png"})
     EXPECT_NE(report->find(shown), std::string::npos) << shown;
+  // Skipped slices grouped by reason with counts, the full list folded away.
+  auto slices = ReadJsonFile(s / "slices" / "index.json");
+  ASSERT_TRUE(slices.ok());
+  if (!slices->value("skipped", Json::array()).empty()) {
+    EXPECT_NE(report->find("<th>reason</th><th>count</th><th>boards</th>"), std::string::npos);
+    EXPECT_NE(report->find("<details><summary>Every one of the"), std::string::npos);
+  }
 
   // Capture guidance on the processed session (issue 12).
   std::string guidance;
