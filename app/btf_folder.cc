@@ -83,7 +83,7 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const std::string& e : errors)
     if (!e.empty()) return Status::Error(e);
-  if (cancelled) return Status::Error("cancelled");
+  if (cancelled) return Status::Cancelled();
   report.slices = int(pairs.size());
   report.ms_per_slice = pairs.empty() ? 0 : 1000 * report.seconds / pairs.size();
   Json j = {{"format", "mesocap-btf"}, {"width", btf.width()}, {"height", btf.height()},

@@ -48,10 +48,7 @@ int RunCalibrateCamera(CalibrateCameraArgs& a) {
 
   ProgressBar bar(verb, !a.no_progress);
   auto result = CalibrateIntrinsics(*files, o, bar.AsCallback());
-  if (!result.ok()) {
-    const bool cancelled = result.status().message() == "cancelled";
-    return Fail(verb, result.status().message(), cancelled ? kExitCancelled : kExitFailure);
-  }
+  if (!result.ok()) return Fail(verb, result.status());
 
   Json j = result->camera.ToJson();
   const Json full = result->ToJson();
@@ -69,12 +66,12 @@ int RunCalibrateCamera(CalibrateCameraArgs& a) {
     w.format = PixelFormat::kUint8Srgb;
     if (Status st = outputs.Stage(a.plot, [&](const std::filesystem::path& temp) { return WriteImage(temp, plot, w); });
         !st.ok())
-      return Fail(verb, st.message());
+      return Fail(verb, st);
   }
   if (Status st = outputs.Stage(a.out, [&](const std::filesystem::path& temp) { return WriteJsonFile(temp, j); });
       !st.ok())
-    return Fail(verb, st.message());
-  if (Status st = outputs.Commit(); !st.ok()) return Fail(verb, st.message());
+    return Fail(verb, st);
+  if (Status st = outputs.Commit(); !st.ok()) return Fail(verb, st);
   std::string written = a.out.string();
   if (!a.no_plot) written += ", " + a.plot.string();
   std::printf("%s\n-> %s\n", result->Brief().c_str(), written.c_str());

@@ -9,4 +9,10 @@ int Fail(const std::string& verb, const std::string& message, int code) {
   return code;
 }
 
+int Fail(const std::string& verb, const Status& status) {
+  if (status.cancelled())
+    return Fail(verb, "cancelled (Ctrl-C): stopped, and nothing half-written was left behind", kExitCancelled);
+  return Fail(verb, status.message(), kExitFailure);
+}
+
 }  // namespace mesocap::app

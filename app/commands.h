@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/image_io.h"
+#include "core/status.h"
 
 namespace mesocap::app {
 
@@ -22,6 +23,8 @@ inline constexpr int kExitInternal = 70;
 
 // Prints "mesocap <verb>: <message>" on stderr and returns `code`.
 int Fail(const std::string& verb, const std::string& message, int code = kExitFailure);
+// A failed Status: its message, exit 1; a cancelled one (Ctrl-C): says so, exit 3.
+int Fail(const std::string& verb, const Status& status);
 
 // Options before the subcommand.
 struct GlobalOptions {

@@ -7,6 +7,7 @@
 
 #include "app/command_args.h"
 #include "app/commands.h"
+#include "core/cancel.h"
 #include "core/image_io.h"
 #include "core/logging.h"
 #include "core/pixel_memory.h"
@@ -22,6 +23,7 @@ extern "C" __attribute__((visibility("default"))) int MesocapRunCommand(const ch
   SetCommandLine(argc, argv);
   InitLogging(globals->verbosity);
   SetMaxImagePixels(int64_t(globals->max_megapixels * 1e6));
+  InstallCancelHandler();  // Ctrl-C: every command stops at its next progress check, exit 3
   try {
 #define MESOCAP_RUN_IF_CHOSEN(Verb)                                      \
   if (std::strcmp(verb, #Verb) == 0 && args_size == sizeof(Verb##Args)) \

@@ -76,7 +76,7 @@ int RunCoverage(CoverageArgs a) {
     return Fail(verb, "--near-deg must be in (0, 90] and --suggest in [0, 100]", kExitUsage);
   const fs::path rig_file = a.session / "calibration" / "rig.json";
   auto loaded = LoadSessionCalibration(a.session);
-  if (!loaded.ok()) return Fail(verb, loaded.status().message());
+  if (!loaded.ok()) return Fail(verb, loaded.status());
   const CalibrationResult& calibration = *loaded;
   const BoardPose* top = TopBoardPose(calibration);
   if (!top) return Fail(verb, rig_file.string() + ": no board was posed, so there is no hemisphere to cover");
@@ -102,7 +102,7 @@ int RunCoverage(CoverageArgs a) {
                                       {{"session", a.session.string()}, {"near_deg", a.options.near_deg}, {"objective", a.objective},
                                        {"suggestions", a.options.suggestions}, {"images", images}});
       !st.ok())
-    return Fail(verb, st.message());
+    return Fail(verb, st);
   std::printf("%s, lights from %s, %s; %s\n%s\n%s\n-> %s\n", CoverageSummary(assessment).c_str(), source.c_str(),
               shadows.c_str(), images.c_str(), BoardCoverageLines(assessment).c_str(), NextShotLines(assessment).c_str(),
               out.string().c_str());

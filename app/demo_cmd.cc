@@ -181,10 +181,10 @@ int RunDemo(DemoArgs& a) {
   clock.Start("render the virtual session");
   ProgressBar bar("simulate", !a.no_progress);
   auto sim = SimulateSession(a.simulate, bar.AsCallback());
-  if (!sim.ok()) return Fail("demo", sim.status().message());
+  if (!sim.ok()) return Fail("demo", sim.status());
   const fs::path session_dir = a.simulate.out;
   auto truth_json = ReadJsonFile(session_dir / "truth.json");
-  if (!truth_json.ok()) return Fail("demo", truth_json.status().message());
+  if (!truth_json.ok()) return Fail("demo", truth_json.status());
   auto scene = MakeRigScene(a.simulate.rig);
   auto material = Material::Create(a.simulate.rig.material);
   if (!scene.ok() || !material.ok()) return Fail("demo", "cannot rebuild the rig");
@@ -200,12 +200,12 @@ int RunDemo(DemoArgs& a) {
   clock.Start("contact sheets");
   std::fprintf(stderr, "demo: contact sheets of the shots\n");
   if (Status st = ContactSheetOf(session_dir, shot_files, a.out / "contact_sheet.jpg", 24); !st.ok())
-    return Fail("demo", st.message());
+    return Fail("demo", st);
   report.Heading("Shots");
   report.Picture("contact_sheet.jpg", "Flash shots (every few): the pyramid of 13 boards, 4 billiard balls, 2 grey cards");
   if (!calib_files.empty()) {
     if (Status st = ContactSheetOf(session_dir, calib_files, a.out / "calibration_sheet.jpg", 12); !st.ok())
-      return Fail("demo", st.message());
+      return Fail("demo", st);
     report.Picture("calibration_sheet.jpg", "Checkerboard shots for camera calibration");
   }
 
@@ -229,7 +229,7 @@ int RunDemo(DemoArgs& a) {
   if (Status st = WriteImage(a.out / "lights.png", HemispherePlot(dirs, 420, "flash directions, top board frame"),
                              {.format = PixelFormat::kUint8Srgb});
       !st.ok())
-    return Fail("demo", st.message());
+    return Fail("demo", st);
   report.Picture("lights.png", "Flash directions seen from the top board (centre: zenith, rings: 30/60/90 deg)");
 
   // True BTF slices for a few direction pairs.
@@ -243,7 +243,7 @@ int RunDemo(DemoArgs& a) {
   }
   if (Status st = WriteImage(a.out / "true_btf.jpg", ContactSheet(slices, labels, 6, 180), {.format = PixelFormat::kUint8Srgb});
       !st.ok())
-    return Fail("demo", st.message());
+    return Fail("demo", st);
   report.Picture("true_btf.jpg", "True BTF slices of the material (light and view (theta, phi) in degrees), each exposed to its own range");
 
   // The session through `mesocap process`, then every stage scored against the truth it never reads.
@@ -254,9 +254,9 @@ int RunDemo(DemoArgs& a) {
   process.reconstruct.grid = "coarse";  // the demo scores the reconstruction itself, below
   clock.Stop();
   auto outcomes = RunProcess(process);
-  if (!outcomes.ok()) return Fail("demo", outcomes.status().message());
+  if (!outcomes.ok()) return Fail("demo", outcomes.status());
   for (const StageOutcome& o : *outcomes) clock.Add("process: " + o.name, o.seconds);
-  if (Status st = WriteProcessReport(session_dir, *outcomes); !st.ok()) return Fail("demo", st.message());
+  if (Status st = WriteProcessReport(session_dir, *outcomes); !st.ok()) return Fail("demo", st);
   report.Heading("mesocap process");
   report.Paragraph("`mesocap process session` ran every stage (its own report: session/report.html):");
   std::vector<std::vector<std::string>> stage_rows;
@@ -265,8 +265,8 @@ int RunDemo(DemoArgs& a) {
   report.Table({"stage", "seconds", "outputs", "warnings"}, stage_rows);
 
   clock.Start("scoring calibration and slices");
-  if (Status st = AddCalibrationScores(session_dir, *truth_json, *outcomes, &report); !st.ok()) return Fail("demo", st.message());
-  if (Status st = AddSliceScores(a.out, session_dir, *scene, *material, &report); !st.ok()) return Fail("demo", st.message());
+  if (Status st = AddCalibrationScores(session_dir, *truth_json, *outcomes, &report); !st.ok()) return Fail("demo", st);
+  if (Status st = AddSliceScores(a.out, session_dir, *scene, *material, &report); !st.ok()) return Fail("demo", st);
 
   DemoReconstructionInputs rec;
   rec.out = a.out;
@@ -277,9 +277,9 @@ int RunDemo(DemoArgs& a) {
   rec.patch_m = scene->boards.front().patch_m;
   rec.progress = !a.no_progress;
   rec.clock = &clock;
-  if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st.message());
+  if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st);
   if (Status st = AddSynthesisToDemo(a.out, session_dir, rec.top_board, &clock, &report); !st.ok())
-    return Fail("demo", st.message());
+    return Fail("demo", st);
 
   clock.Stop();
   AddTiming(clock, &report);
@@ -288,7 +288,7 @@ int RunDemo(DemoArgs& a) {
                    "truth.json, rig_layout.json, calibration/ (rig.json, report.json, plots), slices/ (OpenEXR BTF slices, "
                    "index.json, board_BB.lp), ptm/ (a PTM per board), btf/ (the reconstructed BTF, coarse grid), export/ "
                    "(material.ptm, lp/, btf/, previews/), stages.json and its own report.html. Formats: docs/formats.md.");
-  if (Status st = report.Write(a.out); !st.ok()) return Fail("demo", st.message());
+  if (Status st = report.Write(a.out); !st.ok()) return Fail("demo", st);
   std::printf("demo: %s\n", sim->Brief().c_str());
   std::printf("demo: finished in %.0f s -> %s\n", clock.TotalSeconds(), (a.out / "report.html").string().c_str());
   return kExitOk;

@@ -160,7 +160,7 @@ int RunEvaluate(EvaluateArgs& a) {
   if (a.pairs == 0 || a.pairs < -1) return Fail("evaluate", "--pairs must be a positive count, or -1 for all", kExitUsage);
   if (!IsMissingOrEmptyDir(a.out)) return Fail("evaluate", a.out.string() + ": exists and is not empty", kExitUsage);
   auto staging = StagingFolder::Begin(a.out);  // the folder appears whole, at the end
-  if (!staging.ok()) return Fail("evaluate", staging.status().message());
+  if (!staging.ok()) return Fail("evaluate", staging.status());
   const std::filesystem::path out = staging->path();
 
   BtfEvaluationOptions options;
@@ -186,7 +186,7 @@ int RunEvaluate(EvaluateArgs& a) {
     eval = EvaluateStatisticalBtf(truth, options, bar.AsCallback(), &model);
   }
   if (!eval.ok())
-    return Fail("evaluate", eval.status().message(), eval.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
+    return Fail("evaluate", eval.status());
 
   const int truth_samples = TruthSamplesPerAxis(a, bool(scene));
   Json j = eval->ToJson();
@@ -203,7 +203,7 @@ int RunEvaluate(EvaluateArgs& a) {
                    {"samples_per_axis", truth_samples},
                    {"pixel_only", a.pixel_only}});
   j["provenance"] = MakeProvenance(settings);
-  if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = WriteJsonFile(out / "evaluation.json", j); !st.ok()) return Fail("evaluate", st);
   std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg";
   for (int m = 0; m < kBtfMethods; ++m)
     for (const char* s : {"rmse", "w_pixels", "w_bands", "w_chromaticity", "saturation_ratio"})
@@ -217,10 +217,10 @@ int RunEvaluate(EvaluateArgs& a) {
                     p.wasserstein_chromaticity[m], p.saturation_ratio[m]);
     csv += "\n";
   }
-  if (Status st = WriteTextAtomically(out / "evaluation.csv", csv); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = WriteTextAtomically(out / "evaluation.csv", csv); !st.ok()) return Fail("evaluate", st);
   ImageWriteOptions png;
   png.format = PixelFormat::kUint8Srgb;
-  if (Status st = WriteImage(out / "sheet.png", PictureSheet(*model, truth), png); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = WriteImage(out / "sheet.png", PictureSheet(*model, truth), png); !st.ok()) return Fail("evaluate", st);
 
   Report report("mesocap evaluate: " + material_name);
   const std::string source =
@@ -253,8 +253,8 @@ int RunEvaluate(EvaluateArgs& a) {
                           WhiteLobeSentence(model->white_lobe()).c_str(), MeanModelSentence(*model).c_str(),
                           MirrorSymmetrySentence(*model).c_str(), eval->reconstruct_ms_per_slice));
   report.Picture("sheet.png", "truth | statistical | top view only | top texture x average BRDF");
-  if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st.message());
-  if (Status st = staging->Publish(); !st.ok()) return Fail("evaluate", st.message());
+  if (Status st = report.Write(out); !st.ok()) return Fail("evaluate", st);
+  if (Status st = staging->Publish(); !st.ok()) return Fail("evaluate", st);
   std::printf("%s\n", eval->Brief().c_str());
   return kExitOk;
 }

@@ -25,19 +25,19 @@ int RunExport(const ExportArgs& a) {
     if (!StringToExportFormat(name, &f)) return Fail("export", "--format must be ptm, lp, exr or gltf, not '" + name + "'", kExitUsage);
     formats.push_back(f);
   }
-  if (auto session = Session::Open(a.session); !session.ok()) return Fail("export", session.status().message());
+  if (auto session = Session::Open(a.session); !session.ok()) return Fail("export", session.status());
   const fs::path out = a.out.empty() ? a.session / "export" : a.out;
   // Into the session, export is one of its writers; elsewhere it only reads the session.
   const std::string inside = fs::absolute(out).lexically_normal().lexically_relative(fs::absolute(a.session).lexically_normal()).string();
   std::optional<SessionLock> lock;
   if (!inside.empty() && inside.rfind("..", 0) != 0) {
     auto taken = SessionLock::Acquire(a.session, "export");
-    if (!taken.ok()) return Fail("export", taken.status().message());
+    if (!taken.ok()) return Fail("export", taken.status());
     lock.emplace(std::move(*taken));
   }
   for (ExportFormat f : formats) {
     auto written = ExportSession(a.session, f, out, a.options);
-    if (!written.ok()) return Fail("export", written.status().message());
+    if (!written.ok()) return Fail("export", written.status());
     std::printf("export %s: %s\n", ExportFormatToString(f).c_str(), written->c_str());
   }
   return kExitOk;

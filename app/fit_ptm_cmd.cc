@@ -222,7 +222,7 @@ StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowRead
         std::memcpy(maps->albedo.row(y0 + r), band_maps.albedo.row(r), rgb_row_floats * sizeof(float));
       }
     }
-    bar.Update(y0 + rows, height + 1, "rows");
+    if (!bar.Update(y0 + rows, height + 1, "rows")) return Status::Cancelled();  // Ctrl-C: the scratch file goes too
   }
   // The phases overlap: each is reported as its busy core-seconds, and as those shared over the
   // threads (what it adds to the wall clock).
@@ -282,6 +282,7 @@ StatusOr<Ptm> FitWholePhotos(const std::vector<LpEntry>& entries, const std::vec
         },
         args.threads);
   }
+  if (CancelRequested()) return Status::Cancelled();
   for (const std::string& error : errors)
     if (!error.empty()) return Status::Error(error);
   MESOCAP_RETURN_IF_ERROR(CheckSameShape(entries, [&](int i) {
@@ -310,7 +311,7 @@ int RunFitPtm(const FitPtmArgs& args) {
 
   // Lights first: a bad light set is refused before any photo is decoded.
   auto entries = ReadLpFile(args.lp, /*require_images_exist=*/true);
-  if (!entries.ok()) return Fail(verb, entries.status().message());
+  if (!entries.ok()) return Fail(verb, entries.status());
   std::vector<Eigen::Vector3d> lights;
   for (const LpEntry& e : *entries) lights.push_back(e.light_dir);
   PtmLightCheck light_check;
@@ -333,16 +334,16 @@ int RunFitPtm(const FitPtmArgs& args) {
     PhaseTimer timer(&seconds.decode, &seconds.decode_cpu);
     readers = OpenJpegReaders(*entries, args.threads);
   }
-  if (!readers.ok()) return Fail(verb, readers.status().message());
+  if (!readers.ok()) return Fail(verb, readers.status());
   const bool streamed = !readers->empty();
   if (streamed) {
     read_path = "8-bit JPEG streamed in bands of rows (decoded and fitted band by band)";
     parked = FitStreamingJpegs(*readers, *entries, lights, fit, out.parent_path(), want_maps, bar, &report, &maps,
                                &seconds);
-    if (!parked.ok()) return Fail(verb, parked.status().message());
+    if (!parked.ok()) return Fail(verb, parked.status());
   } else {
     ptm = FitWholePhotos(*entries, lights, fit, args, bar, &report, &seconds, &read_path);
-    if (!ptm.ok()) return Fail(verb, ptm.status().message());
+    if (!ptm.ok()) return Fail(verb, ptm.status());
     if (want_maps) maps = PtmNormalsAndAlbedo(*ptm, args.threads);
   }
   bar.Update(n + 1, n + 1, "fit");
@@ -360,14 +361,14 @@ int RunFitPtm(const FitPtmArgs& args) {
         return streamed ? WritePtmFile(temp, *parked, {}, &quantization) : WritePtmFile(temp, *ptm, {}, &quantization);
       });
       !s.ok())
-    return Fail(verb, s.message());
+    return Fail(verb, s);
   for (const auto& named_map : {std::pair{args.normals, &maps.normals}, std::pair{args.albedo, &maps.albedo}}) {
     const auto& [path, map] = named_map;  // (clang 14 cannot capture a structured binding)
     if (path.empty()) continue;
     const auto write_map = [&named_map](const fs::path& temp) {
       return WriteImage(temp, *named_map.second, StoredValueOptions(named_map.first));
     };
-    if (Status s = outputs.Stage(path, write_map); !s.ok()) return Fail(verb, s.message());
+    if (Status s = outputs.Stage(path, write_map); !s.ok()) return Fail(verb, s);
   }
   const double write_seconds = SecondsSince(write_start);
   const double write_cpu_seconds = ProcessCpuSeconds() - write_cpu_start;
@@ -403,8 +404,8 @@ int RunFitPtm(const FitPtmArgs& args) {
   j["inputs"] = Json::array();
   for (const LpEntry& e : *entries) j["inputs"].push_back({{"image", e.image.string()}, {"light", ToJson(e.light_dir)}});
   if (Status s = outputs.Stage(json_path, [&](const fs::path& temp) { return WriteJsonFile(temp, j); }); !s.ok())
-    return Fail(verb, s.message());
-  if (Status s = outputs.Commit(); !s.ok()) return Fail(verb, s.message());
+    return Fail(verb, s);
+  if (Status s = outputs.Commit(); !s.ok()) return Fail(verb, s);
 
   std::printf("%s: %s %dx%d from %d lights, rms residual %.5f; decode %.3f s, fit %.3f s, write %.3f s, "
               "total %.3f s\n",

@@ -19,10 +19,7 @@ int RunImport(ImportArgs& a) {
   if (std::string why = a.options.Check(); !why.empty()) return Fail("import", why, kExitUsage);
   ProgressBar bar("import", !a.no_progress);
   auto report = ImportPhotoFolder(a.options, bar.AsCallback());
-  if (!report.ok()) {
-    const bool cancelled = report.status().message() == "cancelled";
-    return Fail("import", report.status().message(), cancelled ? kExitCancelled : kExitFailure);
-  }
+  if (!report.ok()) return Fail("import", report.status());
   std::printf("%s\n", report->Brief().c_str());  // skipped files are listed, exit code stays 0
   return kExitOk;
 }

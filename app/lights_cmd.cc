@@ -53,7 +53,7 @@ int RunLights(const LightsArgs& a) {
   } else {
     // Mask values are coverage: read 8-bit files without sRGB decoding.
     auto mask = ReadImage(a.sphere_mask, {.linearize = false});
-    if (!mask.ok()) return Fail(verb, mask.status().message());
+    if (!mask.ok()) return Fail(verb, mask.status());
     auto c = CircleFromMask(*mask);
     if (!c.ok()) return Fail(verb, a.sphere_mask + ": " + c.status().message());
     circle = *c;
@@ -112,10 +112,10 @@ int RunLights(const LightsArgs& a) {
   OutputFileSet outputs;
   if (entries.size() >= 3)
     if (Status s = outputs.Stage(out, [&](const fs::path& temp) { return WriteLpFile(temp, entries); }); !s.ok())
-      return Fail(verb, s.message());
+      return Fail(verb, s);
   if (Status s = outputs.Stage(report_path, [&](const fs::path& temp) { return WriteJsonFile(temp, report); }); !s.ok())
-    return Fail(verb, s.message());
-  if (Status s = outputs.Commit(); !s.ok()) return Fail(verb, s.message());
+    return Fail(verb, s);
+  if (Status s = outputs.Commit(); !s.ok()) return Fail(verb, s);
   if (entries.size() < 3)
     return Fail(verb, "only " + std::to_string(entries.size()) + " of " + std::to_string(photos.size()) +
                           " photos show a usable highlight (need 3); reasons in " + report_path.string());

@@ -264,7 +264,7 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
     std::fprintf(stderr, "[%zu/%zu] %s: running (%s)\n", k + 1, stages.size(), stage.name.c_str(), why.c_str());
     const auto start = std::chrono::steady_clock::now();
     auto summary = stage.run();
-    if (!summary.ok()) return Status::Error("stage " + stage.name + ": " + summary.status().message());
+    if (!summary.ok()) return summary.status().WithContext("stage " + stage.name + ": ");
     outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     outcome.status = "ran";
     outcome.summary = *summary;

@@ -27,9 +27,9 @@ int RunProcess(ProcessArgs& a) {
     return Fail(verb, "--synth-size '" + a.synth_size + "' is not WxH (1..32768 each)", kExitUsage);
   if (std::string why = a.options.Check(); !why.empty()) return Fail(verb, why, kExitUsage);
   auto outcomes = RunProcess(a.options);
-  if (!outcomes.ok()) return Fail(verb, outcomes.status().message());
+  if (!outcomes.ok()) return Fail(verb, outcomes.status());
   PrintProcessSummary(*outcomes);
-  if (Status st = WriteProcessReport(a.options.session, *outcomes); !st.ok()) return Fail(verb, st.message());
+  if (Status st = WriteProcessReport(a.options.session, *outcomes); !st.ok()) return Fail(verb, st);
   std::printf("process: done -> %s\n", (a.options.session / "report.html").string().c_str());
   return kExitOk;
 }

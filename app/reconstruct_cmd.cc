@@ -82,20 +82,19 @@ int ReconstructToFolder(ReconstructArgs& a) {
   auto btf = LoadStatisticalBtf(index, a.options, &loaded, load_bar.AsCallback());
   for (const std::string& s : loaded.skipped) std::fprintf(stderr, "mesocap reconstruct: skipped %s\n", s.c_str());
   for (const std::string& w : loaded.warnings) std::fprintf(stderr, "mesocap reconstruct: warning: %s\n", w.c_str());
-  if (!btf.ok()) return Fail("reconstruct", btf.status().message());
+  if (!btf.ok()) return Fail("reconstruct", btf.status());
 
   // Everything goes to a staging folder published at the end: an interrupted or failed run
   // (a worker's exception included) leaves nothing under the output's name.
   auto staging = StagingFolder::Begin(a.out);
-  if (!staging.ok()) return Fail("reconstruct", staging.status().message());
+  if (!staging.ok()) return Fail("reconstruct", staging.status());
   const auto fail = [](const std::string& message, int code = kExitFailure) { return Fail("reconstruct", message, code); };
   ProgressBar bar("reconstruct", !a.no_progress);
   Json provenance = a.method.ToJson();
   provenance.update({{"index", index.string()}, {"size", a.options.size}, {"pixel_only", a.pixel_only}});
   auto written = WriteReconstructedBtf(*btf, loaded, pairs, a.pixel_only, a.options.btf.num_threads, staging->path(),
                                        provenance, bar.AsCallback());
-  if (!written.ok())
-    return fail(written.status().message(), written.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
+  if (!written.ok()) return Fail("reconstruct", written.status());
   const double seconds = written->seconds;
   if (Status st = staging->Publish(); !st.ok()) return fail(st.message());
   std::printf("reconstructed %zu slices (%dx%d) from %d measured slices in %d views%s: statistics %.1f s, reconstruction "

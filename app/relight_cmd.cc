@@ -48,7 +48,7 @@ int RunRelight(const RelightArgs& args) {
     return Fail(verb, "--bits 16 needs a .png or .tif output", kExitUsage);
 
   auto ptm = ReadPtmFile(args.ptm);
-  if (!ptm.ok()) return Fail(verb, ptm.status().message());
+  if (!ptm.ok()) return Fail(verb, ptm.status());
   Image image = RelightPtm(*ptm, light, /*clamp=*/true, args.threads);
 
   // The PTM holds stored (display-encoded) values; the file must hold those same values.
@@ -61,7 +61,7 @@ int RunRelight(const RelightArgs& args) {
   } else {
     write.format = PixelFormat::kUint16Linear;
   }
-  if (Status s = WriteImage(out, image, write); !s.ok()) return Fail(verb, s.message());
+  if (Status s = WriteImage(out, image, write); !s.ok()) return Fail(verb, s);
   const Eigen::Vector3d d = light.normalized();
   std::printf("%s: %dx%d relit from (%.4f, %.4f, %.4f), %d-bit\n", out.string().c_str(), image.width(),
               image.height(), d.x(), d.y(), d.z(), args.bits);

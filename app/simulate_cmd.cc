@@ -28,7 +28,7 @@ int RunTrueBtf(const SimulateArgs& a) {
   SetSliceAngles(&w.attributes, r.theta_i_deg, r.phi_i_deg, r.theta_o_deg, r.phi_o_deg);
   w.attributes["mesocap:patch_m"] = float(r.patch_m);
   w.attributes["mesocap:quantity"] = kBtfSliceQuantity;
-  if (Status st = WriteImage(a.session.out, slice, w); !st.ok()) return Fail("simulate", st.message());
+  if (Status st = WriteImage(a.session.out, slice, w); !st.ok()) return Fail("simulate", st);
   std::printf("true BTF slice %s (%dx%d) -> %s\n", a.session.rig.material.c_str(), r.size, r.size,
               a.session.out.string().c_str());
   return kExitOk;
@@ -41,7 +41,7 @@ int RunSimulate(SimulateArgs& a) {
   if (std::string why = a.session.Check(); !why.empty()) return Fail("simulate", why, kExitUsage);
   ProgressBar bar("simulate", !a.no_progress);
   auto report = SimulateSession(a.session, bar.AsCallback());
-  if (!report.ok()) return Fail("simulate", report.status().message());
+  if (!report.ok()) return Fail("simulate", report.status());
   std::printf("%s\n", report->Brief().c_str());
   return kExitOk;
 }

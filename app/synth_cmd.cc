@@ -47,7 +47,7 @@ int Finish(const std::string& verb, const SynthMap& map, const Exemplar& e, cons
   if (e.kind == ExemplarKind::kBtf && !ParseSliceList(a.slices, int(e.slices.size()), &request.slices))
     return Fail(verb, "--slices '" + a.slices + "' is not 'all' or indices 0.." + std::to_string(e.slices.size() - 1), kExitUsage);
   ProgressBar bar("writing", !a.no_progress);
-  if (Status st = WriteSynthesisOutputs(map, e, request, bar.AsCallback()); !st.ok()) return Fail(verb, st.message());
+  if (Status st = WriteSynthesisOutputs(map, e, request, bar.AsCallback()); !st.ok()) return Fail(verb, st);
   std::printf("%s: %s %dx%d from %s (%s, %dx%d) -> %s\n", verb.c_str(), map.method.c_str(), map.width, map.height,
               a.input.string().c_str(), ExemplarKindToString(e.kind).c_str(), e.width, e.height, a.out.string().c_str());
   return kExitOk;
@@ -62,7 +62,7 @@ int RunSynth(SynthArgs& a) {
   int width = 0, height = 0;
   if (int code = CheckCommon(verb, a, &width, &height)) return code;
   auto e = Load(a, verb);
-  if (!e.ok()) return Fail(verb, e.status().message());
+  if (!e.ok()) return Fail(verb, e.status());
   SynthMethodOptions method;
   method.method = a.method;
   method.width = width, method.height = height, method.seed = a.seed, method.num_threads = a.threads;
@@ -88,8 +88,7 @@ int RunSynth(SynthArgs& a) {
   TextonAnalysis textons;
   auto map = RunSynthesisMethod(*e, method, &report, &note, bar.AsCallback(), &textons);
   if (!map.ok())
-    return Fail(verb, a.input.string() + ": " + map.status().message(),
-                map.status().message() == "cancelled" ? kExitCancelled : kExitFailure);
+    return Fail(verb, map.status().WithContext(a.input.string() + ": "));
   if (!note.empty()) std::fprintf(stderr, "mesocap synth: %s: %s\n", a.input.string().c_str(), note.c_str());
   // A texton analysis is kept beside the map, so a later run (or a surface) reuses it with --analysis.
   return Finish(verb, *map, *e, a, report, TextonAnalysisWriter(textons));
@@ -99,10 +98,10 @@ int RunSynthApply(SynthArgs& a) {
   const std::string verb = "synth-apply";
   if (int code = CheckCommon(verb, a, nullptr, nullptr)) return code;
   auto map = ReadSynthMap(a.map);
-  if (!map.ok()) return Fail(verb, map.status().message());
+  if (!map.ok()) return Fail(verb, map.status());
   a.exemplar.svd_components = 1;  // the map is given: features only feed the report
   auto e = Load(a, verb);
-  if (!e.ok()) return Fail(verb, e.status().message());
+  if (!e.ok()) return Fail(verb, e.status());
   if (e->width != map->sample_width || e->height != map->sample_height)
     return Fail(verb, a.map.string() + ": points into a " + std::to_string(map->sample_width) + "x" +
                           std::to_string(map->sample_height) + " sample; " + a.input.string() + " is " +
@@ -115,11 +114,11 @@ int RunPaint(SynthArgs& a) {
   int width = 0, height = 0;
   if (int code = CheckCommon(verb, a, &width, &height)) return code;
   auto feature = ReadMask(a.feature_mask);
-  if (!feature.ok()) return Fail(verb, feature.status().message());
+  if (!feature.ok()) return Fail(verb, feature.status());
   auto target = ReadMask(a.target_mask);
-  if (!target.ok()) return Fail(verb, target.status().message());
+  if (!target.ok()) return Fail(verb, target.status());
   auto e = Load(a, verb);
-  if (!e.ok()) return Fail(verb, e.status().message());
+  if (!e.ok()) return Fail(verb, e.status());
   if (feature->width() != e->width || feature->height() != e->height)
     return Fail(verb, a.feature_mask.string() + ": " + std::to_string(feature->width()) + "x" + std::to_string(feature->height()) +
                           ", the sample is " + std::to_string(e->width) + "x" + std::to_string(e->height));
@@ -131,7 +130,7 @@ int RunPaint(SynthArgs& a) {
   QuiltReport r;
   ProgressBar bar("painting", !a.no_progress);
   auto map = PaintSynthesis(e->features, *feature, *target, o, a.paint, &r, bar.AsCallback());
-  if (!map.ok()) return Fail(verb, a.input.string() + ": " + map.status().message());
+  if (!map.ok()) return Fail(verb, map.status().WithContext(a.input.string() + ": "));
   Json report = {{"method", "paint"}};
   report["parameters"] = {{"transition_width", a.paint.transition_width}, {"match_weight", a.paint.match_weight},
                           {"data_weight", a.paint.data_weight}, {"verbatim", a.paint.verbatim}, {"seed", a.seed},

@@ -434,7 +434,7 @@ StatusOr<IntrinsicsResult> CalibrateIntrinsics(const std::vector<std::filesystem
         if (!ReportProgress(progress, ++done, n, "detect " + files[i].filename().string())) cancelled = true;
       },
       options.num_threads);
-  if (cancelled) return Status::Error("cancelled");
+  if (cancelled) return Status::Cancelled();
   result.report.detect_s = SecondsSince(start);
 
   // 2. All images must share one size: the most common one among the readable images.
@@ -533,7 +533,7 @@ StatusOr<IntrinsicsResult> CalibrateIntrinsics(const std::vector<std::filesystem
   SolveOutput solve;
   const int max_solves = options.max_outlier_rounds + 1;
   for (int round = 0;; ++round) {
-    if (!ReportProgress(progress, round + 1, max_solves, "solve")) return Status::Error("cancelled");
+    if (!ReportProgress(progress, round + 1, max_solves, "solve")) return Status::Cancelled();
     solve = SolveOnce(options, board, result.images, active, intrinsics, &poses, /*want_covariance=*/false);
     result.report.solver_iterations += solve.iterations;
     std::vector<double> rms;

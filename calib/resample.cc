@@ -431,7 +431,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
 
   if (options.brdf_smoothing) {
     run_pass(false);
-    if (cancelled) return Status::Error("cancelled");
+    if (cancelled) return Status::Cancelled();
     // Per view (board), over the slices that will be written.
     for (int b = 0; b < nb; ++b) {
       std::vector<Plan*> members;
@@ -451,7 +451,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
     }
   }
   run_pass(true);
-  if (cancelled) return Status::Error("cancelled");
+  if (cancelled) return Status::Cancelled();
 
   for (int s = 0; s < ns; ++s)
     for (size_t k = 0; k < plans[s].size(); ++k) {

@@ -157,7 +157,7 @@ Status ScanEntries(const std::vector<fs::directory_entry>& entries, const std::s
   for (const auto& entry : entries) {
     const fs::path path = entry.path();
     if (!ReportProgress(progress, ++*done, *total, path.filename().string()))
-      return Status::Error("cancelled");
+      return Status::Cancelled();
     std::error_code e;
     if (entry.is_directory(e)) {
       skipped->push_back({fs::absolute(path), "folder (import does not look inside sub-folders)"});
@@ -399,7 +399,7 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
       report.imported.push_back(photo);
       (*method == "hardlink" ? report.hardlinked : report.copied)++;
       (c.kind == "calib" ? report.calib_shots_imported : report.shots_imported)++;
-      if (!ReportProgress(progress, ++done, total, file)) return Status::Error("cancelled");
+      if (!ReportProgress(progress, ++done, total, file)) return Status::Cancelled();
     }
   }
   // Hard links are new folder entries: make them durable before the session appears.

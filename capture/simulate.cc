@@ -140,7 +140,7 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   auto finish_writing = [&]() -> Status {  // waits for the write in flight, then reports it
     if (!writing.valid()) return Status::Ok();
     MESOCAP_RETURN_IF_ERROR(writing.get());
-    if (!ReportProgress(progress, ++written, total, writing_file)) return Status::Error("cancelled");
+    if (!ReportProgress(progress, ++written, total, writing_file)) return Status::Cancelled();
     return Status::Ok();
   };
   auto render_and_write = [&](Image image, const std::string& file, const std::string& kind, int index, int clock,

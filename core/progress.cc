@@ -15,10 +15,10 @@ ProgressBar::~ProgressBar() {
 }
 
 bool ProgressBar::Update(int done, int total, const std::string& what) {
-  if (!enabled_ || total <= 0) return true;
+  if (!enabled_ || total <= 0) return !CancelRequested();
   std::lock_guard<std::mutex> lock(mutex_);
   if (total != last_total_) last_total_ = total, highest_done_ = -1;  // a new phase
-  if (done < highest_done_) return true;
+  if (done < highest_done_) return !CancelRequested();
   highest_done_ = done;
   const double frac = double(done) / total;
   const double elapsed =
@@ -39,7 +39,7 @@ bool ProgressBar::Update(int done, int total, const std::string& what) {
       std::fprintf(stderr, "%s [%d/%d] %.1fs %s\n", label_.c_str(), done, total, elapsed, what.c_str());
     }
   }
-  return true;
+  return !CancelRequested();  // Ctrl-C (core/cancel.h): the work stops at this report
 }
 
 ProgressFn ProgressBar::AsCallback() {

@@ -7,6 +7,8 @@
 #include <mutex>
 #include <string>
 
+#include "core/cancel.h"
+
 namespace mesocap {
 
 using ProgressFn = std::function<bool(int done, int total, const std::string& what)>;
@@ -16,7 +18,9 @@ inline double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// False when the work should stop: the callback said so, or the user pressed Ctrl-C (core/cancel.h).
 inline bool ReportProgress(const ProgressFn& fn, int done, int total, const std::string& what) {
+  if (CancelRequested()) return false;
   return fn ? fn(done, total, what) : true;
 }
 

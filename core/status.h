@@ -14,8 +14,24 @@ class Status {
   Status() = default;
   static Status Ok() { return Status(); }
   static Status Error(std::string message) { return Status(std::move(message)); }
+  // The user stopped the work (Ctrl-C, core/cancel.h): a status of its own, so every caller can
+  // tell it from a failure without reading the message (commands exit 3 for it).
+  static Status Cancelled() {
+    Status s("cancelled");
+    s.cancelled_ = true;
+    return s;
+  }
 
   bool ok() const { return !message_.has_value(); }
+  bool cancelled() const { return cancelled_; }
+  // The same status with `context` before its message ("stage reconstruct: ..."), still cancelled
+  // if it was.
+  Status WithContext(const std::string& context) const {
+    if (ok()) return *this;
+    Status s(context + *message_);
+    s.cancelled_ = cancelled_;
+    return s;
+  }
   const std::string& message() const {
     static const std::string kOk = "ok";
     return message_ ? *message_ : kOk;
@@ -24,6 +40,7 @@ class Status {
  private:
   explicit Status(std::string message) : message_(std::move(message)) {}
   std::optional<std::string> message_;
+  bool cancelled_ = false;
 };
 
 template <typename T>

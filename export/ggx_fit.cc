@@ -285,7 +285,7 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
     }
     if (!ReportProgress(progress, int(n) + ++rows_done, int(n) + height, "fitting")) cancelled = true;
   }, options.num_threads);
-  if (cancelled) return Status::Error("cancelled");
+  if (cancelled) return Status::Cancelled();
   maps.median_relative_error =
       UpperMedian(std::vector<float>(maps.relative_error.data(), maps.relative_error.data() + texels));
   maps.slices_used = int(n);

@@ -238,7 +238,7 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
     slices[v][l] = truth(options.input_lights_by_view[v][l], options.input_views[v]);
     if (!ReportProgress(progress, ++done, int(inputs.size()), "render inputs")) cancelled = true;
   }, num_threads);
-  if (cancelled) return Status::Error("cancelled");
+  if (cancelled) return Status::Cancelled();
   const int input_slices = int(inputs.size());
   const double seconds_inputs = SecondsSince(start);
 
@@ -327,7 +327,7 @@ StatusOr<BtfEvaluation> ScoreHeldOutPairs(const StatisticalBtf& btf, const TrueS
                                                                     : LightCoverage::kFar;
     if (!ReportProgress(progress, ++done, int(held_out.size()), "score held-out pairs")) cancelled = true;
   }, options.btf.num_threads);
-  if (cancelled) return Status::Error("cancelled");
+  if (cancelled) return Status::Cancelled();
   eval.seconds_scoring = SecondsSince(start);
   eval.reconstruct_ms_per_slice = 1e-6 * double(reconstruct_ns) / double(held_out.size());
   return eval;

@@ -235,7 +235,7 @@ StatusOr<MeasuredSlices> LoadMeasuredSlices(const std::filesystem::path& index_j
   btf_options.chromaticity_from_top_view = options.chroma_from_top.value_or(index->chroma_subsampled_shots);
   rep.chroma_from_top = btf_options.chromaticity_from_top_view;
   if (!ComputeStatistics(all, view_of, top_count, top_blur, options, btf_options, progress, &readings))
-    return Status::Error("cancelled");
+    return Status::Cancelled();
 
   std::vector<MeasuredView> measured(boards_seen.ids.size());
   MeasuredSlices out;

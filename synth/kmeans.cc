@@ -4,6 +4,7 @@
 #include <limits>
 #include <random>
 
+#include "core/cancel.h"
 #include "core/parallel.h"
 #include "core/status.h"
 
@@ -33,6 +34,10 @@ Eigen::MatrixXd PlusPlusStart(const PointRows& points, int clusters, uint32_t se
   };
   update(0);
   for (int c = 1; c < clusters; ++c) {
+    if (CancelRequested()) {  // Ctrl-C: the caller discards the result at its next progress check
+      for (; c < clusters; ++c) centres.row(c) = centres.row(0);
+      break;
+    }
     double total = 0;
     for (double d : nearest) total += d;
     Eigen::Index pick = Eigen::Index(rng() % uint64_t(n));
@@ -83,7 +88,7 @@ KMeansResult KMeans(const Eigen::MatrixXd& points, const KMeansOptions& options)
   result.centres = PlusPlusStart(rows, clusters, options.seed, options.num_threads);
   std::vector<double> distances;
   result.labels = NearestCentres(points, result.centres, options.num_threads, &distances);
-  for (result.iterations = 1; result.iterations <= options.max_iterations; ++result.iterations) {
+  for (result.iterations = 1; result.iterations <= options.max_iterations && !CancelRequested(); ++result.iterations) {
     Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(clusters, points.cols());
     std::vector<Eigen::Index> counts(clusters, 0);
     for (Eigen::Index i = 0; i < n; ++i) sums.row(result.labels[i]) += rows.row(i), ++counts[result.labels[i]];

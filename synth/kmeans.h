@@ -30,7 +30,8 @@ struct KMeansResult {
 };
 
 // `points` holds one point per row. Clusters are capped at the number of points; a cluster left
-// empty is moved to the point farthest from its centre.
+// empty is moved to the point farthest from its centre. Ctrl-C (core/cancel.h) ends it early with
+// a partial result, which callers discard at their next progress check.
 KMeansResult KMeans(const Eigen::MatrixXd& points, const KMeansOptions& options);
 
 // Nearest centre of every point (lowest index on ties), by ||x||^2 + ||c||^2 - 2 x.c.

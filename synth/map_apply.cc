@@ -164,7 +164,7 @@ Status ApplyMapToBtf(const SynthMap& map, const Exemplar& exemplar, const std::v
   }, options.num_threads);
   for (const Status& e : errors)
     if (!e.ok()) return e;
-  if (stop) return Status::Error("cancelled");
+  if (stop) return Status::Cancelled();
   return Status::Ok();
 }
 

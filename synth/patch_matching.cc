@@ -207,12 +207,18 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
 }
 
 std::vector<double> PatchMatcher::Costs(const MatchWindow& w, int copy_index, int* valid_w, int* valid_h) const {
+  if (w.width > impl_->px || w.height > impl_->py) {  // no placement, and it would overflow the planes
+    *valid_w = *valid_h = 0;
+    return {};
+  }
   return CostsFor(w, *Prepare(w), copy_index, valid_w, valid_h);
 }
 
 MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperature, double uniform) const {
   const Impl& m = *impl_;
   const int n = int(m.copies->size());
+  // A window larger than every copy has no placement (and would overflow the FFT planes).
+  if (window.width > m.px || window.height > m.py) return {};
   const auto ws = Prepare(window);
   std::vector<std::vector<double>> costs(n);
   std::vector<int> widths(n), heights(n);

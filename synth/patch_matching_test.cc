@@ -62,6 +62,22 @@ TEST(PatchMatching, FindsAPlantedCopyOfTheSample) {
   EXPECT_NEAR(m.cost, 0, 1e-4);
 }
 
+// A window larger than the sample has no placement: found is false (it once overflowed the FFT
+// planes: painting opens a window over a whole target region, which may be larger).
+TEST(PatchMatching, AWindowLargerThanEveryCopyIsNotFound) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  const Image sample = RandomImage(32, 32, 3, rng);
+  const Image output = RandomImage(80, 80, 3, rng);
+  std::vector<uint8_t> synthesized(80 * 80, 1);
+  std::vector<RotatedSample> copies{MakeRotatedSample(sample, Image(), 0)};
+  PatchMatcher matcher(copies, {});
+  EXPECT_FALSE(matcher.BestMatch({40, 40, &output, &synthesized, nullptr, 5, 5}).found);
+  EXPECT_FALSE(matcher.BestMatch({20, 33, &output, &synthesized, nullptr, 5, 5}).found);
+  int w = -1, h = -1;
+  EXPECT_TRUE(matcher.Costs({40, 40, &output, &synthesized, nullptr, 5, 5}, 0, &w, &h).empty());
+  EXPECT_TRUE(matcher.BestMatch({32, 32, &output, &synthesized, nullptr, 5, 5}).found);
+}
+
 TEST(PatchMatching, RotatedCopiesStayInsideTheSampleAndTurnTheRightWay) {
   Image sample(33, 33, 2);
   for (int y = 0; y < 33; ++y)

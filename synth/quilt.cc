@@ -287,7 +287,7 @@ StatusOr<SynthMap> QuiltSynthesis(const Image& sample, const QuiltOptions& optio
   QuiltReport& rep = report ? *report : local;
   rep = {};
   Quilter quilter(sample, options, nullptr, nullptr, 0, &rep);
-  if (!quilter.FillAll({}, progress)) return Status::Error("cancelled");
+  if (!quilter.FillAll({}, progress)) return Status::Cancelled();
   rep.seconds = SecondsSince(start);
   if (built) *built = quilter.canvas().features;
   return std::move(quilter.canvas().map);
@@ -376,9 +376,9 @@ StatusOr<SynthMap> PaintSynthesis(const Image& sample, const Image& sample_mask,
       const int radius = std::max(rep.patch_radius, int(std::ceil(half_extent + paint.transition_width)));
       quilter.PlaceAround(int(std::lround(region.cx)), int(std::lround(region.cy)), fit, /*repair=*/false, radius);
     }
-    if (!quilter.FillAll(fit, progress, &target_mask)) return Status::Error("cancelled");
+    if (!quilter.FillAll(fit, progress, &target_mask)) return Status::Cancelled();
   }
-  if (!quilter.FillAll(fit, progress)) return Status::Error("cancelled");
+  if (!quilter.FillAll(fit, progress)) return Status::Cancelled();
 
   SynthCanvas& canvas = quilter.canvas();
   if (paint.verbatim) {

@@ -88,7 +88,7 @@ StatusOr<std::vector<int>> RepresentativeSlices(int count, const std::function<S
     vectors[k] = AppearanceVector(bank.Responses(*s), o.grid_points);
   }, o.num_threads);
   for (const Status& st : errors) MESOCAP_RETURN_IF_ERROR(st);
-  if (!ReportProgress(progress, 1, 1, "representative slices")) return Status::Error("cancelled");
+  if (!ReportProgress(progress, 1, 1, "representative slices")) return Status::Cancelled();
   Eigen::MatrixXd points(count, vectors[0].size());
   for (int k = 0; k < count; ++k) points.row(k) = vectors[k].transpose();
   const KMeansResult clusters = KMeans(points, {o.representative_slices, o.kmeans_iterations, o.seed, o.num_threads});
@@ -183,7 +183,7 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
     level.energy_kept = finest->energy_kept;
     analysis.levels.push_back(std::move(level));
     if (vocabulary) vocabulary->push_back({std::move(vectors), clusters.centres});
-    if (!ReportProgress(progress, l + 1, levels, what)) return Status::Error("cancelled");
+    if (!ReportProgress(progress, l + 1, levels, what)) return Status::Cancelled();
   }
   analysis.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return analysis;

@@ -213,18 +213,20 @@ std::vector<float> NeighbourhoodSummaries(const SampleLevel& s, int* dimensions)
 // by the exact distance among kRerankFactor x as many nearest by summary, none within the level's
 // spacing (at least 2) of the texel: on a blurred level those are near copies of it, and on the
 // finest its direct neighbours, which would stretch it across the output.
-void BuildNearestLists(SampleLevel& s, int k, int num_threads) {
+// Returns false when cancelled (core/cancel.h: each block checks, so Ctrl-C stops it within a block).
+bool BuildNearestLists(SampleLevel& s, int k, int num_threads) {
   const int count = s.texels();
   s.list_length = std::max(1, std::min(k, count));
   s.nearest.resize(size_t(count) * s.list_length);
   if (s.list_length == 1) {
     std::iota(s.nearest.begin(), s.nearest.end(), 0);
-    return;
+    return true;
   }
   int d = 0;
   const std::vector<float> y = NeighbourhoodSummaries(s, &d);
   const int W = s.width(), blocks = (count + kListBlock - 1) / kListBlock, exclusion = std::max(2, s.spacing);
   ParallelFor(0, blocks, [&](int b) {
+    if (CancelRequested()) return;
     std::vector<float> distance(count);
     Nearest summary(kRerankFactor * (s.list_length - 1)), exact(s.list_length - 1);
     for (int i = b * kListBlock; i < std::min(count, (b + 1) * kListBlock); ++i) {
@@ -251,6 +253,7 @@ void BuildNearestLists(SampleLevel& s, int k, int num_threads) {
       for (; at < s.list_length; ++at) out[at] = t;  // fewer similar texels than asked: repeat the texel
     }
   }, num_threads);
+  return !CancelRequested();
 }
 
 struct Counters {
@@ -475,7 +478,8 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
   std::vector<SampleLevel> samples(levels);
   for (int l = 0; l < levels; ++l) {
     samples[l] = MakeSampleLevel(analysis.levels[l], o.neighbourhood);
-    if (o.search == TextonSearch::kCoherence) BuildNearestLists(samples[l], o.k, o.num_threads);
+    if (o.search == TextonSearch::kCoherence && !BuildNearestLists(samples[l], o.k, o.num_threads))
+      return Status::Cancelled();
   }
   const auto lists_done = std::chrono::steady_clock::now();
 
@@ -494,7 +498,7 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
       per_level[l] = Counters();
       if (!CorrectionPass(s, o, salt(l, pass), grid, &per_level[l], progress, &rows_done, total_rows,
                           "level " + std::to_string(l)))
-        return Status::Error("cancelled");
+        return Status::Cancelled();
     }
   }
 
