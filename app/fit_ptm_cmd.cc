@@ -411,6 +411,10 @@ int RunFitPtm(const FitPtmArgs& args) {
               "total %.3f s\n",
               out.string().c_str(), PtmFormatToString(fit.format).c_str(), report.width, report.height,
               report.num_lights, report.rms_residual, decode_seconds, fit_seconds, write_seconds, total_seconds);
+  // A .ptm has no field for its values' space: say it where the user sees it (and in the report).
+  if (args.linearize)
+    std::printf("%s holds linear values: relight it with `mesocap relight --linear` (viewers show it dark)\n",
+                out.string().c_str());
   return kExitOk;
 }
 }  // namespace mesocap::app

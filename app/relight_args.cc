@@ -18,6 +18,9 @@ CLI::App* AddRelightOptions(CLI::App& app, RelightArgs* args) {
       ->required();
   sub->add_option("--out", args->out, "Output image (.png, .tif, .jpg)")->required();
   sub->add_option("--bits", args->bits, "Bits per sample of the output: 8 or 16 (PNG/TIFF)")->capture_default_str();
+  sub->add_flag("--linear", args->linear,
+                "The PTM holds linear values (fitted with fit-ptm --linearize; a .ptm cannot say so itself): "
+                "an 8-bit output is then sRGB-encoded, a 16-bit one stays linear");
   sub->add_option("--threads", args->threads, "Threads (-1: all cores)")->capture_default_str();
   return sub;
 }

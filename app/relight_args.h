@@ -16,6 +16,7 @@ struct RelightArgs {
   std::string out;
   int bits = 8;
   int threads = -1;
+  bool linear = false;  // the PTM holds linear values (fit-ptm --linearize): 8-bit output is sRGB-encoded
 };
 
 CLI::App* AddRelightOptions(CLI::App& app, RelightArgs* args);

@@ -55,16 +55,19 @@ int RunRelight(const RelightArgs& args) {
   // 8-bit output is sRGB-encoded from linear by WriteImage, so decode first: the written byte is
   // then round(255 * value). 16-bit output holds linear values, i.e. the values unchanged.
   ImageWriteOptions write;
+  // With --linear the values are linear already: 8-bit output encodes them to sRGB as it should.
   if (args.bits == 8) {
     write.format = PixelFormat::kUint8Srgb;
-    for (size_t k = 0; k < image.size(); ++k) image.data()[k] = SrgbToLinear(image.data()[k]);
+    if (!args.linear)
+      for (size_t k = 0; k < image.size(); ++k) image.data()[k] = SrgbToLinear(image.data()[k]);
   } else {
     write.format = PixelFormat::kUint16Linear;
   }
   if (Status s = WriteImage(out, image, write); !s.ok()) return Fail(verb, s);
   const Eigen::Vector3d d = light.normalized();
-  std::printf("%s: %dx%d relit from (%.4f, %.4f, %.4f), %d-bit\n", out.string().c_str(), image.width(),
-              image.height(), d.x(), d.y(), d.z(), args.bits);
+  std::printf("%s: %dx%d relit from (%.4f, %.4f, %.4f), %d-bit%s\n", out.string().c_str(), image.width(),
+              image.height(), d.x(), d.y(), d.z(), args.bits,
+              args.linear && args.bits == 8 ? ", linear values sRGB-encoded" : "");
   return kExitOk;
 }
 }  // namespace mesocap::app

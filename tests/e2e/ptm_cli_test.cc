@@ -104,6 +104,36 @@ void ExpectOneLineFailureWritingNothing(const fs::path& dir, const std::string& 
   EXPECT_FALSE(fs::exists(dir / "out.json"));
 }
 
+double Mean(const Image& image) {
+  double sum = 0;
+  for (size_t k = 0; k < image.size(); ++k) sum += image.data()[k];
+  return sum / double(image.size());
+}
+
+// A PTM fitted with --linearize holds linear values: `relight --linear` encodes them to sRGB, so
+// its 8-bit output matches the stored-value fit's relighting; without it the output is dark.
+TEST(PtmCli, ALinearizedPtmRelightsToSrgbWithLinear) {
+  const auto dir = testing::MakeTempDir();
+  MakeSet(dir, HemisphereLights());
+  const std::string light = "--light=0.3,0.2,0.9";
+  std::string out;
+  ASSERT_EQ(RunFitPtm(dir, "--format rgb", &out), 0) << out;
+  ASSERT_EQ(testing::RunMesocap("relight " + (dir / "out.ptm").string() + " " + light + " --out " +
+                                    (dir / "stored.png").string(), &out), 0) << out;
+  ASSERT_EQ(RunFitPtm(dir, "--format rgb --linearize", &out), 0) << out;
+  EXPECT_NE(out.find("relight --linear"), std::string::npos) << out;
+  ASSERT_EQ(testing::RunMesocap("relight " + (dir / "out.ptm").string() + " " + light + " --linear --out " +
+                                    (dir / "linear.png").string(), &out), 0) << out;
+  ASSERT_EQ(testing::RunMesocap("relight " + (dir / "out.ptm").string() + " " + light + " --out " +
+                                    (dir / "dark.png").string(), &out), 0) << out;
+  auto stored = ReadImage(dir / "stored.png", {.linearize = false});
+  auto linear = ReadImage(dir / "linear.png", {.linearize = false});
+  auto dark = ReadImage(dir / "dark.png", {.linearize = false});
+  ASSERT_TRUE(stored.ok() && linear.ok() && dark.ok());
+  EXPECT_NEAR(Mean(*linear), Mean(*stored), 4.0 / 255) << "the same appearance, fitted in another space";
+  EXPECT_LT(Mean(*dark), Mean(*stored) - 0.05) << "linear bytes shown as sRGB: dark";
+}
+
 TEST(PtmCli, FitsAndRelightsHeldOutDirection) {
   const auto dir = testing::MakeTempDir();
   const auto lights = HemisphereLights();
