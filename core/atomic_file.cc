@@ -53,6 +53,16 @@ void RemoveStaleTempsOnce(const fs::path& folder) {
   for (const auto& entry : fs::directory_iterator(folder.empty() ? fs::path(".") : folder, ec)) {
     const std::string name = entry.path().filename().string();
     if (name.front() != '.') continue;
+    // A file set's backup (`.NAME.old-PID@HOST`, OutputFileSet::Commit) of a run killed between its
+    // renames: put back where the new file never arrived, else no longer needed.
+    if (const size_t old = name.rfind(".old-"); old != std::string::npos && old > 1 && entry.is_regular_file(ec)) {
+      if (ProcessEnded(name.substr(old + 5))) {
+        const fs::path final_path = entry.path().parent_path() / name.substr(1, old - 1);
+        if (!fs::exists(final_path, ec)) fs::rename(entry.path(), final_path, ec);
+        else fs::remove(entry.path(), ec);
+      }
+      continue;
+    }
     for (size_t tag = name.find(".tmp"); tag != std::string::npos; tag = name.find(".tmp", tag + 1)) {
       const size_t pid_end = name.find('_', tag);
       if (pid_end == std::string::npos) break;
@@ -243,14 +253,48 @@ Status OutputFileSet::Stage(const fs::path& path, const std::function<Status(con
 }
 
 Status OutputFileSet::Commit() {
+  // Each file already there is first moved aside to a hidden backup (.NAME.old-PID@HOST), so a
+  // failed rename puts every earlier file of the set back: the set appears whole or not at all.
+  // A run killed between the renames leaves backups, which the next write into the folder puts
+  // back (where the new file is missing) or removes (RemoveStaleTempsOnce).
+  struct Placed {
+    fs::path path, backup;
+    bool had_old = false;
+  };
+  std::vector<Placed> placed;
   std::error_code ec;
-  while (!staged_.empty()) {
-    const auto [temp, path] = staged_.front();
+  const auto roll_back = [&placed] {
+    std::error_code ignored;
+    for (auto it = placed.rbegin(); it != placed.rend(); ++it) {
+      if (it->had_old) fs::rename(it->backup, it->path, ignored);
+      else fs::remove(it->path, ignored);
+    }
+  };
+  for (const auto& [temp, path] : staged_) {
+    Placed p{path, HiddenSibling(path, "old"), fs::exists(path, ec)};
+    if (p.had_old) {
+      fs::rename(path, p.backup, ec);
+      if (ec) {
+        roll_back();
+        return Status::Error(path.string() + ": cannot move the previous file aside: " + ec.message());
+      }
+    }
     fs::rename(temp, path, ec);
-    if (ec) return Status::Error(path.string() + ": cannot rename into place: " + ec.message());
-    staged_.erase(staged_.begin());
-    if (Status st = SyncPath(path.parent_path()); !st.ok()) return st;
+    if (ec) {
+      const std::string why = ec.message();
+      if (p.had_old) fs::rename(p.backup, path, ec);
+      roll_back();
+      return Status::Error(path.string() + ": cannot rename into place: " + why + " (the set's other files were put back)");
+    }
+    placed.push_back(p);
   }
+  staged_.clear();
+  std::set<fs::path> folders;
+  for (const Placed& p : placed) {
+    if (p.had_old) fs::remove(p.backup, ec);
+    folders.insert(p.path.parent_path());
+  }
+  for (const fs::path& folder : folders) MESOCAP_RETURN_IF_ERROR(SyncPath(folder));
   return Status::Ok();
 }
 

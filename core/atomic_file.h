@@ -87,9 +87,12 @@ class StagingFolder {
 };
 
 // Several output files that appear together or not at all: Stage writes each to a hidden temp
-// beside its final name; Commit renames them into place in staging order (stage the report last:
-// it then marks a complete set even if the machine dies between renames). Files staged but not
-// committed are removed when the set is destroyed, so a failure leaves the old files untouched.
+// beside its final name; Commit moves each file already there aside to a hidden backup and
+// renames the new one into place, in staging order; when a rename fails, every earlier file of
+// the set is put back, so the old set stays whole. A run killed between the renames (the machine
+// stopping) can leave a mixture: stage the report last, so it marks a complete set, and the next
+// write into the folder puts back a backup whose new file never arrived. Files staged but not
+// committed are removed when the set is destroyed.
 class OutputFileSet {
  public:
   OutputFileSet() = default;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "core/provenance.h"
 #include "tests/testing.h"
 
@@ -70,6 +72,42 @@ int FilesIn(const std::filesystem::path& dir) {
   int files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
   return files;
+}
+
+// A rename that fails after others succeeded (the second file's folder vanished between Stage and
+// Commit): the first file is put back, the third never moved; nothing else is left.
+TEST(OutputFileSet, AFailureBetweenTheRenamesPutsTheEarlierFilesBack) {
+  const auto dir = testing::MakeTempDir();
+  ASSERT_TRUE(WriteTextAtomically(dir / "a.txt", "old a").ok());
+  ASSERT_TRUE(WriteTextAtomically(dir / "c.txt", "old c").ok());
+  std::filesystem::create_directory(dir / "sub");
+  {
+    OutputFileSet outputs;
+    for (const char* name : {"a.txt", "sub/b.txt", "c.txt"})
+      ASSERT_TRUE(outputs.Stage(dir / name, [](const auto& temp) { return WriteTextAtomically(temp, "new"); }).ok());
+    std::filesystem::remove_all(dir / "sub");
+    const Status st = outputs.Commit();
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.message().find("b.txt"), std::string::npos) << st.message();
+  }
+  EXPECT_EQ(*ReadTextFile(dir / "a.txt"), "old a");
+  EXPECT_EQ(*ReadTextFile(dir / "c.txt"), "old c");
+  EXPECT_EQ(FilesIn(dir), 2);
+}
+
+// What a run killed between its renames leaves: a backup whose new file never arrived is put back
+// by the next write into the folder; one whose new file is in place is removed.
+TEST(OutputFileSet, AKilledCommitsBackupsArePutBackOrRemoved) {
+  const auto dir = testing::MakeTempDir();
+  const std::string dead = ".old-999999999@" + HostName();  // pid 999999999 cannot exist
+  const auto write = [&](const std::string& name, const std::string& text) { std::ofstream(dir / name) << text; };
+  write(".report.json" + dead, "old report");  // its new file never arrived
+  write(".material.ptm" + dead, "old ptm");    // its new file is in place
+  write("material.ptm", "new ptm");
+  ASSERT_TRUE(WriteTextAtomically(dir / "other.txt", "x").ok());  // the first write into the folder sweeps it
+  EXPECT_EQ(*ReadTextFile(dir / "report.json"), "old report");
+  EXPECT_EQ(*ReadTextFile(dir / "material.ptm"), "new ptm");
+  EXPECT_EQ(FilesIn(dir), 3);
 }
 
 TEST(OutputFileSet, AFailureLeavesEveryOldFileAndNoTemps) {
