@@ -1,14 +1,12 @@
 // SESSION/report.html of `mesocap process` (app/process.h): the stage table, calibration
 // tables and plots, every warning and rejected item, the results' pictures and the WebGL viewer.
-#include <map>
-
 #include "app/process.h"
 
 #include <algorithm>
-
 #include <cctype>
-
+#include <map>
 #include <set>
+
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -120,13 +118,14 @@ void AddRejectedItems(const fs::path& session, Report* report) {
     ++count;
     if (!row[1].empty()) boards.insert(row[1]);
   }
+  std::vector<std::pair<std::string, std::pair<int, std::set<std::string>>>> by_count(groups.begin(), groups.end());
+  std::stable_sort(by_count.begin(), by_count.end(), [](const auto& a, const auto& b) { return a.second.first > b.second.first; });
   std::vector<std::vector<std::string>> grouped;
-  for (const auto& [kind, group] : groups) {
+  for (const auto& [kind, group] : by_count) {
     std::string boards;
     for (const std::string& b : group.second) boards += (boards.empty() ? "" : ", ") + b;
     grouped.push_back({kind, std::to_string(group.first), boards});
   }
-  std::stable_sort(grouped.begin(), grouped.end(), [](const auto& a, const auto& b) { return std::stoi(a[1]) > std::stoi(b[1]); });
   report->Table({"reason", "count", "boards"}, grouped);
   report->FoldedTable(Format("Every one of the %zu, with its shot", rows.size()), {"shot", "board", "reason"}, rows);
 }

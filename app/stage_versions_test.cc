@@ -11,6 +11,7 @@
 
 #include "core/content_hash.h"
 #include "core/directions.h"
+#include "core/provenance.h"
 #include "reconstruct/ptm.h"
 
 namespace mesocap {

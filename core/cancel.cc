@@ -29,7 +29,5 @@ void InstallCancelHandler() {
 }
 
 bool CancelRequested() { return g_cancel.load(std::memory_order_relaxed); }
-void RequestCancel() { g_cancel = true; }
-void ClearCancel() { g_cancel = false; }
 
 }  // namespace mesocap

@@ -10,8 +10,5 @@ namespace mesocap {
 void InstallCancelHandler();
 // Whether the user asked to stop.
 bool CancelRequested();
-// What the handler does, for tests; ClearCancel undoes it.
-void RequestCancel();
-void ClearCancel();
 
 }  // namespace mesocap

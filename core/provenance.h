@@ -11,6 +11,9 @@ namespace mesocap {
 
 // Version string from the build ("0.1.0").
 const char* Version();
+// The git revision the build was configured at ("3f2a1c0d9e8b", "+dirty" when it had local
+// changes, "unknown" outside a git tree).
+const char* SourceRevision();
 
 // The command line of this run, set once by the commands module (app/commands_module.cc).
 void SetCommandLine(int argc, char** argv);

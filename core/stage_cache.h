@@ -45,8 +45,9 @@ class StageCache {
   // hash includes), or an error when the stage has no record.
   StatusOr<std::string> OutputsHash(const std::string& stage) const;
 
-  // Whether `stage`'s outputs are as it wrote them and were made from `before`'s outputs as they
-  // are now: the one freshness rule for anything that combines two stages' outputs (export).
+  // Whether `stage`'s outputs are as it wrote them (hashed now) and were made from `before`'s
+  // outputs as recorded (process verifies those on disk before any stage reads them): the one
+  // freshness rule for anything that combines two stages' outputs (export).
   bool MadeFromCurrent(const std::string& stage, const std::string& before) const;
 
   // Hashes the record's outputs, stores it and rewrites the file.

@@ -2,7 +2,7 @@
 // a build whose stage writes something different for the same inputs and options must bump that
 // stage's version here, so a session processed by an older build reruns the stage (and, through
 // the key, every stage that reads its outputs) instead of keeping stale results.
-// `core/stage_versions_test.cc` records small outputs' digests to catch a forgotten bump.
+// `app/stage_versions_test.cc` records a small output's digest to catch a forgotten bump.
 #pragma once
 
 #include <string>
@@ -16,9 +16,5 @@ namespace mesocap {
 int StageVersion(const std::string& stage);
 // {"calibrate": 1, ...}: every stage's version, as provenance records them.
 Json StageVersions();
-
-// The git revision the build was made from ("3f2a1c0d9e8b", "+dirty" when it had local changes,
-// "unknown" outside a git tree).
-const char* SourceRevision();
 
 }  // namespace mesocap

@@ -134,6 +134,8 @@ struct PatchMatcher::WindowSpectra {
 
 std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWindow& w) const {
   const Impl& m = *impl_;
+  // A window larger than every copy has no placement, and would overflow the FFT planes.
+  if (w.width > m.px || w.height > m.py) return nullptr;
   const Image& out = *w.features;
   const std::vector<uint8_t>& syn = *w.synthesized;
   auto masked = [&](int x, int y) { return syn[size_t(y) * out.width() + x] != 0; };
@@ -207,19 +209,19 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
 }
 
 std::vector<double> PatchMatcher::Costs(const MatchWindow& w, int copy_index, int* valid_w, int* valid_h) const {
-  if (w.width > impl_->px || w.height > impl_->py) {  // no placement, and it would overflow the planes
+  const auto ws = Prepare(w);
+  if (!ws) {
     *valid_w = *valid_h = 0;
     return {};
   }
-  return CostsFor(w, *Prepare(w), copy_index, valid_w, valid_h);
+  return CostsFor(w, *ws, copy_index, valid_w, valid_h);
 }
 
 MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperature, double uniform) const {
   const Impl& m = *impl_;
   const int n = int(m.copies->size());
-  // A window larger than every copy has no placement (and would overflow the FFT planes).
-  if (window.width > m.px || window.height > m.py) return {};
   const auto ws = Prepare(window);
+  if (!ws) return {};
   std::vector<std::vector<double>> costs(n);
   std::vector<int> widths(n), heights(n);
   ParallelFor(0, n, [&](int k) { costs[k] = CostsFor(window, *ws, k, &widths[k], &heights[k]); }, n > 1 ? m.options.num_threads : 1);

@@ -77,6 +77,7 @@ class PatchMatcher {
  private:
   struct Impl;
   struct WindowSpectra;
+  // Null for a window larger than every copy.
   std::unique_ptr<WindowSpectra> Prepare(const MatchWindow& window) const;
   std::vector<double> CostsFor(const MatchWindow& window, const WindowSpectra& spectra, int copy, int* valid_w,
                                int* valid_h) const;

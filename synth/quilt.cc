@@ -195,6 +195,13 @@ class Quilter {
     return m;
   }
 
+  // Whether the patch's texel at window (x, y) is on the other side of the region's edge than the
+  // output texel it covers (a feature texel outside the region, a background texel inside).
+  bool NewTexelOnWrongSide(const PlacedPatch& patch, int x, int y) const {
+    return (region_->at(patch.x0 + x, patch.y0 + y) > 0.5f) !=
+           (patch.copy->constraint.at(patch.u0 + x, patch.v0 + y) > 0.5f);
+  }
+
   // Drops the cut's new texels that would fill an empty texel on the wrong side of the region's edge
   // (a feature texel outside, a background texel inside); false, with the cut unchanged, when the
   // cut would fill empty texels but none on the right side.
@@ -207,9 +214,7 @@ class Quilter {
         const int ox = patch.x0 + x, oy = patch.y0 + y;
         const bool empty = !canvas_.synthesized[size_t(oy) * options_.width + ox];
         empty_taken += kept[k] && empty;
-        if (kept[k] && empty &&
-            (region_->at(ox, oy) > 0.5f) != (patch.copy->constraint.at(patch.u0 + x, patch.v0 + y) > 0.5f))
-          kept[k] = 0;
+        if (kept[k] && empty && NewTexelOnWrongSide(patch, x, y)) kept[k] = 0;
         left += kept[k];
         filled += kept[k] && empty;
       }
@@ -226,10 +231,8 @@ class Quilter {
       for (int x = 0; x < patch.width; ++x) {
         const int ox = patch.x0 + x, oy = patch.y0 + y;
         if (!canvas_.synthesized[size_t(oy) * options_.width + ox]) continue;
-        const bool wanted = region_->at(ox, oy) > 0.5f;
-        if ((canvas_.MaskAt(ox, oy) > 0.5f) == wanted &&
-            (patch.copy->constraint.at(patch.u0 + x, patch.v0 + y) > 0.5f) != wanted)
-          (*freedom)[size_t(y) * patch.width + x] = FitFreedom::kForceOld;
+        const bool old_right = (canvas_.MaskAt(ox, oy) > 0.5f) == (region_->at(ox, oy) > 0.5f);
+        if (old_right && NewTexelOnWrongSide(patch, x, y)) (*freedom)[size_t(y) * patch.width + x] = FitFreedom::kForceOld;
       }
   }
 
