@@ -128,7 +128,7 @@ fi
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=0:strict_string_checks=1
 export LSAN_OPTIONS=suppressions=$ROOT/scripts/lsan.supp:print_suppressions=0
-export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/scripts/tsan.supp:print_suppressions=0
+export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:history_size=7:suppressions=$ROOT/scripts/tsan.supp:print_suppressions=0
 # OpenImageIO's thread pool (libOpenImageIO_Util) and OpenEXR's (IlmThread) are not instrumented
 # either: their hand-offs look like races inside those libraries (a buffer allocated by a pool
 # thread read by the caller, ~ScanLineInputFile freeing what a pool thread's inflate read). Under
