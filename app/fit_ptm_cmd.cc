@@ -4,13 +4,13 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cstring>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -20,14 +20,16 @@
 #include <spdlog/spdlog.h>
 
 #include "app/commands.h"
+#include "app/photo_rows.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "core/json.h"
 #include "core/parallel.h"
 #include "core/progress.h"
-#include "core/scratch_file.h"
 #include "core/provenance.h"
+#include "core/resource_usage.h"
+#include "core/scratch_file.h"
 #include "export/lp_file.h"
 #include "export/ptm_file.h"
 #include "reconstruct/ptm.h"
@@ -39,7 +41,6 @@ namespace fs = std::filesystem;
 
 // CPU seconds of the whole process (all threads, user + sys): on a shared machine a steadier
 // measure of the work than wall time.
-double ProcessCpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 
 // 16-bit PNG/TIFF hold linear values, so writing with kUint16Linear stores the values as they are.
 ImageWriteOptions StoredValueOptions(const fs::path& path) {
@@ -69,28 +70,6 @@ class PhaseTimer {
   std::chrono::steady_clock::time_point start_;
   double cpu_start_;
 };
-
-// Photos that are all baseline 8-bit JPEGs, fitted as stored, stream (FitStreamingJpegs): every
-// photo's decoder stays open on its file. Null readers: not all photos are such JPEGs.
-StatusOr<std::vector<std::unique_ptr<JpegRowReader>>> OpenJpegReaders(const std::vector<LpEntry>& entries, int threads) {
-  const int n = int(entries.size());
-  std::vector<std::unique_ptr<JpegRowReader>> readers(entries.size());
-  std::vector<std::string> errors(entries.size());
-  std::atomic<bool> all_jpeg{true};
-  ParallelFor(
-      0, n,
-      [&](int i) {
-        auto reader = JpegRowReader::Open(entries[size_t(i)].image, 3);
-        if (!reader.ok()) errors[size_t(i)] = reader.status().message();
-        else if (!*reader) all_jpeg = false;
-        else readers[size_t(i)] = std::move(*reader);
-      },
-      threads);
-  for (const std::string& error : errors)
-    if (!error.empty()) return Status::Error(error);
-  if (!all_jpeg) readers.clear();
-  return readers;
-}
 
 // Every photo the size and channel count of the first; the error names both files.
 Status CheckSameShape(const std::vector<LpEntry>& entries, const std::function<std::array<int, 3>(int)>& shape_of) {
@@ -142,16 +121,16 @@ class BusySeconds {
 // from each fitted band. Band k + 1 is decoded while band k is fitted, as tasks of one parallel
 // loop, so no core waits at a barrier between decoding and fitting. Nothing grows with the image
 // but the maps asked for: fresh memory costs page faults, the scratch file only page-cache copies.
-StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowReader>>& readers,
+StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<PhotoRows>& readers,
                                        const std::vector<LpEntry>& entries, const std::vector<Eigen::Vector3d>& lights,
                                        const PtmFitOptions& fit, const fs::path& scratch_folder, bool want_maps,
                                        ProgressBar& bar, PtmFitReport* report, PtmNormalsAlbedo* maps,
                                        PhaseSeconds* seconds) {
   const int n = int(readers.size());
   MESOCAP_RETURN_IF_ERROR(CheckSameShape(entries, [&](int i) {
-    return std::array<int, 3>{readers[size_t(i)]->width(), readers[size_t(i)]->height(), readers[size_t(i)]->channels()};
+    return std::array<int, 3>{readers[size_t(i)].width(), readers[size_t(i)].height(), readers[size_t(i)].channels()};
   }));
-  const int width = readers[0]->width(), height = readers[0]->height(), channels = readers[0]->channels();
+  const int width = readers[0].width(), height = readers[0].height(), channels = readers[0].channels();
   auto fitter = PtmRowFitter::Create(lights, width, height, channels, fit);
   if (!fitter.ok()) return fitter.status();
   auto created = ScratchFile::Create(scratch_folder);
@@ -180,7 +159,7 @@ StatusOr<PtmRowSource> FitStreamingJpegs(std::vector<std::unique_ptr<JpegRowRead
       uint8_t* row_pointers[kBandRows];
       uint8_t* photo_band = band_buffers[size_t(band % 2)][size_t(i)].data();
       for (int r = 0; r < rows; ++r) row_pointers[r] = photo_band + size_t(r) * row_bytes;
-      if (Status st = readers[size_t(i)]->ReadRows(rows, row_pointers); !st.ok()) decode_errors[size_t(i)] = st.message();
+      if (Status st = readers[size_t(i)].ReadRows(rows, row_pointers); !st.ok()) decode_errors[size_t(i)] = st.message();
     });
   };
   const auto fit_row = [&](int band, int y) {
@@ -329,15 +308,18 @@ int RunFitPtm(const FitPtmArgs& args) {
   PtmNormalsAlbedo maps;
   const bool want_maps = !args.normals.empty() || !args.albedo.empty();
   // Reading the files and their JPEG headers counts as decoding.
-  StatusOr<std::vector<std::unique_ptr<JpegRowReader>>> readers = std::vector<std::unique_ptr<JpegRowReader>>();
+  StatusOr<std::vector<PhotoRows>> readers = std::vector<PhotoRows>();
   if (!args.linearize && AllowOpenFiles(n)) {
     PhaseTimer timer(&seconds.decode, &seconds.decode_cpu);
-    readers = OpenJpegReaders(*entries, args.threads);
+    readers = OpenPhotoRows(*entries, out.parent_path(), args.threads);
   }
   if (!readers.ok()) return Fail(verb, readers.status());
   const bool streamed = !readers->empty();
   if (streamed) {
+    const auto parked_photos = std::count_if(readers->begin(), readers->end(), [](const PhotoRows& p) { return p.parked(); });
     read_path = "8-bit JPEG streamed in bands of rows (decoded and fitted band by band)";
+    if (parked_photos > 0)
+      read_path += "; " + std::to_string(parked_photos) + " progressive decoded whole first, read back from a scratch file";
     parked = FitStreamingJpegs(*readers, *entries, lights, fit, out.parent_path(), want_maps, bar, &report, &maps,
                                &seconds);
     if (!parked.ok()) return Fail(verb, parked.status());
@@ -401,6 +383,7 @@ int RunFitPtm(const FitPtmArgs& args) {
                  {"megapixel_images_per_second",
                   total_seconds > 0 ? double(report.width) * report.height * n / 1e6 / total_seconds : 0.0}};
   j["read_path"] = read_path;
+  j["memory_peak_mib"] = PeakMemoryMiB();
   j["inputs"] = Json::array();
   for (const LpEntry& e : *entries) j["inputs"].push_back({{"image", e.image.string()}, {"light", ToJson(e.light_dir)}});
   if (Status s = outputs.Stage(json_path, [&](const fs::path& temp) { return WriteJsonFile(temp, j); }); !s.ok())

@@ -1,7 +1,5 @@
 #include "app/synth_output.h"
 
-#include <sys/resource.h>
-
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -10,6 +8,7 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/provenance.h"
+#include "core/resource_usage.h"
 #include "core/slice_attributes.h"
 #include "export/previews.h"
 #include "export/ptm_file.h"
@@ -60,12 +59,6 @@ StatusOr<Image> ReadMask(const fs::path& path) {
 }
 
 namespace {
-
-double PeakMemoryMiB() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;
-}
 
 // Three slices to show: the most head-on view under three well-separated lights.
 std::vector<int> PreviewSlices(const Exemplar& e) {

@@ -172,7 +172,8 @@ struct JpegRowReader::Decoder {
 JpegRowReader::JpegRowReader(fs::path path) : path_(std::move(path)), decoder_(std::make_unique<Decoder>()) {}
 JpegRowReader::~JpegRowReader() = default;
 
-StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels, int min_width) {
+StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& path, int max_channels, int min_width,
+                                                               Scans scans) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return Status::Error(path.string() + ": no such file");
   const auto file_size = fs::file_size(path, ec);
@@ -210,6 +211,7 @@ StatusOr<std::unique_ptr<JpegRowReader>> JpegRowReader::Open(const fs::path& pat
   if (d.cinfo.data_precision != 8 || (d.cinfo.jpeg_color_space != JCS_GRAYSCALE && d.cinfo.jpeg_color_space != JCS_YCbCr &&
                                       d.cinfo.jpeg_color_space != JCS_RGB))
     return std::unique_ptr<JpegRowReader>();  // CMYK/YCCK or 12-bit: the image codec's reader
+  if (scans == Scans::kSequentialOnly && jpeg_has_multiple_scans(&d.cinfo)) return std::unique_ptr<JpegRowReader>();
   if (d.cinfo.num_components == 3) {
     const jpeg_component_info* c = d.cinfo.comp_info;
     for (int k = 1; k < 3; ++k)

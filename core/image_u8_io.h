@@ -77,8 +77,12 @@ class JpegRowReader {
   // grey.
   // `min_width` > 0 decodes at the smallest of 1/1, 1/2, 1/4 or 1/8 of the size that is still at
   // least that wide, by libjpeg's scaled inverse DCT: a preview needs no full decode.
+  // `scans` kSequentialOnly gives null for a progressive JPEG too: libjpeg holds such a file's
+  // whole coefficient buffer (about 3 bytes a pixel) from the start of decoding, so readers
+  // kept open over many photos would hold every photo; read those whole instead.
+  enum class Scans { kAny, kSequentialOnly };
   static StatusOr<std::unique_ptr<JpegRowReader>> Open(const std::filesystem::path& path, int max_channels = 4,
-                                                       int min_width = 0);
+                                                       int min_width = 0, Scans scans = Scans::kAny);
   ~JpegRowReader();
   JpegRowReader(const JpegRowReader&) = delete;
   JpegRowReader& operator=(const JpegRowReader&) = delete;

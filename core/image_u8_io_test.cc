@@ -153,6 +153,29 @@ TEST(ImageU8IO, JpegRowReaderDecodesBandsAsTheWholeImage) {
   EXPECT_EQ(png->get(), nullptr);
 }
 
+// A progressive JPEG holds the same quantised coefficients as the sequential one, in another
+// order: the same bytes when read; a reader for sequential files only gives none for it.
+TEST(ImageU8IO, AProgressiveJpegReadsAsTheSequentialOneAndIsRefusedWhenOnlySequentialIsAsked) {
+  const auto dir = testing::MakeTempDir();
+  const Image picture = Textured(83, 71, 3, testing::SeedFromTestName());
+  ImageWriteOptions progressive;
+  progressive.attributes["jpeg:progressive"] = 1;
+  ASSERT_TRUE(WriteImage(dir / "sequential.jpg", picture).ok());
+  ASSERT_TRUE(WriteImage(dir / "progressive.jpg", picture, progressive).ok());
+  auto expected = ReadImageU8(dir / "sequential.jpg");
+  ASSERT_TRUE(expected.ok());
+  auto any = JpegRowReader::Open(dir / "progressive.jpg", 3);
+  ASSERT_TRUE(any.ok() && *any) << any.status().message();
+  auto decoded = (*any)->ReadAll();
+  ASSERT_TRUE(decoded.ok());
+  EXPECT_TRUE(*decoded == *expected);
+  auto sequential_only = JpegRowReader::Open(dir / "progressive.jpg", 3, 0, JpegRowReader::Scans::kSequentialOnly);
+  ASSERT_TRUE(sequential_only.ok());
+  EXPECT_EQ(sequential_only->get(), nullptr);
+  auto sequential = JpegRowReader::Open(dir / "sequential.jpg", 3, 0, JpegRowReader::Scans::kSequentialOnly);
+  ASSERT_TRUE(sequential.ok() && *sequential);
+}
+
 TEST(ImageU8IO, JpegRowReaderTellsWhetherColourIsKeptAtALowerResolution) {
   const auto dir = testing::MakeTempDir();
   ImageWriteOptions subsampled, full;

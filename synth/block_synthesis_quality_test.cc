@@ -24,7 +24,7 @@ namespace {
 struct SeamCase {
   std::string material;
   int block, overlap;    // 0: the defaults (30, block / 6)
-  double max_seam_ratio;  // the issue asks 1.2; stones reaches 1.21-1.24 (see the closing note)
+  double max_seam_ratio;  // the issue asks 1.2; stones reaches 1.21-1.24 (README, Known limits)
 };
 class BlockSynthesisOnMaterial : public ::testing::TestWithParam<SeamCase> {};
 

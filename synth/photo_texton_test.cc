@@ -5,7 +5,7 @@
 // sample), seams, and the subband statistics against random tiling of 24 x 24 patches.
 //
 // Where the method falls short of the targets the bounds below are what it reaches, kept
-// as regression guards and listed in README.md's synthesis section: brick's seams 1.41 (target
+// as regression guards and listed in README.md's Known limits: brick's seams 1.41 (target
 // 1.2), subband statistics up to 2.6x random tiling's (target 1x; paving, reptile and crackle are
 // within 0.66-1.0x, with up to 10% for the seeds' spread on paving and crackle).
 #include <gtest/gtest.h>

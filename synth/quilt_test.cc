@@ -15,7 +15,7 @@ namespace {
 
 struct QuiltCase {
   std::string material;
-  double max_seam_ratio;  // the issue asks 1.2; stones reaches ~1.25-1.35 (see the closing note)
+  double max_seam_ratio;  // the issue asks 1.2; stones reaches ~1.25-1.35 (README, Known limits)
   bool statistics_beat_random;
 };
 

@@ -34,7 +34,7 @@ std::function<SynthMap(uint32_t)> Synthesizer(const TextonAnalysis& a, int size)
 // The issue asks seams at most 1.2 and statistics below random tiling's. Texel-by-texel synthesis
 // falls short on the stones (cells broken where no sample neighbourhood continues both sides) and
 // on the PTMs; those cases are held to what they reach, so a regression still fails. Since the
-// Gaussian-stack synthesis (synthesis-quality issue; README, synthesis): weave statistics up to
+// Gaussian-stack synthesis (synthesis-quality issue; README, Known limits): weave statistics up to
 // 1.05x random tiling's (were below 1x), corduroy seams up to 1.28 (were at most 1.2), stones
 // seams 1.21 and statistics 1.37x (were 1.33 and 1.45x), the corduroy slice as a plain image
 // seams 1.26 and statistics 1.01x, the weave PTM 1.62x random tiling's statistics (was 1.27x).

@@ -166,7 +166,7 @@ class KCoherence : public ::testing::TestWithParam<std::string> {};
 // 3 x 3 neighbours (near copies that stretched single texels across the output) and, on coarse
 // levels, everything within the level's spacing, where the full search often finds its best: the
 // k-coherence candidates hold the full search's best on 78-88% of the finest level's queries and
-// 25-54% of the coarsest two levels'. The bound is on the finest level (README, synthesis).
+// 25-54% of the coarsest two levels'. The bound is on the finest level (README, Known limits).
 TEST_P(KCoherence, ElevenFindsTheFullSearchBestOnMostFinestLevelQueries) {
   const TextonAnalysis a = SmallAnalysis(GetParam());
   TextonSynthesisOptions o;

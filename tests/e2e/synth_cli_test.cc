@@ -106,7 +106,7 @@ TEST(SynthCli, TextonSynthesisSavesItsAnalysisAndReusesIt) {
   auto report = ReadJsonFile(dir / "first" / "report.json");
   ASSERT_TRUE(report.ok());
   EXPECT_EQ((*report)["method"], "texton");
-  // The finest level's (README: the stack's lists leave out near copies, which coarse levels' full
+  // The finest level's (docs/synthesis.md: the stack's lists leave out near copies, which coarse levels' full
   // searches often pick).
   EXPECT_GE((*report)["derived"]["levels"][0]["full_search_agreement"].get<double>(), 0.7);
   EXPECT_EQ((*report)["derived"]["levels"].size(), analysis->levels.size());
