@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/directions.h"
+#include "core/session_layout.h"
 #include "export/lp_file.h"
 
 namespace mesocap::app {
@@ -13,7 +14,7 @@ Status WriteBoardLightFiles(const std::filesystem::path& slices_dir, const Resam
   for (const SliceRecord& r : slices.slices)
     boards[r.board].push_back({slices_dir / r.file, DirectionFromAnglesDeg(r.theta_i_deg, r.phi_i_deg)});
   for (const auto& [board, entries] : boards)
-    if (Status st = WriteLpFile(BoardLightFile(slices_dir, board), entries); !st.ok()) return st;
+    if (Status st = WriteLpFile(SlicesFolder{slices_dir}.board_lights(board), entries); !st.ok()) return st;
   return Status::Ok();
 }
 

@@ -9,6 +9,7 @@
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/provenance.h"
+#include "core/session_layout.h"
 #include "core/slice_attributes.h"
 #include "core/text_format.h"
 
@@ -50,7 +51,7 @@ bool OnCoarseGrid(const Eigen::Vector3d& direction) {
 }
 
 std::string BtfSliceName(const DirectionPair& p) {
-  return Format("slices/ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]);
+  return BtfFolder::SliceEntry(Format("ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]));
 }
 
 StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const SliceSetReport& loaded,
@@ -58,7 +59,7 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
                                                 int num_threads, const fs::path& folder,
                                                 const Json& provenance_options, const ProgressFn& progress) {
   std::error_code ec;
-  fs::create_directories(folder / "slices", ec);
+  fs::create_directories(BtfFolder{folder}.slices(), ec);
   if (ec) return Status::Error(folder.string() + ": cannot create: " + ec.message());
   std::vector<Json> entries(pairs.size());
   std::vector<std::string> errors(pairs.size());
@@ -94,7 +95,7 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
             {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", report.seconds},
             {"ms_per_slice", report.ms_per_slice}, {"slices", entries}};
   j["provenance"] = MakeProvenance(provenance_options);
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(folder / "index.json", j));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(BtfFolder{folder}.index(), j));
   return report;
 }
 

@@ -31,7 +31,7 @@ bool BtfMethodArgs::ApplyTo(SliceSetOptions* slices) const {
 
 std::string BtfMethodArgs::TakeSessionMirrorImages(const std::filesystem::path& session) {
   if (!mirror_images.empty() || no_mirror_symmetry) return "";
-  auto manifest = ReadJsonFile(session / Session::kManifestName);
+  auto manifest = ReadJsonFile(SessionLayout(session).manifest());
   if (!manifest.ok() || !manifest->is_object()) return "";
   const Json named = manifest->value("mirror_images", Json::array());
   if (!named.is_array()) return "";

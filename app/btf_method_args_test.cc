@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 fs::path SessionWithManifest(const Json& manifest) {
   const fs::path dir = testing::MakeTempDir();
-  EXPECT_TRUE(WriteJsonFile(dir / Session::kManifestName, manifest).ok());
+  EXPECT_TRUE(WriteJsonFile(SessionLayout(dir).manifest(), manifest).ok());
   return dir;
 }
 
@@ -50,7 +50,7 @@ TEST(BtfMethodArgs, TheCommandLineOrNoRecordLeavesTheImagesAsTheyWere) {
     EXPECT_EQ(btf.mirror_images_allowed, kEveryMirrorImage);
   }
   fs::path unreadable = SessionWithManifest({});
-  std::ofstream(unreadable / Session::kManifestName) << "{ not json";
+  std::ofstream(SessionLayout(unreadable).manifest()) << "{ not json";
   BtfMethodArgs args;
   EXPECT_EQ(args.TakeSessionMirrorImages(unreadable), "");
 }

@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/session_stages.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/session_lock.h"
 
 namespace mesocap::app {
@@ -34,12 +35,12 @@ int RunCalibrate(CalibrateArgs& a) {
   if (!lock.ok()) return Fail("calibrate", lock.status());
   auto calibrated = RunCalibrateStage(stage);
   if (!calibrated.ok()) return Fail("calibrate", calibrated.status());
-  std::printf("calibrate: %s -> %s\n", calibrated->brief.c_str(), (a.options.session / "calibration" / "rig.json").string().c_str());
+  std::printf("calibrate: %s -> %s\n", calibrated->brief.c_str(), SessionLayout(a.options.session).calibration().rig().string().c_str());
   for (const auto& r : calibrated->warnings) std::printf("  rejected: %s\n", r.c_str());
   if (a.no_resample) return kExitOk;
   auto slices = RunResampleStage(a.options.session, a.layout_file, a.resample, !a.no_progress);
   if (!slices.ok()) return Fail("calibrate", slices.status());
-  std::printf("resample: %s -> %s\n", slices->brief.c_str(), (a.options.session / "slices" / "index.json").string().c_str());
+  std::printf("resample: %s -> %s\n", slices->brief.c_str(), SessionLayout(a.options.session).slices().index().string().c_str());
   for (const auto& w : slices->warnings) std::printf("  %s\n", w.c_str());
   return kExitOk;
 }

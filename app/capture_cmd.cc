@@ -25,6 +25,7 @@
 #include "core/json.h"
 #include "core/progress.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 
 namespace mesocap::app {
 namespace {
@@ -56,8 +57,8 @@ AfterShotFn GuidanceAfterEachShot(CaptureArgs& args, Camera& camera) {
       options.session = args.options.out;
       // The virtual rig knows its layout, as a lab keeps its pyramid's on file.
       if (auto* virtual_camera = dynamic_cast<VirtualCamera*>(&camera);
-          virtual_camera && options.layout_file.empty() && !std::filesystem::exists(options.session / "rig_layout.json"))
-        if (Status st = WriteJsonFile(options.session / "rig_layout.json", LayoutOf(virtual_camera->scene()).ToJson()); !st.ok())
+          virtual_camera && options.layout_file.empty() && !std::filesystem::exists(SessionLayout(options.session).rig_layout()))
+        if (Status st = WriteJsonFile(SessionLayout(options.session).rig_layout(), LayoutOf(virtual_camera->scene()).ToJson()); !st.ok())
           std::fprintf(stderr, "capture: %s\n", st.message().c_str());
       auto started = CaptureGuide::Start(options);
       if (!started.ok()) {
@@ -89,18 +90,19 @@ Status WriteVirtualTruth(const VirtualCamera& camera, const CaptureReport& repor
   for (const CapturedShot& shot : report.shots) session_files[fs::path(shot.on_card).filename().string()] = shot.file;
   Json truth = camera.TruthOfShotsTaken(session_files);
   // An earlier truth.json that cannot be read is left as it is, and said so.
-  if (fs::exists(session / "truth.json")) {
-    auto earlier = ReadJsonFile(session / "truth.json");
+  const fs::path truth_file = SessionLayout(session).truth();
+  if (fs::exists(truth_file)) {
+    auto earlier = ReadJsonFile(truth_file);
     if (!earlier.ok()) return Status::Error(earlier.status().message() + " (not rewritten with this run's shots)");
     if (!earlier->is_object())
-      return Status::Error((session / "truth.json").string() + ": not a JSON object (not rewritten with this run's shots)");
+      return Status::Error(truth_file.string() + ": not a JSON object (not rewritten with this run's shots)");
     for (const char* list : {"shots", "calib_shots"}) {
       Json merged = earlier->value(list, Json::array());
       for (const Json& shot : truth[list]) merged.push_back(shot);
       truth[list] = merged;
     }
   }
-  return WriteJsonFile(session / "truth.json", truth);
+  return WriteJsonFile(truth_file, truth);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/text_format.h"
 #include "reconstruct/slice_set.h"
 
@@ -224,7 +225,7 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     // Where each shot's flash was found, for the operator's log (and to check against calibrate).
     Json flashes = Json::array();
     for (const auto& [file, p] : flashes_) flashes.push_back({{"shot", file}, {"position_cam_m", ToJson(p)}});
-    if (Status st = WriteCoverageFolder(options_.session / "coverage", *g.coverage, "capture guidance",
+    if (Status st = WriteCoverageFolder(SessionLayout(options_.session).coverage().root, *g.coverage, "capture guidance",
                                         {{"session", options_.session.string()}, {"after_shot", shot},
                                          {"images", HeldImagesWords(options_.coverage.images)}},
                                         {{"flashes", flashes}});

@@ -12,6 +12,7 @@
 #include "app/export_args.h"
 #include "app/fit_ptm_args.h"
 #include "app/import_args.h"
+#include "app/layout_args.h"
 #include "app/lights_args.h"
 #include "app/process_args.h"
 #include "app/reconstruct_args.h"

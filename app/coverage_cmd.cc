@@ -15,6 +15,7 @@
 #include "calib/calibrate.h"
 #include "core/directions.h"
 #include "core/json.h"
+#include "core/session_layout.h"
 #include "core/slice_index.h"
 #include "reconstruct/light_coverage.h"
 #include "reconstruct/mirror_symmetry.h"
@@ -29,12 +30,13 @@ namespace fs = std::filesystem;
 // session has them, else every calibrated flash above the board's horizon that `lit` allows.
 std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibration, const std::vector<Eigen::Vector3d>& flashes,
                                              const LitFn& lit, const fs::path& session, std::string* source) {
-  auto index = ReadSliceIndex(session / "slices" / "index.json");
+  const SessionLayout layout(session);
+  auto index = ReadSliceIndex(layout.slices().index());
   if (!index.ok()) {
-    *source = "calibration/rig.json";
+    *source = layout.Relative(layout.calibration().rig());
     return BoardLightsFromFlashes(calibration.boards, flashes, lit);
   }
-  *source = "slices/index.json";
+  *source = layout.Relative(layout.slices().index());
   std::vector<BoardLights> boards = BoardLightsFromFlashes(calibration.boards, {});
   for (BoardLights& b : boards)
     for (const SliceIndexEntry& e : index->slices)
@@ -45,7 +47,7 @@ std::vector<BoardLights> MeasuredBoardLights(const CalibrationResult& calibratio
 // The images of the material its top view's slices show hold (CheckMirrorSymmetry, as
 // `reconstruct` finds them), and in words; none without slices.
 MirrorImageSet ImagesThatHold(const fs::path& session, std::string* words) {
-  const fs::path index = session / "slices" / "index.json";
+  const fs::path index = SessionLayout(session).slices().index();
   *words = "no slices, so each board's own lights only";
   if (!fs::exists(index)) return {};
   SliceSetOptions options;
@@ -74,7 +76,7 @@ int RunCoverage(CoverageArgs a) {
   a.options.objective = a.objective == "near" ? CoverageObjective::kNear : CoverageObjective::kSpread;
   if (a.options.near_deg <= 0 || a.options.near_deg > 90 || a.options.suggestions < 0 || a.options.suggestions > 100)
     return Fail(verb, "--near-deg must be in (0, 90] and --suggest in [0, 100]", kExitUsage);
-  const fs::path rig_file = a.session / "calibration" / "rig.json";
+  const fs::path rig_file = SessionLayout(a.session).calibration().rig();
   auto loaded = LoadSessionCalibration(a.session);
   if (!loaded.ok()) return Fail(verb, loaded.status());
   const CalibrationResult& calibration = *loaded;
@@ -97,7 +99,7 @@ int RunCoverage(CoverageArgs a) {
   std::string source;
   const CoverageAssessment assessment =
       AssessBoards(MeasuredBoardLights(calibration, flashes, lit, a.session, &source), top->id, flashes, a.options, suggestable);
-  const fs::path out = a.out.empty() ? a.session / "coverage" : a.out;
+  const fs::path out = a.out.empty() ? SessionLayout(a.session).coverage().root : a.out;
   if (Status st = WriteCoverageFolder(out, assessment, source,
                                       {{"session", a.session.string()}, {"near_deg", a.options.near_deg}, {"objective", a.objective},
                                        {"suggestions", a.options.suggestions}, {"images", images}});

@@ -12,6 +12,7 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/provenance.h"
+#include "core/session_layout.h"
 #include "core/text_format.h"
 #include "reconstruct/statistical_btf.h"
 
@@ -160,9 +161,9 @@ Status WriteCoverageFolder(const fs::path& out, const CoverageAssessment& assess
   Json json = CoverageJson(assessment, source);
   json.update(extra_fields);
   json["provenance"] = MakeProvenance(provenance_options);
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "coverage.json", json));
-  MESOCAP_RETURN_IF_ERROR(
-      WriteImage(staging->path() / "coverage.png", CoveragePlot(assessment), {.format = PixelFormat::kUint8Srgb}));
+  const CoverageFolder staged{staging->path()};
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staged.assessment(), json));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(staged.plot(), CoveragePlot(assessment), {.format = PixelFormat::kUint8Srgb}));
   return staging->Publish(/*replace=*/true);
 }
 

@@ -80,7 +80,7 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
                             Report* report) {
   auto cal = LoadSessionCalibration(session_dir);
   if (!cal.ok()) return cal.status();
-  auto calibration_report = ReadJsonFile(session_dir / "calibration" / "report.json");
+  auto calibration_report = ReadJsonFile(SessionLayout(session_dir).calibration().report());
   if (!calibration_report.ok()) return calibration_report.status();
   const CalibrationScore score = ScoreAgainstTruth(*cal, truth);
   const Json& intrinsics = (*calibration_report)["intrinsics"];
@@ -103,7 +103,9 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
     if (o.name == "calibrate")
       for (const std::string& r : o.summary.warnings) rejected += (rejected.empty() ? "" : "; ") + r;
   if (!rejected.empty()) report->Paragraph("Rejected or flagged: " + rejected);
-  report->Picture("session/calibration/lights.png", "The flash directions as calibrated (compare with the true ones above)");
+  // The demo's report sits beside the session folder.
+  report->Picture(SessionLayout(session_dir).calibration().lights_plot().lexically_relative(session_dir.parent_path()).generic_string(),
+                  "The flash directions as calibrated (compare with the true ones above)");
   std::printf("demo: calibration: %s\n", score.Brief().c_str());
   return Status::Ok();
 }
@@ -111,7 +113,7 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
 // The top board's resampled slices next to the true BTF at their directions.
 Status AddSliceScores(const fs::path& out, const fs::path& session_dir, const RigScene& scene, const Material& material,
                       Report* report) {
-  auto index = ReadJsonFile(session_dir / "slices" / "index.json");
+  auto index = ReadJsonFile(SessionLayout(session_dir).slices().index());
   if (!index.ok()) return index.status();
   const RigBoard& board = scene.boards.front();
   std::vector<Json> top_slices;
@@ -126,7 +128,7 @@ Status AddSliceScores(const fs::path& out, const fs::path& session_dir, const Ri
   int size = 0;
   for (size_t k = 0; k < shown; ++k) {
     const Json& r = top_slices[k * top_slices.size() / shown];
-    auto slice = ReadImage(session_dir / "slices" / r["file"].get<std::string>());
+    auto slice = ReadImage(SessionLayout(session_dir).slices().root / r["file"].get<std::string>());
     if (!slice.ok()) return slice.status();
     size = slice->width();
     const double ti = r["theta_i_deg"], pi = r["phi_i_deg"], to = r["theta_o_deg"], po = r["phi_o_deg"];
@@ -183,7 +185,7 @@ int RunDemo(DemoArgs& a) {
   auto sim = SimulateSession(a.simulate, bar.AsCallback());
   if (!sim.ok()) return Fail("demo", sim.status());
   const fs::path session_dir = a.simulate.out;
-  auto truth_json = ReadJsonFile(session_dir / "truth.json");
+  auto truth_json = ReadJsonFile(SessionLayout(session_dir).truth());
   if (!truth_json.ok()) return Fail("demo", truth_json.status());
   auto scene = MakeRigScene(a.simulate.rig);
   auto material = Material::Create(a.simulate.rig.material);
@@ -226,11 +228,11 @@ int RunDemo(DemoArgs& a) {
   std::vector<Eigen::Vector3d> dirs;
   const RigBoard& top = scene->boards.front();
   for (const auto& s : scene->shots) dirs.push_back(top.R.transpose() * (s.light_m - top.t));
-  if (Status st = WriteImage(a.out / "lights.png", HemispherePlot(dirs, 420, "flash directions, top board frame"),
+  if (Status st = WriteImage(a.out / "true_lights.png", HemispherePlot(dirs, 420, "flash directions, top board frame"),
                              {.format = PixelFormat::kUint8Srgb});
       !st.ok())
     return Fail("demo", st);
-  report.Picture("lights.png", "Flash directions seen from the top board (centre: zenith, rings: 30/60/90 deg)");
+  report.Picture("true_lights.png", "Flash directions seen from the top board (centre: zenith, rings: 30/60/90 deg)");
 
   // True BTF slices for a few direction pairs.
   std::vector<Image> slices;
@@ -290,7 +292,7 @@ int RunDemo(DemoArgs& a) {
                    "(material.ptm, lp/, btf/, previews/), stages.json and its own report.html. Formats: docs/formats.md.");
   if (Status st = report.Write(a.out); !st.ok()) return Fail("demo", st);
   std::printf("demo: %s\n", sim->Brief().c_str());
-  std::printf("demo: finished in %.0f s -> %s\n", clock.TotalSeconds(), (a.out / "report.html").string().c_str());
+  std::printf("demo: finished in %.0f s -> %s\n", clock.TotalSeconds(), (a.out / ReportHtmlName()).string().c_str());
   return kExitOk;
 }
 }  // namespace mesocap::app

@@ -16,6 +16,7 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/slice_index.h"
+#include "core/session_layout.h"
 #include "export/ggx_fit.h"
 #include "export/gltf_material.h"
 #include "export/previews.h"
@@ -42,9 +43,9 @@ TrueBtfRenderer TruthRenderer(const DemoReconstructionInputs& in, int size, int 
 Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
   // The fit-ptm stage's PTM of the top board: each texel fitted under its own direction to the
   // flash (the point light is close to the patch), scored here against the true BTF.
-  auto ptm = ReadPtmFile(BoardPtmFile(in.session, in.top_board));
+  auto ptm = ReadPtmFile(SessionLayout(in.session).ptm().board_ptm(in.top_board));
   if (!ptm.ok()) return ptm.status();
-  auto fit_report = ReadJsonFile(in.session / "ptm" / "report.json");
+  auto fit_report = ReadJsonFile(SessionLayout(in.session).ptm().report());
   if (!fit_report.ok()) return fit_report.status();
   double rms_residual = 0;
   int lights = 0;
@@ -67,12 +68,14 @@ Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
   labels.push_back("PTM normals");
   MESOCAP_RETURN_IF_ERROR(WriteImage(in.out / "ptm.jpg", ContactSheet(row, labels, 7, 160), {.format = PixelFormat::kUint8Srgb}));
   report->Heading("Polynomial texture map of the top board");
+  const SessionLayout layout(in.session);
+  const auto shown = [&](const fs::path& p) { return p.lexically_relative(in.out).generic_string(); };
   report->Paragraph(Format("The fit-ptm stage fitted an RGB PTM to each board's slices, every texel under its own direction "
                            "to the flash (per-pixel light matrices): the top board's from %d slices, RMS residual %.5f "
-                           "(session/ptm/, exported as session/export/material.ptm, which opens in RTIViewer; "
-                           "session/export/lp/ is the same slices as an RTI capture). A PTM is smooth in the light "
-                           "direction, so it misses the material's sharp cast shadows:",
-                           lights, rms_residual));
+                           "(%s/, exported as %s, which opens in RTIViewer; %s/ is the same slices as an RTI capture). "
+                           "A PTM is smooth in the light direction, so it misses the material's sharp cast shadows:",
+                           lights, rms_residual, shown(layout.ptm().root).c_str(),
+                           shown(layout.exports().material_ptm()).c_str(), shown(layout.exports().lp()).c_str()));
   report->Picture("ptm.jpg", "True BTF (top view) and the PTM relit at three held-out lights; PTM normals");
   std::printf("demo: PTM of the top board from %d slices, rms residual %.5f\n", lights, rms_residual);
   return Status::Ok();
@@ -83,7 +86,7 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
   options.size = 128;
   SliceSetReport loaded;
   ProgressBar bar("statistics", in.progress);
-  auto btf = LoadStatisticalBtf(in.session / "slices" / "index.json", options, &loaded, bar.AsCallback());
+  auto btf = LoadStatisticalBtf(SessionLayout(in.session).slices().index(), options, &loaded, bar.AsCallback());
   if (!btf.ok()) return btf.status();
 
   // Held-out pairs evenly spread over the Bonn grid, split by where the pair's light lies
@@ -150,12 +153,12 @@ Status AddStatisticalBtf(const DemoReconstructionInputs& in, Report* report) {
 // The glTF material the export stage fitted to the reconstructed BTF, relit at pairs of the
 // reconstructed grid and compared with the true BTF, beside the reconstruction it was fitted to.
 Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
-  const fs::path gltf = in.session / "export" / "gltf";
+  const GltfFolder gltf = SessionLayout(in.session).exports().gltf();
   auto maps = ReadGltfMaterialTextures(gltf);
   if (!maps.ok()) return maps.status();
-  auto fit = ReadJsonFile(gltf / "fit.json");
+  auto fit = ReadJsonFile(gltf.fit_report());
   if (!fit.ok()) return fit.status();
-  auto btf = ReadSliceIndex(in.session / "btf" / "index.json");
+  auto btf = ReadSliceIndex(SessionLayout(in.session).btf().index());
   if (!btf.ok()) return btf.status();
   constexpr int kPairs = 24;
   struct Scored {
@@ -208,7 +211,8 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
                            100 * (*fit)["median_relative_error"].get<double>(), kPairs, 100 * UpperMedian(gltf_errors),
                            100 * UpperMedian(btf_errors)));
   report->Picture("gltf_material.jpg", "True BTF | reconstructed BTF | the glTF material relit, one exposure per row");
-  report->Picture("session/export/gltf/fit_error.png", "The fit's relative error per texel (black 0, white 50% or more)");
+  report->Picture(gltf.fit_error(".png").lexically_relative(in.out).generic_string(),
+                  "The fit's relative error per texel (black 0, white 50% or more)");
   std::printf("demo: glTF material: fit error %.1f%%, relit error to the true BTF %.1f%% (reconstruction %.1f%%)\n",
               100 * (*fit)["median_relative_error"].get<double>(), 100 * UpperMedian(gltf_errors), 100 * UpperMedian(btf_errors));
   return Status::Ok();

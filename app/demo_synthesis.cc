@@ -8,6 +8,7 @@
 #include "app/synth_run.h"
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/session_layout.h"
 #include "core/text_format.h"
 #include "export/previews.h"
 #include "synth/synth_quality.h"
@@ -84,9 +85,9 @@ StatusOr<MethodRun> RunMethod(const std::string& method, const Exemplar& e, cons
 
 Status AddSynthesisToDemo(const fs::path& out, const fs::path& session, int top_board, StageClock* clock, Report* report) {
   clock->Start("synthesis: the BTF's features (SVD)");
-  auto btf = LoadExemplar(session / "btf");
+  auto btf = LoadExemplar(SessionLayout(session).btf().root);
   if (!btf.ok()) return btf.status();
-  auto ptm = LoadExemplar(BoardPtmFile(session, top_board));
+  auto ptm = LoadExemplar(SessionLayout(session).ptm().board_ptm(top_board));
   if (!ptm.ok()) return ptm.status();
   auto btf_images = SampleUnderPreviewLights(*btf), ptm_images = SampleUnderPreviewLights(*ptm);
   if (!btf_images.ok()) return btf_images.status();

@@ -22,6 +22,7 @@
 #include "core/image_io.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "export/previews.h"
 #include "export/report.h"
 #include "app/btf_method_args.h"
@@ -59,7 +60,7 @@ int TruthSamplesPerAxis(const EvaluateArgs& a, bool session) {
 
 // The material and layout a virtual session was rendered with, from its truth.json.
 StatusOr<RigScene> SessionTruth(const std::filesystem::path& session) {
-  const std::filesystem::path file = session / "truth.json";
+  const std::filesystem::path file = SessionLayout(session).truth();
   if (!std::filesystem::exists(file))
     return Status::Error(file.string() + " not found: --session scores a virtual session (mesocap simulate), whose true "
                          "BTF is known");
@@ -82,7 +83,7 @@ StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& s
   slices.size = a.size;
   a.method.ApplyTo(&slices);  // the slices' shots decide where the chromaticity comes from, unless forced
   SliceSetReport loaded;
-  const std::filesystem::path index = a.session / "slices" / "index.json";
+  const std::filesystem::path index = SessionLayout(a.session).slices().index();
   if (!std::filesystem::exists(index)) return Status::Error(index.string() + " not found: run `mesocap calibrate` first");
   auto btf = LoadStatisticalBtf(index, slices, &loaded, progress);
   if (!btf.ok()) return btf.status();

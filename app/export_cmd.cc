@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/session_export.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/session_lock.h"
 
 namespace mesocap::app {
@@ -26,7 +27,7 @@ int RunExport(const ExportArgs& a) {
     formats.push_back(f);
   }
   if (auto session = Session::Open(a.session); !session.ok()) return Fail("export", session.status());
-  const fs::path out = a.out.empty() ? a.session / "export" : a.out;
+  const fs::path out = a.out.empty() ? SessionLayout(a.session).exports().root : a.out;
   // Into the session, export is one of its writers; elsewhere it only reads the session.
   const std::string inside = fs::absolute(out).lexically_normal().lexically_relative(fs::absolute(a.session).lexically_normal()).string();
   std::optional<SessionLock> lock;

@@ -17,6 +17,7 @@
 #include "core/image_io.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/session_lock.h"
 #include "core/slice_index.h"
 #include "core/stage_cache.h"
@@ -43,27 +44,29 @@ struct Stage {
   std::function<StatusOr<StageSummary>()> run;
 };
 
-// Pictures for the report: the top board's PTM relit under three lights, and a few
-// reconstructed slices, in SESSION/export/previews/ (built in `dir`).
-Status WritePreviews(const fs::path& session, const fs::path& dir, std::vector<std::string>* written) {
+// Pictures for the report: the top board's PTM relit under three lights, the glTF material of
+// `exports` (built there) and a few reconstructed slices, in its previews/.
+Status WritePreviews(const fs::path& session, const ExportFolder& exports, std::vector<std::string>* written) {
+  const PreviewsFolder previews = exports.previews();
+  const fs::path& dir = previews.root;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return Status::Error(dir.string() + ": cannot create: " + ec.message());
   auto top = TopBoardOfSession(session);
   if (!top.ok()) return top.status();
-  if (auto ptm = ReadPtmFile(BoardPtmFile(session, *top)); ptm.ok()) {
+  if (auto ptm = ReadPtmFile(SessionLayout(session).ptm().board_ptm(*top)); ptm.ok()) {
     std::vector<Image> lit;
     std::vector<std::string> labels;
     for (double phi : {0.0, 120.0, 240.0}) {
       lit.push_back(RelightPtm(*ptm, DirectionFromAnglesDeg(45, phi)));
       labels.push_back(Format("PTM, light (45, %.0f)", phi));
     }
-    MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "ptm_relit.jpg", ContactSheet(ExposeTogether(lit), labels, 3, 300),
+    MESOCAP_RETURN_IF_ERROR(WriteImage(previews.ptm_relit(), ContactSheet(ExposeTogether(lit), labels, 3, 300),
                                        {.format = PixelFormat::kUint8Srgb}));
-    written->push_back("ptm_relit.jpg");
+    written->push_back(previews.ptm_relit().filename().string());
   }
   // The glTF material on a sphere and a draped sheet under three lights.
-  if (auto maps = ReadGltfMaterialTextures(dir.parent_path() / "gltf"); maps.ok()) {
+  if (auto maps = ReadGltfMaterialTextures(exports.gltf()); maps.ok()) {
     std::vector<Image> spheres, cloths;
     std::vector<std::string> labels;
     for (double phi : {30.0, 150.0, 270.0}) {
@@ -72,13 +75,14 @@ Status WritePreviews(const fs::path& session, const fs::path& dir, std::vector<s
       cloths.push_back(RenderMaterialCloth(*maps, light, 300));
       labels.push_back(Format("light (40, %.0f)", phi));
     }
-    MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "material_sphere.jpg", ContactSheet(ExposeTogether(spheres), labels, 3, 300),
+    MESOCAP_RETURN_IF_ERROR(WriteImage(previews.material_sphere(),
+                                       ContactSheet(ExposeTogether(spheres), labels, 3, 300), {.format = PixelFormat::kUint8Srgb}));
+    MESOCAP_RETURN_IF_ERROR(WriteImage(previews.material_cloth(), ContactSheet(ExposeTogether(cloths), labels, 3, 300),
                                        {.format = PixelFormat::kUint8Srgb}));
-    MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "material_cloth.jpg", ContactSheet(ExposeTogether(cloths), labels, 3, 300),
-                                       {.format = PixelFormat::kUint8Srgb}));
-    written->insert(written->end(), {"material_sphere.jpg", "material_cloth.jpg"});
+    written->insert(written->end(), {previews.material_sphere().filename().string(),
+                                     previews.material_cloth().filename().string()});
   }
-  auto btf = ReadSliceIndex(session / "btf" / "index.json");
+  auto btf = ReadSliceIndex(SessionLayout(session).btf().index());
   if (!btf.ok()) return btf.status();
   std::vector<Image> slices;
   std::vector<std::string> labels;
@@ -91,22 +95,22 @@ Status WritePreviews(const fs::path& session, const fs::path& dir, std::vector<s
     slices.push_back(std::move(*image));
     labels.push_back(Format("i(%.0f,%.0f) o(%.0f,%.0f)", e.theta_i_deg, e.phi_i_deg, e.theta_o_deg, e.phi_o_deg));
   }
-  MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "btf_slices.jpg", ContactSheet(ExposeTogether(slices), labels, 4, 200),
+  MESOCAP_RETURN_IF_ERROR(WriteImage(previews.btf_slices(), ContactSheet(ExposeTogether(slices), labels, 4, 200),
                                      {.format = PixelFormat::kUint8Srgb}));
-  written->push_back("btf_slices.jpg");
+  written->push_back(previews.btf_slices().filename().string());
   return Status::Ok();
 }
 
-// The report's WebGL viewer (export/viewer_page.h) as an HTML fragment, `dir`/viewer.html: the
+// The report's WebGL viewer (export/viewer_page.h) as an HTML fragment in `previews`: the
 // top board's PTM and, of the reconstructed BTF, the slices whose light and view both lie on the
 // coarse grid (all of a coarse BTF, 289 of the Bonn grid's). Built here, once per export, so a
 // `process` run that skips every stage does not rebuild it.
-Status WriteViewer(const fs::path& session, const fs::path& dir) {
+Status WriteViewer(const fs::path& session, const PreviewsFolder& previews) {
   std::optional<Ptm> ptm;
   if (auto top = TopBoardOfSession(session); top.ok())
-    if (auto read = ReadPtmFile(BoardPtmFile(session, *top)); read.ok()) ptm = std::move(*read);
+    if (auto read = ReadPtmFile(SessionLayout(session).ptm().board_ptm(*top)); read.ok()) ptm = std::move(*read);
   std::vector<ViewerSlice> slices;
-  if (auto btf = ReadSliceIndex(session / "btf" / "index.json"); btf.ok()) {
+  if (auto btf = ReadSliceIndex(SessionLayout(session).btf().index()); btf.ok()) {
     for (const SliceIndexEntry& e : btf->slices) {
       if (!OnCoarseGrid(e.light) || !OnCoarseGrid(e.view)) continue;
       auto image = ReadImage(e.file);
@@ -115,34 +119,37 @@ Status WriteViewer(const fs::path& session, const fs::path& dir) {
     }
   }
   if (!ptm && slices.empty()) return Status::Ok();
-  auto html = ViewerHtml(ptm ? &*ptm : nullptr, slices, 64, dir);
+  auto html = ViewerHtml(ptm ? &*ptm : nullptr, slices, 64, previews.root);
   if (!html.ok()) return html.status();
-  return WriteTextAtomically(dir / "viewer.html", *html);
+  return WriteTextAtomically(previews.viewer(), *html);
 }
 
 // SESSION/export/: every format of `mesocap export` plus previews, swapped in whole.
 StatusOr<StageSummary> RunExportStage(const fs::path& session) {
-  auto staging = StagingFolder::Begin(session / "export");
+  auto staging = StagingFolder::Begin(SessionLayout(session).exports().root);
   if (!staging.ok()) return staging.status();
+  const ExportFolder staged{staging->path()};
   StageSummary summary;
   for (ExportFormat format : AllExportFormats()) {
     auto written = ExportSession(session, format, staging->path());
     if (!written.ok()) return written.status();
   }
   std::vector<std::string> previews;
-  MESOCAP_RETURN_IF_ERROR(WritePreviews(session, staging->path() / "previews", &previews));
-  MESOCAP_RETURN_IF_ERROR(WriteViewer(session, staging->path() / "previews"));
+  MESOCAP_RETURN_IF_ERROR(WritePreviews(session, staged, &previews));
+  MESOCAP_RETURN_IF_ERROR(WriteViewer(session, staged.previews()));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  summary.brief = "material.ptm, lp/material.lp, btf/ (OpenEXR), gltf/material.gltf, previews/";
+  const auto rel = [&](const fs::path& p) { return p.lexically_relative(staged.root).generic_string(); };
+  summary.brief = rel(staged.material_ptm()) + ", " + rel(staged.lp_file()) + ", " + rel(staged.btf().root) + "/ (OpenEXR), " +
+                  rel(staged.gltf().material()) + ", " + rel(staged.previews().root) + "/";
   summary.report = {{"previews", previews}};
   return summary;
 }
 
 std::vector<Stage> MakeStages(const ProcessOptions& a) {
-  const fs::path& s = a.session;
-  const fs::path layout = SessionLayoutFile(s, a.calibrate.layout_file);
-  std::vector<fs::path> calibrate_inputs = {s / Session::kJournalName, s / "shots", layout};
-  if (fs::exists(s / "calib")) calibrate_inputs.push_back(s / "calib");
+  const SessionLayout s(a.session);
+  const fs::path layout = SessionLayoutFile(a.session, a.calibrate.layout_file);
+  std::vector<fs::path> calibrate_inputs = {s.journal(), s.shots(), layout};
+  if (fs::exists(s.calib())) calibrate_inputs.push_back(s.calib());
   if (!a.calibrate.camera_file.empty()) calibrate_inputs.push_back(a.calibrate.camera_file);
   if (!a.calibrate.calibrate.marked_corners.empty()) calibrate_inputs.push_back(a.calibrate.calibrate.marked_corners);
   const bool progress = a.progress;
@@ -151,25 +158,25 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                     {{"pose_shots", a.calibrate.calibrate.pose_shots},
                      {"camera_file", a.calibrate.camera_file.string()},
                      {"marked_corners", a.calibrate.calibrate.marked_corners.string()}},
-                    {"calibration"},
+                    {s.Relative(s.calibration().root)},
                     [&a] { return RunCalibrateStage(a.calibrate); }});
-  stages.push_back({"resample", {"calibrate"}, {s / "shots", layout}, a.resample.ToJson(), {"slices"},
+  stages.push_back({"resample", {"calibrate"}, {s.shots(), layout}, a.resample.ToJson(), {s.Relative(s.slices().root)},
                     [&a, progress] { return RunResampleStage(a.session, a.calibrate.layout_file, a.resample, progress); }});
   stages.push_back({"fit-ptm", {"resample"}, {layout},
                     {{"format", PtmFormatToString(a.ptm.format)}, {"min_slices", a.ptm.min_slices}},
-                    {"ptm"},
+                    {s.Relative(s.ptm().root)},
                     [&a, progress] { return RunPtmStage(a.session, a.calibrate.layout_file, a.ptm, progress); }});
-  stages.push_back({"reconstruct", {"resample"}, {}, a.reconstruct.ToJson(), {"btf"},
+  stages.push_back({"reconstruct", {"resample"}, {}, a.reconstruct.ToJson(), {s.Relative(s.btf().root)},
                     [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
   if (!a.synth.method.empty())
     stages.push_back({"synth", {"reconstruct"}, {},
                       {{"method", a.synth.method}, {"width", a.synth.width}, {"height", a.synth.height},
                        {"seed", a.synth.seed}, {"max_slices", a.synth.max_slices}},
-                      {"synth"},
+                      {s.Relative(s.synth().root)},
                       [&a, progress] { return RunSynthStage(a.session, a.synth, a.threads, progress); }});
   std::vector<std::string> export_after = {"resample", "fit-ptm", "reconstruct"};
   if (!a.synth.method.empty()) export_after.push_back("synth");
-  stages.push_back({"export", export_after, {}, {{"formats", "ptm lp exr gltf previews"}}, {"export"},
+  stages.push_back({"export", export_after, {}, {{"formats", "ptm lp exr gltf previews"}}, {s.Relative(s.exports().root)},
                     [&a] { return RunExportStage(a.session); }});
   return stages;
 }

@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/process.h"
 #include "app/synth_output.h"
+#include "core/session_layout.h"
 
 namespace mesocap::app {
 namespace {
@@ -30,7 +31,7 @@ int RunProcess(ProcessArgs& a) {
   if (!outcomes.ok()) return Fail(verb, outcomes.status());
   PrintProcessSummary(*outcomes);
   if (Status st = WriteProcessReport(a.options.session, *outcomes); !st.ok()) return Fail(verb, st);
-  std::printf("process: done -> %s\n", (a.options.session / "report.html").string().c_str());
+  std::printf("process: done -> %s\n", SessionLayout(a.options.session).report_html().string().c_str());
   return kExitOk;
 }
 }  // namespace mesocap::app

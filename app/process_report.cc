@@ -7,11 +7,16 @@
 #include <map>
 #include <set>
 
+#include "app/session_stages.h"
+#include "app/synth_output.h"
+#include "calib/calibrate.h"
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/json.h"
+#include "core/session_layout.h"
 #include "core/slice_index.h"
 #include "core/text_format.h"
+#include "export/ggx_fit.h"
 #include "export/previews.h"
 #include "export/report.h"
 
@@ -22,21 +27,22 @@ namespace fs = std::filesystem;
 namespace {
 
 // The viewer the export stage built (export/previews/viewer.html), placed in the page.
-Status AddViewer(const fs::path& session, Report* report) {
-  const fs::path fragment = session / "export" / "previews" / "viewer.html";
+Status AddViewer(const SessionLayout& session, Report* report) {
+  const fs::path fragment = session.exports().previews().viewer();
   if (!fs::exists(fragment)) return Status::Ok();
   auto html = ReadTextFile(fragment);
   if (!html.ok()) return html.status();
   report->Heading("Relight it");
-  report->Html(*html, "report.html relights the top board's PTM and the reconstructed BTF here, in WebGL.");
+  report->Html(*html, session.report_html().filename().string() +
+                          " relights the top board's PTM and the reconstructed BTF here, in WebGL.");
   return Status::Ok();
 }
 
 // Which light directions each board measured (its own frame): where the reconstruction has
 // data and where it extrapolates. The picture goes in SESSION/report_files/, beside the report
 // and outside every stage's outputs.
-Status AddLightCoverage(const fs::path& session, Report* report) {
-  auto index = ReadSliceIndex(session / "slices" / "index.json");
+Status AddLightCoverage(const SessionLayout& session, Report* report) {
+  auto index = ReadSliceIndex(session.slices().index());
   if (!index.ok()) return Status::Ok();  // no slices: the stage table says why
   std::map<int, std::vector<Eigen::Vector3d>> lights;
   for (const SliceIndexEntry& e : index->slices) lights[e.board].push_back(e.light);
@@ -48,39 +54,41 @@ Status AddLightCoverage(const fs::path& session, Report* report) {
   }
   if (plots.empty()) return Status::Ok();
   std::error_code ec;
-  fs::create_directories(session / "report_files", ec);
-  if (ec) return Status::Error((session / "report_files").string() + ": cannot create: " + ec.message());
-  MESOCAP_RETURN_IF_ERROR(WriteImage(session / "report_files" / "light_coverage.png", ContactSheet(plots, labels, 5, 200),
+  fs::create_directories(session.report_files(), ec);
+  if (ec) return Status::Error(session.report_files().string() + ": cannot create: " + ec.message());
+  MESOCAP_RETURN_IF_ERROR(WriteImage(session.light_coverage_plot(), ContactSheet(plots, labels, 5, 200),
                                      {.format = PixelFormat::kUint8Srgb}));
   report->Heading("Light coverage");
   report->Paragraph("The flash directions each board measured, in its own frame (centre: its normal; rings at 30, 60 and "
                     "90 deg). The reconstruction interpolates between them and extrapolates beyond: a tilted board "
                     "never sees the flash from below its slope.");
-  report->Picture("report_files/light_coverage.png", "Measured light directions per board");
+  report->Picture(session.Relative(session.light_coverage_plot()), "Measured light directions per board");
   return Status::Ok();
 }
 
+// A stage's record that is there but cannot be read: said in the report, not passed over.
+void SayUnreadable(const Status& status, Report* report) {
+  report->Paragraph("Could not be read: " + status.message());
+}
+
 // The camera and every board's pose with its uncertainty, from calibration/rig.json.
-void AddCalibrationTables(const fs::path& session, Report* report) {
-  auto rig = ReadJsonFile(session / "calibration" / "rig.json");
-  if (!rig.ok()) return;
-  const Json camera = rig->value("camera", Json::object());
-  if (camera.contains("K")) {
-    const Json& K = camera["K"];
-    report->Table({"width", "height", "fx px", "fy px", "cx px", "cy px"},
-                  {{std::to_string(camera.value("width", 0)), std::to_string(camera.value("height", 0)),
-                    Format("%.1f", K[0][0].get<double>()), Format("%.1f", K[1][1].get<double>()),
-                    Format("%.1f", K[0][2].get<double>()), Format("%.1f", K[1][2].get<double>())}});
-  }
+void AddCalibrationTables(const SessionLayout& session, Report* report) {
+  if (!fs::exists(session.calibration().rig())) return;  // the stage table says why
+  auto rig = LoadSessionCalibration(session.root());
+  if (!rig.ok()) return SayUnreadable(rig.status(), report);
+  const CameraModel& camera = rig->camera;
+  report->Table({"width", "height", "fx px", "fy px", "cx px", "cy px"},
+                {{std::to_string(camera.width), std::to_string(camera.height), Format("%.1f", camera.K(0, 0)),
+                  Format("%.1f", camera.K(1, 1)), Format("%.1f", camera.K(0, 2)), Format("%.1f", camera.K(1, 2))}});
   std::vector<std::vector<std::string>> rows;
-  for (const Json& b : rig->value("boards", Json::array())) {
-    if (!b.value("found", false)) {
-      rows.push_back({std::to_string(b.value("id", -1)), "not posed: " + b.value("why_not", std::string()), "", "", "", ""});
+  for (const BoardPose& b : rig->boards) {
+    if (!b.found) {
+      rows.push_back({std::to_string(b.id), "not posed: " + b.why_not, "", "", "", ""});
       continue;
     }
-    rows.push_back({std::to_string(b.value("id", -1)), std::to_string(b.value("shots_seen", 0)),
-                    std::to_string(b.value("corners_used", 0)), Format("%.3f", b.value("rms_reprojection_px", 0.0)),
-                    Format("%.4f", b.value("rotation_stddev_deg", 0.0)), Format("%.3f", b.value("translation_stddev_mm", 0.0))});
+    rows.push_back({std::to_string(b.id), std::to_string(b.shots_seen), std::to_string(b.corners_used),
+                    Format("%.3f", b.rms_reprojection_px), Format("%.4f", b.rotation_stddev_deg),
+                    Format("%.3f", b.translation_stddev_mm)});
   }
   report->Table({"board", "shots seen", "tag corners", "RMS reprojection px", "rotation sd deg", "translation sd mm"}, rows);
 }
@@ -102,14 +110,24 @@ std::string ReasonKind(const std::string& reason) {
 
 // Every rejected calibration item and every skipped (board, shot): grouped by reason with counts,
 // the full list folded away under them.
-void AddRejectedItems(const fs::path& session, Report* report) {
+void AddRejectedItems(const SessionLayout& session, Report* report) {
   std::vector<std::vector<std::string>> rows;
-  if (auto calibration = ReadJsonFile(session / "calibration" / "report.json"); calibration.ok())
-    for (const Json& r : calibration->value("rejected", Json::array()))
-      if (r.is_string()) rows.push_back({"calibration", "", r.get<std::string>()});
-  if (auto slices = ReadJsonFile(session / "slices" / "index.json"); slices.ok())
-    for (const Json& s : slices->value("skipped", Json::array()))
-      rows.push_back({s.value("shot", std::string()), std::to_string(s.value("board", -1)), s.value("reason", std::string())});
+  const CalibrationFolder calibration = session.calibration();
+  if (fs::exists(calibration.report())) {
+    auto json = ReadJsonFile(calibration.report());
+    if (!json.ok()) return SayUnreadable(json.status(), report);
+    try {
+      for (const std::string& r : CalibrationResult::RejectedFromReportJson(*json))
+        rows.push_back({calibration.root.filename().string(), "", r});
+    } catch (const JsonFieldError& e) {
+      return SayUnreadable(Status::Error(calibration.report().string() + ": " + e.what()), report);
+    }
+  }
+  if (fs::exists(session.slices().index())) {
+    auto index = ReadSliceIndex(session.slices().index());
+    if (!index.ok()) return SayUnreadable(index.status(), report);
+    for (const SkippedSlice& s : index->skipped) rows.push_back({s.shot, std::to_string(s.board), s.reason});
+  }
   report->Heading(Format("Rejected shots and skipped slices (%zu)", rows.size()));
   if (rows.empty()) return report->Paragraph("None.");
   std::map<std::string, std::pair<int, std::set<std::string>>> groups;  // kind -> count, boards
@@ -130,26 +148,75 @@ void AddRejectedItems(const fs::path& session, Report* report) {
   report->FoldedTable(Format("Every one of the %zu, with its shot", rows.size()), {"shot", "board", "reason"}, rows);
 }
 
+// The pictures and figures of the results: the PTM, the BTF, the glTF material, the synthesis.
+void AddResults(const SessionLayout& session, Report* report) {
+  const auto picture = [&](const fs::path& file, const std::string& caption) {
+    if (fs::exists(file)) report->Picture(session.Relative(file), caption);
+  };
+  const ExportFolder exports = session.exports();
+  const PreviewsFolder previews = exports.previews();
+  const std::string ptm_export = session.Relative(exports.material_ptm());
+  picture(previews.ptm_relit(), "The top board's PTM (" + ptm_export + ") relit under three lights");
+  if (auto top = TopBoardOfSession(session.root()); top.ok())
+    picture(session.ptm().board_residual(*top, ".png"),
+            "The top board's PTM fit error per texel (RMS residual x 10: white is 0.1 or more)");
+  picture(previews.btf_slices(), "Slices of the reconstructed BTF (" + session.Relative(exports.btf().root) + "/), one exposure");
+  const GltfFolder gltf = exports.gltf();
+  if (fs::exists(gltf.fit_report())) {
+    auto json = ReadJsonFile(gltf.fit_report());
+    GgxMaterialMaps fit;
+    try {
+      if (json.ok()) fit = GgxMaterialMaps::FiguresFromJson(*json);
+    } catch (const JsonFieldError& e) {
+      json = Status::Error(gltf.fit_report().string() + ": " + e.what());
+    }
+    if (!json.ok()) {
+      SayUnreadable(json.status(), report);
+    } else {
+      report->Paragraph(Format("%s: a glTF 2.0 metallic-roughness material fitted per texel to the reconstructed BTF (%d "
+                               "slices, median relative error %.1f%%, %.1f s), on a preview quad and sphere.",
+                               session.Relative(gltf.material()).c_str(), fit.slices_used,
+                               100 * fit.median_relative_error, fit.seconds));
+      picture(gltf.fit_error(".png"), "The glTF fit's relative error per texel (black 0, white 50% or more)");
+      picture(previews.material_sphere(), "The glTF material on a sphere under three lights");
+      picture(previews.material_cloth(), "The glTF material on a draped sheet under the same lights");
+    }
+  }
+  const SynthFolder synth = session.synth();
+  if (fs::exists(synth.report())) {
+    auto summary = ReadSynthReportSummary(synth);
+    if (!summary.ok()) return SayUnreadable(summary.status(), report);
+    report->Paragraph(Format("%s/: the reconstructed BTF enlarged by %s to %dx%d texels (%s/ carries the glTF material "
+                             "through the same map).",
+                             session.Relative(synth.root).c_str(), summary->method.c_str(), summary->width,
+                             summary->height, session.Relative(exports.gltf_synth().root).c_str()));
+    for (int k = 1; k <= 3; ++k) picture(synth.preview_light(k), Format("The enlarged BTF under light %d", k));
+    picture(synth.patches(), "Where each part of the enlarged material comes from (one colour per patch)");
+  }
+}
+
 }  // namespace
 
-Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcome>& outcomes) {
-  Report report("mesocap process: " + fs::absolute(session).filename().string());
+Status WriteProcessReport(const fs::path& session_root, const std::vector<StageOutcome>& outcomes) {
+  const SessionLayout session(session_root);
+  Report report("mesocap process: " + fs::absolute(session_root).filename().string());
   report.Paragraph("Every stage of the session's processing, from the shots to the exports. A stage whose inputs and "
-                   "options did not change since it last ran was skipped (SESSION/stages.json).");
+                   "options did not change since it last ran was skipped (SESSION/" +
+                   session.Relative(session.stage_cache()) + ").");
   std::vector<std::vector<std::string>> rows;
   for (const StageOutcome& o : outcomes)
     rows.push_back({o.name, o.status, Format("%.1f", o.seconds), o.summary.brief, std::to_string(o.summary.warnings.size())});
   report.Table({"stage", "status", "seconds", "outputs", "warnings"}, rows);
   report.Heading("Calibration");
   AddCalibrationTables(session, &report);
-  if (fs::exists(session / "calibration" / kFlashPositionsPlot))
-    report.Picture("calibration/" + std::string(kFlashPositionsPlot),
-                   "Every calibrated flash position around the target (orange), with the boards' patches, the balls and "
-                   "the camera, from above and from the side (top board's frame)");
-  if (fs::exists(session / "calibration" / "lights.png"))
-    report.Picture("calibration/lights.png", "Flash directions seen from the top board (centre: zenith)");
-  if (fs::exists(session / "calibration" / "intrinsics_residuals.png"))
-    report.Picture("calibration/intrinsics_residuals.png", "Checkerboard corner residuals of the camera calibration");
+  const CalibrationFolder calibration = session.calibration();
+  for (const auto& [file, caption] :
+       {std::pair{calibration.flash_positions_plot(),
+                  std::string("Every calibrated flash position around the target (orange), with the boards' patches, the "
+                              "balls and the camera, from above and from the side (top board's frame)")},
+        std::pair{calibration.lights_plot(), std::string("Flash directions seen from the top board (centre: zenith)")},
+        std::pair{calibration.intrinsics_plot(), std::string("Checkerboard corner residuals of the camera calibration")}})
+    if (fs::exists(file)) report.Picture(session.Relative(file), caption);
   report.Heading("Rejected shots, skipped slices and other warnings");
   std::vector<std::vector<std::string>> warnings;
   for (const StageOutcome& o : outcomes)
@@ -159,45 +226,11 @@ Status WriteProcessReport(const fs::path& session, const std::vector<StageOutcom
   MESOCAP_RETURN_IF_ERROR(AddLightCoverage(session, &report));
   AddRejectedItems(session, &report);
   report.Heading("Results");
-  if (fs::exists(session / "export" / "previews" / "ptm_relit.jpg"))
-    report.Picture("export/previews/ptm_relit.jpg", "The top board's PTM (export/material.ptm) relit under three lights");
-  if (auto top = TopBoardOfSession(session); top.ok()) {
-    const fs::path residual = BoardPtmResidualFile(session, *top, ".png");
-    if (fs::exists(residual))
-      report.Picture(fs::relative(residual, session).generic_string(),
-                     "The top board's PTM fit error per texel (RMS residual x 10: white is 0.1 or more)");
-  }
-  if (fs::exists(session / "export" / "previews" / "btf_slices.jpg"))
-    report.Picture("export/previews/btf_slices.jpg", "Slices of the reconstructed BTF (export/btf/), one exposure");
-  if (auto fit = ReadJsonFile(session / "export" / "gltf" / "fit.json"); fit.ok()) {
-    report.Paragraph(Format("export/gltf/material.gltf: a glTF 2.0 metallic-roughness material fitted per texel to the "
-                            "reconstructed BTF (%d slices, median relative error %.1f%%, %.1f s), on a preview quad and "
-                            "sphere.",
-                            fit->value("slices_used", 0), 100 * fit->value("median_relative_error", 0.0),
-                            fit->value("seconds", 0.0)));
-    report.Picture("export/gltf/fit_error.png", "The glTF fit's relative error per texel (black 0, white 50% or more)");
-    if (fs::exists(session / "export" / "previews" / "material_sphere.jpg")) {
-      report.Picture("export/previews/material_sphere.jpg", "The glTF material on a sphere under three lights");
-      report.Picture("export/previews/material_cloth.jpg", "The glTF material on a draped sheet under the same lights");
-    }
-  }
-  if (auto synth = ReadJsonFile(session / "synth" / "report.json"); synth.ok()) {
-    const Json output = synth->value("output", Json::object());
-    report.Paragraph(Format("synth/: the reconstructed BTF enlarged by %s to %dx%d texels (export/gltf_synth/ carries the "
-                            "glTF material through the same map).",
-                            synth->value("method", std::string("?")).c_str(), output.value("width", 0), output.value("height", 0)));
-    for (int k = 1; k <= 3; ++k)
-      if (const std::string name = Format("synth/preview_light%d.png", k); fs::exists(session / name))
-        report.Picture(name, Format("The enlarged BTF under light %d", k));
-    if (fs::exists(session / "synth" / "patches.png"))
-      report.Picture("synth/patches.png", "Where each part of the enlarged material comes from (one colour per patch)");
-  }
+  AddResults(session, &report);
   MESOCAP_RETURN_IF_ERROR(AddViewer(session, &report));
-  report.Paragraph("Files: calibration/ (rig.json, report.json), slices/ (measured BTF slices, index.json, board_BB.lp), "
-                   "ptm/ (one PTM per board), btf/ (the reconstructed BTF), export/ (material.ptm, lp/, btf/, gltf/, previews/). "
-                   "Formats: docs/formats.md.");
-  return report.Write(session);
+  report.Paragraph("Every file of the session: docs/formats.md (`mesocap layout " + session_root.string() +
+                   "` prints their paths).");
+  return report.Write(session_root);
 }
-
 
 }  // namespace mesocap::app

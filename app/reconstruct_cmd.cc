@@ -22,6 +22,7 @@
 #include "core/parallel.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/text_format.h"
 #include "reconstruct/slice_set.h"
 
@@ -56,7 +57,7 @@ std::string ParsePair(const std::string& text, std::array<double, 4>* pair) {
 }
 
 int ReconstructToFolder(ReconstructArgs& a) {
-  const std::filesystem::path index = a.index.empty() ? a.session / "slices" / "index.json" : a.index;
+  const std::filesystem::path index = a.index.empty() ? SessionLayout(a.session).slices().index() : a.index;
   if (!std::filesystem::exists(index))
     return Fail("reconstruct", index.string() + " not found: run `mesocap calibrate` first or pass --slices");
   std::vector<DirectionPair> pairs;

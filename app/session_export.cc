@@ -4,9 +4,11 @@
 #include <cmath>
 
 #include "app/session_stages.h"
+#include "app/synth_output.h"
 #include "core/atomic_file.h"
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "core/session_layout.h"
 #include "core/slice_attributes.h"
 #include "core/slice_index.h"
 #include "core/stage_cache.h"
@@ -48,12 +50,12 @@ namespace {
 
 std::string MakeItWith(const fs::path& session) { return "run `mesocap process " + session.string() + "`"; }
 
-StatusOr<std::string> ExportPtm(const fs::path& session, const fs::path& out_dir) {
+StatusOr<std::string> ExportPtm(const fs::path& session, const ExportFolder& exports) {
   auto top = TopBoardOfSession(session);
   if (!top.ok()) return Status::Error(top.status().message() + ": " + MakeItWith(session));
-  const fs::path ptm = BoardPtmFile(session, *top);
+  const fs::path ptm = SessionLayout(session).ptm().board_ptm(*top);
   if (!fs::exists(ptm)) return Status::Error(ptm.string() + " not found (the top board's PTM): " + MakeItWith(session));
-  const fs::path out = out_dir / "material.ptm";
+  const fs::path out = exports.material_ptm();
   MESOCAP_RETURN_IF_ERROR(WriteFileAtomically(out, [&](const fs::path& temp) {
     std::error_code ec;
     fs::copy_file(ptm, temp, fs::copy_options::overwrite_existing, ec);
@@ -62,10 +64,10 @@ StatusOr<std::string> ExportPtm(const fs::path& session, const fs::path& out_dir
   return Format("%s (board %d)", out.string().c_str(), *top);
 }
 
-StatusOr<std::string> ExportLp(const fs::path& session, const fs::path& out_dir) {
+StatusOr<std::string> ExportLp(const fs::path& session, const ExportFolder& exports) {
   auto top = TopBoardOfSession(session);
   if (!top.ok()) return Status::Error(top.status().message() + ": " + MakeItWith(session));
-  auto index = ReadSliceIndex(session / "slices" / "index.json");
+  auto index = ReadSliceIndex(SessionLayout(session).slices().index());
   if (!index.ok()) return index.status();
   std::vector<const SliceIndexEntry*> slices;
   for (const SliceIndexEntry& e : index->slices)
@@ -79,17 +81,19 @@ StatusOr<std::string> ExportLp(const fs::path& session, const fs::path& out_dir)
   // One exposure for all, the brightest slice's 99.5th percentile at white: the images keep
   // their relative intensities as an RTI capture's photos do.
   images = ExposeAll(images, 0.995);
-  auto staging = StagingFolder::Begin(out_dir / "lp");
+  auto staging = StagingFolder::Begin(exports.lp());
   if (!staging.ok()) return staging.status();
+  // The staging folder stands in for lp/ while it is written.
+  const auto in_staging = [&](const fs::path& file) { return staging->path() / file.filename(); };
   std::vector<LpEntry> entries;
   for (size_t k = 0; k < images.size(); ++k) {
-    const fs::path file = staging->path() / Format("slice_%04zu.png", k + 1);
+    const fs::path file = in_staging(exports.lp_slice(int(k) + 1));
     MESOCAP_RETURN_IF_ERROR(WriteImage(file, images[k], {.format = PixelFormat::kUint8Srgb}));
     entries.push_back({file, slices[k]->light});
   }
-  MESOCAP_RETURN_IF_ERROR(WriteLpFile(staging->path() / "material.lp", entries));
+  MESOCAP_RETURN_IF_ERROR(WriteLpFile(in_staging(exports.lp_file()), entries));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  return Format("%s (board %d, %zu images)", (out_dir / "lp" / "material.lp").string().c_str(), *top, entries.size());
+  return Format("%s (board %d, %zu images)", exports.lp_file().string().c_str(), *top, entries.size());
 }
 
 // The slices of `index` as the parts of one OpenEXR, in index order, each named by its file's
@@ -115,20 +119,21 @@ Status WriteBtfMultiPart(const SliceIndex& index, const fs::path& path) {
   return WriteMultiPartExr(path, parts, [&](int k) { return ReadImage(index.slices[size_t(k)].file); });
 }
 
-StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir, const ExportOptions& options) {
-  const fs::path btf = session / "btf";
-  auto index = ReadSliceIndex(btf / "index.json");
+StatusOr<std::string> ExportExr(const fs::path& session, const ExportFolder& exports, const ExportOptions& options) {
+  const BtfFolder btf = SessionLayout(session).btf();
+  auto index = ReadSliceIndex(btf.index());
   if (!index.ok()) return Status::Error(index.status().message() + ": " + MakeItWith(session));
-  if (options.exr_multipart) MESOCAP_RETURN_IF_ERROR(WriteBtfMultiPart(*index, out_dir / "btf.exr"));
-  auto staging = StagingFolder::Begin(out_dir / "btf");
+  if (options.exr_multipart) MESOCAP_RETURN_IF_ERROR(WriteBtfMultiPart(*index, exports.btf_multipart()));
+  auto staging = StagingFolder::Begin(exports.btf().root);
   if (!staging.ok()) return staging.status();
+  const BtfFolder staged{staging->path()};
   std::error_code ec;
-  fs::create_directories(staging->path() / "slices", ec);
+  fs::create_directories(staged.slices(), ec);
   if (ec) return Status::Error(staging->path().string() + ": cannot create: " + ec.message());
   // Hard links where the file system allows (the slices are never modified in place: a re-run
   // swaps a new folder in), copies elsewhere.
   for (const SliceIndexEntry& e : index->slices) {
-    const fs::path to = staging->path() / fs::relative(e.file, btf);
+    const fs::path to = staged.root / fs::relative(e.file, btf.root);
     fs::create_hard_link(e.file, to, ec);
     if (ec) {
       ec.clear();
@@ -136,11 +141,11 @@ StatusOr<std::string> ExportExr(const fs::path& session, const fs::path& out_dir
     }
     if (ec) return Status::Error(e.file.string() + ": cannot copy to " + to.string() + ": " + ec.message());
   }
-  fs::copy_file(btf / "index.json", staging->path() / "index.json", ec);
-  if (ec) return Status::Error((btf / "index.json").string() + ": cannot copy: " + ec.message());
+  fs::copy_file(btf.index(), staged.index(), ec);
+  if (ec) return Status::Error(btf.index().string() + ": cannot copy: " + ec.message());
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  return Format("%s (%zu slices)%s", (out_dir / "btf").string().c_str(), index->slices.size(),
-                options.exr_multipart ? ("; " + (out_dir / "btf.exr").string() + " (one part per slice)").c_str() : "");
+  return Format("%s (%zu slices)%s", exports.btf().root.string().c_str(), index->slices.size(),
+                options.exr_multipart ? ("; " + exports.btf_multipart().string() + " (one part per slice)").c_str() : "");
 }
 
 // The fitted material enlarged by a synthesis map: each output texel takes its source texel's
@@ -174,33 +179,35 @@ GgxMaterialMaps ApplyMapToMaterial(const SynthMap& map, const GgxMaterialMaps& m
 // borders) and when texton synthesis made it (its output wraps around: the seams across its
 // edges are as good as inside, synth/photo_texton_test.cc).
 StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMaterialMaps& maps, GltfMaterialOptions gltf,
-                                            const fs::path& out_dir) {
-  auto map = ReadSynthMap(session / "synth" / "map.exr");
+                                            const ExportFolder& exports) {
+  const SynthFolder synth = SessionLayout(session).synth();
+  auto map = ReadSynthMap(synth.map());
   if (!map.ok()) return map.status();
   if (map->sample_width != maps.base_color.width() || map->sample_height != maps.base_color.height())
-    return Status::Error((session / "synth" / "map.exr").string() + ": points into a sample of another size than the BTF; "
+    return Status::Error(synth.map().string() + ": points into a sample of another size than the BTF; "
                          "run `mesocap process " + session.string() + " --force synth`");
   bool tileable = map->method == "texton";
-  if (auto report = ReadJsonFile(session / "synth" / "report.json"); report.ok() && map->method == "roller") {
-    const Json derived = report->value("derived", Json::object());
-    const int tw = derived.value("tile_width", 0), th = derived.value("tile_height", 0);
+  if (map->method == "roller") {
+    auto report = ReadSynthReportSummary(synth);
+    if (!report.ok()) return report.status();
+    const int tw = report->tile_width, th = report->tile_height;
     tileable = tw > 0 && th > 0 && map->width % tw == 0 && map->height % th == 0;
   }
-  auto staging = StagingFolder::Begin(out_dir / "gltf_synth");
+  auto staging = StagingFolder::Begin(exports.gltf_synth().root);
   if (!staging.ok()) return staging.status();
   gltf.name += " (" + map->method + ")";
   gltf.patch_m *= double(map->width) / maps.base_color.width();
   gltf.tileable = tileable;
-  MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staging->path(), ApplyMapToMaterial(*map, maps), gltf));
+  MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial({staging->path()}, ApplyMapToMaterial(*map, maps), gltf));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  return Format("; %s (%s %dx%d, %s)", (out_dir / "gltf_synth" / "material.gltf").string().c_str(), map->method.c_str(),
+  return Format("; %s (%s %dx%d, %s)", exports.gltf_synth().material().string().c_str(), map->method.c_str(),
                 map->width, map->height, !tileable                 ? "not tileable"
                 : map->method == "texton" ? "tileable: it wraps around"
                                           : "tileable: whole roller tiles");
 }
 
-StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_dir) {
-  const fs::path index = session / "btf" / "index.json";
+StatusOr<std::string> ExportGltf(const fs::path& session, const ExportFolder& exports) {
+  const fs::path index = SessionLayout(session).btf().index();
   if (!fs::exists(index))
     return Status::Error(index.string() + " not found (a glTF material is fitted to the reconstructed BTF): " + MakeItWith(session));
   auto layout = LoadSessionLayout(session, "");
@@ -208,21 +215,23 @@ StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_di
   GgxFitOptions options;
   auto maps = FitGgxMaterial(index, options);
   if (!maps.ok()) return maps.status();
-  auto staging = StagingFolder::Begin(out_dir / "gltf");
+  auto staging = StagingFolder::Begin(exports.gltf().root);
   if (!staging.ok()) return staging.status();
+  const GltfFolder staged{staging->path()};
   GltfMaterialOptions gltf;
   gltf.name = fs::absolute(session).lexically_normal().filename().string();
   gltf.patch_m = patch_m;
-  MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staging->path(), *maps, gltf));
+  MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial(staged, *maps, gltf));
   // Black 0, white 50% or more, at least 256 pixels wide so a small material stays legible.
-  MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.png", GreyPicture(maps->relative_error, 2, 256),
+  MESOCAP_RETURN_IF_ERROR(WriteImage(staged.fit_error(".png"), GreyPicture(maps->relative_error, 2, 256),
                                      {.format = PixelFormat::kUint8Srgb}));
-  MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / "fit_error.exr", maps->relative_error, {.format = PixelFormat::kHalf}));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(staged.fit_error(".exr"), maps->relative_error, {.format = PixelFormat::kHalf}));
   Json report = maps->ToJson();
   report["options"] = options.ToJson();
   report["model"] = "glTF 2.0 metallic-roughness (GGX, separable Smith, Schlick), fitted per texel with Ceres";
-  report["fit_error"] = "fit_error.exr: per texel, RMS residual / RMS value over the slices used; fit_error.png: x2, white >= 50%";
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "fit.json", report));
+  report["fit_error"] = staged.fit_error(".exr").filename().string() + ": per texel, RMS residual / RMS value over the slices used; " +
+                       staged.fit_error(".png").filename().string() + ": x2, white >= 50%";
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staged.fit_report(), report));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   std::string synthesized;
   // The synthesized material only when the stage cache says synth/ was made from the BTF as it is
@@ -230,15 +239,17 @@ StatusOr<std::string> ExportGltf(const fs::path& session, const fs::path& out_di
   auto cache = StageCache::Open(session);
   if (!cache.ok()) return cache.status();
   if (cache->MadeFromCurrent("synth", "reconstruct")) {
-    auto written = ExportSynthesizedGltf(session, *maps, gltf, out_dir);
+    auto written = ExportSynthesizedGltf(session, *maps, gltf, exports);
     if (!written.ok()) return written.status();
     synthesized = *written;
-  } else if (std::error_code ec; fs::exists(out_dir / "gltf_synth", ec)) {
-    fs::remove_all(out_dir / "gltf_synth", ec);
-    synthesized = "; " + (out_dir / "gltf_synth").string() + " removed: synth/ was not made from this BTF (mesocap process --synth)";
+  } else if (std::error_code ec; fs::exists(exports.gltf_synth().root, ec)) {
+    fs::remove_all(exports.gltf_synth().root, ec);
+    synthesized = "; " + exports.gltf_synth().root.string() + " removed: " +
+                  SessionLayout(session).Relative(SessionLayout(session).synth().root) +
+                  "/ was not made from this BTF (mesocap process --synth)";
   }
   return Format("%s (%dx%d texels from %d slices, median relative error %.1f%%, %.1f s)%s",
-                (out_dir / "gltf" / "material.gltf").string().c_str(), maps->base_color.width(),
+                exports.gltf().material().string().c_str(), maps->base_color.width(),
                 maps->base_color.height(), maps->slices_used, 100 * maps->median_relative_error, maps->seconds,
                 synthesized.c_str());
 }
@@ -251,10 +262,10 @@ StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format
   fs::create_directories(out_dir, ec);
   if (ec) return Status::Error(out_dir.string() + ": cannot create: " + ec.message());
   switch (format) {
-    case ExportFormat::kPtm: return ExportPtm(session, out_dir);
-    case ExportFormat::kLp: return ExportLp(session, out_dir);
-    case ExportFormat::kExr: return ExportExr(session, out_dir, options);
-    case ExportFormat::kGltf: return ExportGltf(session, out_dir);
+    case ExportFormat::kPtm: return ExportPtm(session, {out_dir});
+    case ExportFormat::kLp: return ExportLp(session, {out_dir});
+    case ExportFormat::kExr: return ExportExr(session, {out_dir}, options);
+    case ExportFormat::kGltf: return ExportGltf(session, {out_dir});
   }
   return Status::Error("unknown export format");
 }

@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/slice_index.h"
 #include "core/text_format.h"
 #include "export/previews.h"
@@ -27,7 +28,7 @@ namespace mesocap::app {
 namespace fs = std::filesystem;
 
 fs::path SessionLayoutFile(const fs::path& session, const fs::path& layout_file) {
-  return layout_file.empty() ? session / "rig_layout.json" : layout_file;
+  return layout_file.empty() ? SessionLayout(session).rig_layout() : layout_file;
 }
 
 StatusOr<RigLayout> LoadSessionLayout(const fs::path& session, const fs::path& layout_file) {
@@ -40,7 +41,7 @@ StatusOr<RigLayout> LoadSessionLayout(const fs::path& session, const fs::path& l
 }
 
 StatusOr<CalibrationResult> LoadSessionCalibration(const fs::path& session) {
-  const fs::path rig_file = session / "calibration" / "rig.json";
+  const fs::path rig_file = SessionLayout(session).calibration().rig();
   if (!fs::exists(rig_file))
     return Status::Error(rig_file.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
   auto rig = ReadJsonFile(rig_file);
@@ -114,20 +115,20 @@ StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& o) {
   auto result = CalibrateSession(o.calibrate, *layout, *camera, bar.AsCallback());
   if (!result.ok()) return result.status();
   // calibration/ appears whole: a re-run swaps the new folder in only once every file is written.
-  auto staging = StagingFolder::Begin(o.calibrate.session / "calibration");
+  auto staging = StagingFolder::Begin(SessionLayout(o.calibrate.session).calibration().root);
   if (!staging.ok()) return staging.status();
-  const fs::path out = staging->path();
+  const CalibrationFolder out{staging->path()};
   Json rig = result->RigJson();
   rig["provenance"] = MakeProvenance({{"session", o.calibrate.session.string()}, {"pose_shots", o.calibrate.pose_shots},
                                       {"camera_file", o.camera_file.string()}, {"layout", o.layout_file.string()}});
   Json report = result->ReportJson();
   report["intrinsics"] = intrinsics_report;
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out / "rig.json", rig));
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out / "report.json", report));
-  if (!residual_plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out / "intrinsics_residuals.png", residual_plot));
-  if (const Image plot = LightsPlot(*result); !plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out / "lights.png", plot));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out.rig(), rig));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out.report(), report));
+  if (!residual_plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out.intrinsics_plot(), residual_plot));
+  if (const Image plot = LightsPlot(*result); !plot.empty()) MESOCAP_RETURN_IF_ERROR(WritePng(out.lights_plot(), plot));
   if (const Image plot = FlashPositionsPlot(*result, *layout); !plot.empty())
-    MESOCAP_RETURN_IF_ERROR(WritePng(out / kFlashPositionsPlot, plot));
+    MESOCAP_RETURN_IF_ERROR(WritePng(out.flash_positions_plot(), plot));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   StageSummary summary;
   summary.brief = result->Brief();
@@ -182,16 +183,9 @@ StatusOr<StageSummary> RunResampleStage(const fs::path& session, const fs::path&
   return summary;
 }
 
-fs::path BoardPtmFile(const fs::path& session, int board) {
-  return session / "ptm" / Format("board_%02d.ptm", board);
-}
-
-fs::path BoardPtmResidualFile(const fs::path& session, int board, const std::string& extension) {
-  return session / "ptm" / Format("board_%02d_residual%s", board, extension.c_str());
-}
-
 StatusOr<int> TopBoardOfSession(const fs::path& session) {
-  auto index = ReadSliceIndex(session / "slices" / "index.json");
+  const fs::path index_file = SessionLayout(session).slices().index();
+  auto index = ReadSliceIndex(index_file);
   if (!index.ok()) return index.status();
   std::map<int, std::pair<double, int>> theta_o;  // board -> (sum, count)
   for (const SliceIndexEntry& e : index->slices) {
@@ -202,7 +196,7 @@ StatusOr<int> TopBoardOfSession(const fs::path& session) {
   double best_theta = 1e9;
   for (const auto& [board, sum] : theta_o)
     if (sum.first / sum.second < best_theta) best = board, best_theta = sum.first / sum.second;
-  if (best < 0) return Status::Error((session / "slices" / "index.json").string() + ": lists no slices");
+  if (best < 0) return Status::Error(index_file.string() + ": lists no slices");
   return best;
 }
 
@@ -210,14 +204,15 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
                                    bool progress) {
   auto layout = LoadSessionLayout(session, layout_file);
   if (!layout.ok()) return layout.status();
-  const fs::path index_file = session / "slices" / "index.json";
+  const fs::path index_file = SessionLayout(session).slices().index();
   auto index = ReadSliceIndex(index_file);
   if (!index.ok()) return index.status();
   std::map<int, std::vector<size_t>> by_board;
   for (size_t k = 0; k < index->slices.size(); ++k) by_board[index->slices[k].board].push_back(k);
 
-  auto staging = StagingFolder::Begin(session / "ptm");
+  auto staging = StagingFolder::Begin(SessionLayout(session).ptm().root);
   if (!staging.ok()) return staging.status();
+  const PtmFolder out{staging->path()};
   StageSummary summary;
   Json boards = Json::array();
   ProgressBar bar("fit-ptm", progress);
@@ -254,14 +249,12 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
       summary.warnings.push_back(Format("board %d: no PTM: %s", board, ptm.status().message().c_str()));
       continue;
     }
-    const fs::path file = staging->path() / BoardPtmFile(session, board).filename();
+    const fs::path file = out.board_ptm(board);
     MESOCAP_RETURN_IF_ERROR(WritePtmFile(file, *ptm));
     // The fit's error map: RMS residual per texel, as values (EXR) and to see (PNG: x 10, so white
     // is a residual of 0.1, a tenth of a white surface's value).
-    MESOCAP_RETURN_IF_ERROR(WriteImage(staging->path() / BoardPtmResidualFile(session, board, ".exr").filename(), residual,
-                                       {.format = PixelFormat::kHalf}));
-    MESOCAP_RETURN_IF_ERROR(WritePng(staging->path() / BoardPtmResidualFile(session, board, ".png").filename(),
-                                     GreyPicture(residual, 10)));
+    MESOCAP_RETURN_IF_ERROR(WriteImage(out.board_residual(board, ".exr"), residual, {.format = PixelFormat::kHalf}));
+    MESOCAP_RETURN_IF_ERROR(WritePng(out.board_residual(board, ".png"), GreyPicture(residual, 10)));
     boards.push_back({{"board", board}, {"file", file.filename().string()}, {"lights", report.num_lights},
                       {"rms_residual", report.rms_residual}, {"width", report.width}, {"height", report.height},
                       {"warnings", report.warnings}});
@@ -271,7 +264,7 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
   if (fitted == 0) return Status::Error(index_file.string() + ": no board has slices enough for a PTM");
   Json report = {{"format", PtmFormatToString(options.format)}, {"boards", boards}};
   report["provenance"] = MakeProvenance({{"session", session.string()}, {"format", PtmFormatToString(options.format)}});
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging->path() / "report.json", report));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(out.report(), report));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   summary.brief = Format("%d of %zu boards fitted (%s, per-pixel flash directions)", fitted, by_board.size(),
                          PtmFormatToString(options.format).c_str());
@@ -293,14 +286,14 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (!options.method.ApplyTo(&slice_options))
     return Status::Error("unknown BTF colour space '" + options.method.colour_space + "'");
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
-  const fs::path index = session / "slices" / "index.json";
+  const fs::path index = SessionLayout(session).slices().index();
   if (!fs::exists(index))
     return Status::Error(index.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
   SliceSetReport loaded;
   ProgressBar load_bar("statistics", progress);
   auto btf = LoadStatisticalBtf(index, slice_options, &loaded, load_bar.AsCallback());
   if (!btf.ok()) return btf.status();
-  auto staging = StagingFolder::Begin(session / "btf");
+  auto staging = StagingFolder::Begin(SessionLayout(session).btf().root);
   if (!staging.ok()) return staging.status();
   ProgressBar bar("reconstruct", progress);
   Json provenance = options.ToJson();
@@ -322,7 +315,7 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
 
 StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOptions& options, int num_threads,
                                      bool progress) {
-  const fs::path index = session / "btf" / "index.json";
+  const fs::path index = SessionLayout(session).btf().index();
   if (!fs::exists(index))
     return Status::Error(index.string() + " not found: synthesis enlarges the reconstructed BTF (run the reconstruct stage)");
   ExemplarOptions exemplar_options;
@@ -344,7 +337,7 @@ StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOp
   // Which slices to synthesize: those whose light and view lie on the coarse grid, then the rest,
   // up to max_slices (a 6561-slice BTF at 512 x 512 would be gigabytes).
   SynthOutputRequest request;
-  request.out = session / "synth";
+  request.out = SessionLayout(session).synth().root;
   request.replace = true;
   request.num_threads = num_threads;
   for (int pass = 0; pass < 2; ++pass)

@@ -45,8 +45,6 @@ StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& options, const RigL
 // Intrinsics, board poses, balls, flash position and power per shot -> SESSION/calibration/
 // (rig.json, report.json, intrinsics_residuals.png, lights.png, flash_positions.png).
 StatusOr<StageSummary> RunCalibrateStage(const CalibrateStageOptions& options);
-// The flash positions around the target (app/rig_plot.h), in calibration/.
-inline constexpr const char* kFlashPositionsPlot = "flash_positions.png";
 
 // SESSION/calibration/rig.json -> every lit board patch as a BTF slice in SESSION/slices/
 // (index.json, board_BB.lp).
@@ -62,9 +60,6 @@ struct PtmStageOptions {
 // report.json.
 StatusOr<StageSummary> RunPtmStage(const std::filesystem::path& session, const std::filesystem::path& layout_file,
                                    const PtmStageOptions& options, bool progress);
-std::filesystem::path BoardPtmFile(const std::filesystem::path& session, int board);
-// Its fit error map: `extension` ".exr" (values) or ".png" (to see).
-std::filesystem::path BoardPtmResidualFile(const std::filesystem::path& session, int board, const std::string& extension);
 
 struct ReconstructStageOptions {
   SliceSetOptions slices;     // size: texels a side of the reconstructed slices

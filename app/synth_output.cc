@@ -90,38 +90,40 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
   auto staged = StagingFolder::Begin(request.out);
   if (!staged.ok()) return staged.status();
   const fs::path staging = staged->path();
+  const SynthFolder out{staging};
   std::error_code ec;
   // On any failure below, `staged` removes the staging folder as it goes out of scope.
-  if (Status st = WriteSynthMap(staging / "map.exr", map); !st.ok()) return st;
-  if (Status st = WriteImage(staging / "patches.png", PatchPicture(map)); !st.ok()) return st;
+  if (Status st = WriteSynthMap(out.map(), map); !st.ok()) return st;
+  if (Status st = WriteImage(out.patches(), PatchPicture(map)); !st.ok()) return st;
   if (request.write_extra) MESOCAP_RETURN_IF_ERROR(request.write_extra(staging));
 
   Json seams = Json::array();
   std::vector<Image> previews;
-  std::vector<std::string> preview_names;
+  std::vector<fs::path> preview_files;
+  const auto preview_name = [&] { return preview_files.back().filename().string(); };
   if (e.kind == ExemplarKind::kImage) {
     const Image synthesized = ApplyMapToImage(map, e.image);
     ImageWriteOptions exr;
     exr.format = PixelFormat::kFloat;
-    if (Status st = WriteImage(staging / "synth.exr", synthesized, exr); !st.ok()) return st;
+    if (Status st = WriteImage(out.image(), synthesized, exr); !st.ok()) return st;
     previews = {synthesized};
-    preview_names = {"preview.png"};
+    preview_files = {out.preview()};
     seams.push_back(SeamJson(map, synthesized, e.image, "image"));
   } else if (e.kind == ExemplarKind::kPtm) {
     const Ptm synthesized = ApplyMapToPtm(map, e.ptm);
-    if (Status st = WritePtmFile(staging / "synth.ptm", synthesized); !st.ok()) return st;
+    if (Status st = WritePtmFile(out.ptm(), synthesized); !st.ok()) return st;
     int k = 0;
     for (const Eigen::Vector3d& light : {Eigen::Vector3d(0, 0, 1), DirectionFromAnglesDeg(45, 0), DirectionFromAnglesDeg(60, 135)}) {
       previews.push_back(RelightPtm(synthesized, light));
-      preview_names.push_back("preview_light" + std::to_string(++k) + ".png");
-      seams.push_back(SeamJson(map, previews.back(), RelightPtm(e.ptm, light), preview_names.back()));
+      preview_files.push_back(out.preview_light(++k));
+      seams.push_back(SeamJson(map, previews.back(), RelightPtm(e.ptm, light), preview_name()));
     }
   } else {
     std::vector<int> slices = request.slices;
     if (slices.empty())
       for (int k = 0; k < int(e.slices.size()); ++k) slices.push_back(k);
     const std::vector<int> shown = PreviewSlices(e);
-    fs::create_directories(staging / "slices", ec);
+    fs::create_directories(out.btf().slices(), ec);
     std::vector<Json> entries(e.slices.size());
     std::vector<Image> shown_images(shown.size());
     std::mutex mutex;
@@ -129,7 +131,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
     apply.num_threads = request.num_threads;
     Status st = ApplyMapToBtf(map, e, slices, [&](int k, const Image& slice) -> Status {
       const ExemplarSlice& s = e.slices[k];
-      const std::string name = "slices/" + s.file.filename().string();
+      const std::string name = BtfFolder::SliceEntry(s.file.filename().string());
       ImageWriteOptions w;
       w.format = PixelFormat::kHalf;
       SetSliceAngles(&w.attributes, s.theta_i_deg, s.phi_i_deg, s.theta_o_deg, s.phi_o_deg);
@@ -147,7 +149,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
     for (int k : slices) list.push_back(entries[k]);
     Json index = {{"format", "mesocap-btf"}, {"width", map.width}, {"height", map.height}, {"method", map.method},
                   {"exemplar", e.path.string()}, {"slices", list}};
-    if (Status s2 = WriteJsonFile(staging / "index.json", index); !s2.ok()) return s2;
+    if (Status s2 = WriteJsonFile(out.btf().index(), index); !s2.ok()) return s2;
     auto lookup = SliceDirectionLookup::Create(e.slices);
     if (!lookup.ok()) return lookup.status();
     for (size_t i = 0; i < shown.size(); ++i) {
@@ -157,17 +159,17 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
         shown_images[i] = std::move(*made);
       }
       previews.push_back(shown_images[i]);
-      preview_names.push_back("preview_light" + std::to_string(i + 1) + ".png");
+      preview_files.push_back(out.preview_light(int(i) + 1));
       auto sample = e.ReadSlice(shown[i]);
       if (!sample.ok()) return sample.status();
-      Json j = SeamJson(map, shown_images[i], *sample, preview_names.back());
+      Json j = SeamJson(map, shown_images[i], *sample, preview_name());
       j["slice"] = e.slices[shown[i]].file.filename().string();
       seams.push_back(j);
     }
   }
   const std::vector<Image> exposed = ExposeTogether(previews);
   for (size_t i = 0; i < exposed.size(); ++i)
-    if (Status st = WriteImage(staging / preview_names[i], exposed[i]); !st.ok()) return st;
+    if (Status st = WriteImage(preview_files[i], exposed[i]); !st.ok()) return st;
 
   Json& report = request.report;
   report["exemplar"] = {{"path", e.path.string()}, {"kind", ExemplarKindToString(e.kind)}, {"width", e.width},
@@ -178,9 +180,29 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
   report["seconds_writing"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report["memory_peak_mib"] = PeakMemoryMiB();
   report["provenance"] = MakeProvenance(report.value("parameters", Json::object()));
-  if (Status st = WriteJsonFile(staging / "report.json", report); !st.ok()) return st;
+  if (Status st = WriteJsonFile(out.report(), report); !st.ok()) return st;
   if (Status st = staged->Publish(request.replace); !st.ok()) return st;
   return Status::Ok();
+}
+
+StatusOr<SynthReportSummary> ReadSynthReportSummary(const SynthFolder& folder) {
+  auto json = ReadJsonFile(folder.report());
+  if (!json.ok()) return json.status();
+  SynthReportSummary summary;
+  try {
+    summary.method = JsonString(JsonField(*json, "", "method"), "method");
+    const Json& output = JsonField(*json, "", "output");
+    summary.width = JsonInteger(JsonField(output, "output", "width"), "output.width", 1, 1 << 20);
+    summary.height = JsonInteger(JsonField(output, "output", "height"), "output.height", 1, 1 << 20);
+    if (summary.method == "roller") {
+      const Json& derived = JsonField(*json, "", "derived");
+      summary.tile_width = JsonInteger(JsonField(derived, "derived", "tile_width"), "derived.tile_width", 0, 1 << 20);
+      summary.tile_height = JsonInteger(JsonField(derived, "derived", "tile_height"), "derived.tile_height", 0, 1 << 20);
+    }
+  } catch (const JsonFieldError& e) {
+    return Status::Error(folder.report().string() + ": " + e.what());
+  }
+  return summary;
 }
 
 }  // namespace mesocap::app

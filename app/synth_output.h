@@ -10,6 +10,7 @@
 
 #include "core/json.h"
 #include "core/progress.h"
+#include "core/session_layout.h"
 #include "core/status.h"
 #include "synth/exemplar.h"
 #include "synth/synth_map.h"
@@ -33,6 +34,15 @@ bool ParseSliceList(const std::string& text, int count, std::vector<int>* slices
 
 Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& exemplar, SynthOutputRequest request,
                              const ProgressFn& progress);
+
+// What a synthesis folder's report.json says that other commands read (the report, the export).
+struct SynthReportSummary {
+  std::string method;
+  int width = 0, height = 0;            // the output, texels
+  int tile_width = 0, tile_height = 0;  // roller: its tile; 0 for the other methods
+};
+// The error names the file and the field.
+StatusOr<SynthReportSummary> ReadSynthReportSummary(const SynthFolder& folder);
 
 // Loads a 1-channel mask (white = 1) from any image; the error names the file.
 StatusOr<Image> ReadMask(const std::filesystem::path& path);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/session_layout.h"
 #include "core/text_format.h"
 #include "synth/filter_bank.h"
 
@@ -156,7 +157,7 @@ StatusOr<SynthMap> RunTextons(const Exemplar& e, const SynthMethodOptions& a, Js
 
 std::function<Status(const std::filesystem::path&)> TextonAnalysisWriter(const TextonAnalysis& analysis) {
   if (analysis.levels.empty()) return nullptr;
-  return [&analysis](const std::filesystem::path& folder) { return WriteTextonAnalysis(folder / "textons.exr", analysis); };
+  return [&analysis](const std::filesystem::path& folder) { return WriteTextonAnalysis(SynthFolder{folder}.textons(), analysis); };
 }
 
 StatusOr<SynthMap> RunSynthesisMethod(const Exemplar& e, const SynthMethodOptions& a, Json* report_out, std::string* note,

@@ -71,8 +71,16 @@ CalibrationResult CalibrationResult::FromRigJson(const Json& j) {
     b.id = JsonInteger(JsonField(boards[k], path, "id"), JsonFieldPath(path, "id"), 0, 1 << 20);
     b.found = JsonBool(JsonField(boards[k], path, "found"), JsonFieldPath(path, "found"));
     if (b.found) {
+      const auto number = [&](const char* name, double hi) {
+        return JsonNumber(JsonField(boards[k], path, name), JsonFieldPath(path, name), 0, hi);
+      };
       b.R = JsonMatrix3d(JsonField(boards[k], path, "R"), JsonFieldPath(path, "R"), 1.5);
       b.t = JsonVector3d(JsonField(boards[k], path, "t"), JsonFieldPath(path, "t"), kMetres);
+      b.corners_used = JsonInteger(JsonField(boards[k], path, "corners_used"), JsonFieldPath(path, "corners_used"), 0, 1 << 30);
+      b.shots_seen = JsonInteger(JsonField(boards[k], path, "shots_seen"), JsonFieldPath(path, "shots_seen"), 0, 1 << 30);
+      b.rms_reprojection_px = number("rms_reprojection_px", kPixels);
+      b.rotation_stddev_deg = number("rotation_stddev_deg", 360);
+      b.translation_stddev_mm = number("translation_stddev_mm", 1e9);
     } else if (boards[k].contains("why_not")) {
       b.why_not = JsonString(boards[k]["why_not"], JsonFieldPath(path, "why_not"));
     }
@@ -125,6 +133,13 @@ Json CalibrationResult::ReportJson() const {
   }
   return {{"seconds_total", seconds_total}, {"usable_shots", usable_shots()}, {"shots_total", shots.size()},
           {"rejected", rejected}, {"rejected_blobs", spheres.rejected_blobs}, {"shots", shots_json}};
+}
+
+std::vector<std::string> CalibrationResult::RejectedFromReportJson(const Json& j) {
+  const Json& list = JsonArray(JsonField(j, "", "rejected"), "rejected", 0, 1 << 20);
+  std::vector<std::string> rejected;
+  for (size_t k = 0; k < list.size(); ++k) rejected.push_back(JsonString(list[k], JsonIndexPath("rejected", k)));
+  return rejected;
 }
 
 std::string CalibrationResult::Brief() const {

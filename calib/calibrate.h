@@ -51,11 +51,13 @@ struct CalibrationResult {
   double seconds_total = 0;
   int usable_shots() const;
   Json RigJson() const;     // truth.json's keys
-  // What RigJson wrote, back (calibration/rig.json): all that resampling needs. Reports that
-  // RigJson leaves out (per-card readings, highlights, rejected items) stay empty. Throws
-  // JsonFieldError naming the field.
+  // What RigJson wrote, back (calibration/rig.json): all that resampling and the report need.
+  // Reports that RigJson leaves out (per-card readings, highlights, rejected items) stay empty.
+  // Throws JsonFieldError naming the field.
   static CalibrationResult FromRigJson(const Json& rig);
-  Json ReportJson() const;
+  Json ReportJson() const;  // calibration/report.json
+  // ReportJson's `rejected`, back; throws JsonFieldError naming the field.
+  static std::vector<std::string> RejectedFromReportJson(const Json& report);
   std::string Brief() const;
 };
 

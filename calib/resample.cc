@@ -18,6 +18,7 @@
 #include "core/parallel.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 #include "core/slice_attributes.h"
 #include "core/text_format.h"
 
@@ -227,9 +228,7 @@ StatusOr<Image> ReadShot(const fs::path& path, bool restore_chroma, std::span<co
 }
 
 std::string SliceFile(int board, const std::string& shot) {
-  char dir[32];
-  std::snprintf(dir, sizeof dir, "board_%02d", board);
-  return (fs::path(dir) / fs::path(shot).filename().replace_extension(".exr")).generic_string();
+  return SlicesFolder::SliceEntry(board, fs::path(shot).stem().string());
 }
 
 struct Plan {
@@ -361,7 +360,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
   // A re-run builds a fresh slices/ beside the old one and swaps it in at the end: a crash never
   // leaves an index.json describing slices half overwritten, and no slice of an earlier run is
   // taken for a current one.
-  auto staging = StagingFolder::Begin(session / "slices");
+  auto staging = StagingFolder::Begin(SessionLayout(session).slices().root);
   if (!staging.ok()) return staging.status();
   const fs::path slices_dir = staging->path();
   std::atomic<int> done{0};
@@ -489,7 +488,7 @@ StatusOr<ResampleReport> ResampleSession(const ResampleOptions& options, const f
   Json index = report.IndexJson();
   index["material"] = material;
   index["provenance"] = MakeProvenance(options.ToJson());
-  if (Status st = WriteJsonFile(slices_dir / "index.json", index); !st.ok()) return st;
+  if (Status st = WriteJsonFile(SlicesFolder{slices_dir}.index(), index); !st.ok()) return st;
   if (also_write)
     if (Status st = also_write(slices_dir, report); !st.ok()) return st;
   if (Status st = staging->Publish(/*replace=*/true); !st.ok()) return st;

@@ -18,6 +18,7 @@
 #include "core/json.h"
 #include "core/progress.h"
 #include "core/rig_layout.h"
+#include "core/slice_index.h"
 #include "core/status.h"
 
 namespace mesocap {
@@ -62,12 +63,6 @@ struct SliceRecord {
   double scale = 1;  // the BRDF smoothing's factor (1 without smoothing)
   double saturated_fraction = 0;
   Json ToJson() const;
-};
-
-struct SkippedSlice {
-  int board = 0;
-  std::string shot;
-  std::string reason;
 };
 
 struct ResampleReport {

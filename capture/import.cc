@@ -16,6 +16,7 @@
 #include "core/provenance.h"
 #include "core/session.h"
 #include "core/text_format.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -279,7 +280,7 @@ std::string ImportReport::Brief() const {
                 "files, in %.1f s -> %s", shots_imported, calib_shots_imported, hardlinked, copied,
                 int(skipped.size()), total_s, out.string().c_str());
   // import_report.json lists them all.
-  std::string text = buf + ListedLines(skipped, 20, "import_report.json", [](const SkippedFile& f) {
+  std::string text = buf + ListedLines(skipped, 20, SessionLayout(out).import_report().filename().string(), [](const SkippedFile& f) {
                        return "skipped " + f.source.filename().string() + ": " + f.reason;
                      });
   for (const auto& w : warnings) text += "\n  warning: " + w;
@@ -355,8 +356,9 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
   Json manifest = {{"source", "import"}, {"camera", camera}, {"provenance", MakeProvenance(options.ToJson())}};
   auto session = Session::Create(staging, manifest);
   if (!session.ok()) return session.status();
-  fs::create_directories(staging / "shots", ec);
-  if (!ec) fs::create_directories(staging / "calib", ec);
+  const SessionLayout layout(staging);
+  fs::create_directories(layout.shots(), ec);
+  if (!ec) fs::create_directories(layout.calib(), ec);
   if (ec) return Status::Error(staging.string() + ": cannot create folders: " + ec.message());
 
   total = done + int(calib.size() + shots.size());
@@ -365,7 +367,7 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
     int index = 0;
     for (const Candidate& c : *list) {
       ++index;
-      const std::string file = Session::ShotFileName(c.kind, index, SessionExtension(c.info, c.source));
+      const std::string file = SessionLayout::ShotEntry(c.kind, index, SessionExtension(c.info, c.source));
       const fs::path dest = staging / file;
       auto method = PlaceOriginal(c.source, dest, options.link_mode);
       if (!method.ok()) return method.status();
@@ -403,13 +405,13 @@ StatusOr<ImportReport> ImportPhotoFolder(const ImportOptions& options, const Pro
     }
   }
   // Hard links are new folder entries: make them durable before the session appears.
-  for (const char* dir : {"shots", "calib"})
-    if (Status st = SyncPath(staging / dir); !st.ok()) return st;
+  for (const fs::path& dir : {layout.shots(), layout.calib()})
+    if (Status st = SyncPath(dir); !st.ok()) return st;
 
   report.out = out_clean;
   report.per_image_s = SecondsSince(t_place) / std::max(1, report.imported_count());
   report.total_s = SecondsSince(t0);
-  if (Status st = WriteJsonFile(staging / "import_report.json", report.ToJson()); !st.ok()) return st;
+  if (Status st = WriteJsonFile(layout.import_report(), report.ToJson()); !st.ok()) return st;
 
   // Only now does the session appear under its name.
   if (Status st = staged->Publish(); !st.ok()) return st;

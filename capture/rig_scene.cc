@@ -7,6 +7,7 @@
 
 #include "capture/rig_material.h"
 #include "core/directions.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 namespace {
@@ -154,9 +155,7 @@ StatusOr<RigScene> MakeRigScene(const RigOptions& options) {
     RigShot shot;
     shot.light_m = to_cam(target_w + distance * dir);
     shot.power = 1.0 + 0.15 * u11(rng);
-    char name[64];
-    std::snprintf(name, sizeof name, "shots/shot_%04d.jpg", k + 1);
-    shot.file = name;
+    shot.file = SessionLayout::ShotEntry("shot", k + 1, ".jpg");
     s.shots.push_back(shot);
   }
 
@@ -189,9 +188,7 @@ StatusOr<RigScene> MakeRigScene(const RigOptions& options) {
         break;
       }
     }
-    char name[64];
-    std::snprintf(name, sizeof name, "calib/calib_%04d.jpg", k + 1);
-    cs.file = name;
+    cs.file = SessionLayout::ShotEntry("calib", k + 1, ".jpg");
     s.calib_shots.push_back(cs);
   }
   return s;

@@ -10,6 +10,7 @@
 #include "core/progress.h"
 #include "core/provenance.h"
 #include "core/session.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -109,8 +110,9 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
                    {"material", options.rig.material}, {"provenance", MakeProvenance(options.ToJson())}};
   auto session = Session::Create(staging, manifest);
   if (!session.ok()) return session.status();
-  fs::create_directories(staging / "shots", ec);
-  fs::create_directories(staging / "calib", ec);
+  const SessionLayout layout(staging);
+  fs::create_directories(layout.shots(), ec);
+  fs::create_directories(layout.calib(), ec);
   if (ec) return Status::Error(staging.string() + ": cannot create folders: " + ec.message());
 
   RigRenderer renderer(scene, *material, options.render);
@@ -169,11 +171,11 @@ StatusOr<SimulateReport> SimulateSession(const SimulateOptions& options, const P
   report.shots_written = int(scene.shots.size());
   report.per_shot_s = SecondsSince(t_shots) / report.shots_written;
 
-  if (Status st = WriteJsonFile(staging / "truth.json", TruthToJson(scene)); !st.ok()) return st;
-  if (Status st = WriteJsonFile(staging / "rig_layout.json", LayoutOf(scene).ToJson()); !st.ok()) return st;
+  if (Status st = WriteJsonFile(layout.truth(), TruthToJson(scene)); !st.ok()) return st;
+  if (Status st = WriteJsonFile(layout.rig_layout(), LayoutOf(scene).ToJson()); !st.ok()) return st;
   report.out = out;
   report.total_s = SecondsSince(t0);
-  if (Status st = WriteJsonFile(staging / "simulate_report.json", report.ToJson()); !st.ok()) return st;
+  if (Status st = WriteJsonFile(layout.simulate_report(), report.ToJson()); !st.ok()) return st;
 
   // Only now does the session appear under its name.
   if (Status st = staged->Publish(); !st.ok()) return st;

@@ -26,6 +26,7 @@
 #include "core/session.h"
 #include "core/session_lock.h"
 #include "core/text_format.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -148,7 +149,7 @@ Status TerminateTornJournalLine(const fs::path& journal) {
 // On resume: deletes temp files of interrupted downloads and journals complete files that a
 // crash left between their rename and their journal line.
 Status TidyAfterCrash(Session* session, const std::string& kind, CaptureReport* report) {
-  const fs::path dir = session->DirFor(kind);
+  const fs::path dir = session->layout().shots_of_kind(kind);
   std::error_code ec;
   if (!fs::exists(dir, ec)) return Status::Ok();
   std::set<std::string> journaled;
@@ -161,17 +162,13 @@ Status TidyAfterCrash(Session* session, const std::string& kind, CaptureReport* 
       if (fs::remove(it->path(), e)) ++report->removed_partial_files;
       continue;
     }
-    int n = 0;
-    char rest[8] = {0};
-    if (std::sscanf(name.c_str(), (kind + "_%d%1s").c_str(), &n, rest) == 2 && !journaled.count(name))
-      orphans.push_back(it->path());
+    if (SessionLayout::ShotIndexOf(kind, name) > 0 && !journaled.count(name)) orphans.push_back(it->path());
   }
   if (ec) return Status::Error(dir.string() + ": cannot list folder: " + ec.message());
   std::sort(orphans.begin(), orphans.end());
   for (const fs::path& path : orphans) {
-    int n = 0;
-    std::sscanf(path.filename().string().c_str(), (kind + "_%d").c_str(), &n);
-    const std::string file = (fs::path(kind == "calib" ? "calib" : "shots") / path.filename()).string();
+    const int n = SessionLayout::ShotIndexOf(kind, path.filename().string());
+    const std::string file = session->layout().Relative(path);
     ShotRecord record = RecordFor(n, kind, file, path);
     record.time_utc = FileTimeUtc(path);
     record.flags.push_back("recovered");
@@ -216,8 +213,8 @@ std::string CaptureOptions::Check() const {
   }
   std::error_code ec;
   if (resume) {
-    if (!fs::exists(out / Session::kManifestName, ec))
-      return out.string() + ": not a mesocap session to resume (no " + Session::kManifestName + ")";
+    if (const fs::path manifest = SessionLayout(out).manifest(); !fs::exists(manifest, ec))
+      return out.string() + ": not a mesocap session to resume (no " + manifest.filename().string() + ")";
   } else if (!IsMissingOrEmptyDir(out)) {
     return out.string() + ": exists and is not empty; choose a new folder or add --resume";
   }
@@ -368,12 +365,12 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
     session.emplace(std::move(*created));
     MESOCAP_RETURN_IF_ERROR(acquire());
   }
-  const fs::path dir = session->DirFor(kind);
+  const fs::path dir = session->layout().shots_of_kind(kind);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return Status::Error(dir.string() + ": cannot create folder: " + ec.message());
   if (options.resume) {
-    if (Status st = TerminateTornJournalLine(root / Session::kJournalName); !st.ok()) return st;
+    if (Status st = TerminateTornJournalLine(SessionLayout(root).journal()); !st.ok()) return st;
     if (Status st = TidyAfterCrash(&*session, kind, &report); !st.ok()) return st;
   }
   int next_index = session->NextIndex(kind);
@@ -398,7 +395,7 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
       finish("session_full", "no shot index left after " + std::to_string(kMaxShotIndex));
       return false;
     }
-    const std::string file = Session::ShotFileName(kind, index, ExtensionFor(on_card.name));
+    const std::string file = SessionLayout::ShotEntry(kind, index, ExtensionFor(on_card.name));
     const fs::path dest = root / file;
     double camera_s = camera_s_so_far;
     int retries = retries_so_far;
@@ -555,7 +552,7 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
   // Provenance of this run (a resumed session has several): in the report and in the manifest.
   Json report_json = report.ToJson();
   report_json["provenance"] = MakeProvenance(options.ToJson());
-  if (Status st = WriteJsonFile(root / "capture_report.json", report_json); !st.ok())
+  if (Status st = WriteJsonFile(SessionLayout(root).capture_report(), report_json); !st.ok())
     report.warnings.push_back(st.message());
   Json runs = session->manifest().value("capture_runs", Json::array());
   runs.push_back({{"provenance", report_json["provenance"]},

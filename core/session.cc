@@ -47,16 +47,16 @@ StatusOr<Session> Session::Create(const fs::path& root, Json manifest) {
   manifest["format_version"] = 1;
   if (!manifest.contains("created_utc")) manifest["created_utc"] = UtcNowIso8601();
   s.manifest_ = std::move(manifest);
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(root / kManifestName, s.manifest_));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(s.layout().manifest(), s.manifest_));
   return s;
 }
 
 StatusOr<Session> Session::Open(const fs::path& root) {
   Session s;
   s.root_ = root;
-  const fs::path manifest_path = root / kManifestName;
+  const fs::path manifest_path = s.layout().manifest();
   if (!fs::exists(manifest_path))
-    return Status::Error(root.string() + ": not a mesocap session (no " + kManifestName + ")");
+    return Status::Error(root.string() + ": not a mesocap session (no " + manifest_path.filename().string() + ")");
   auto manifest = ReadJsonFile(manifest_path);
   if (!manifest.ok()) return manifest.status();
   if (!manifest->is_object())
@@ -65,7 +65,7 @@ StatusOr<Session> Session::Open(const fs::path& root) {
     return Status::Error(manifest_path.string() + ": format is " + (*manifest)["format"].dump() +
                          ", not \"mesocap-session\"");
   s.manifest_ = std::move(*manifest);
-  const fs::path journal = root / kJournalName;
+  const fs::path journal = s.layout().journal();
   if (fs::exists(journal)) {
     auto text = ReadTextFile(journal);
     if (!text.ok()) return text.status();
@@ -91,14 +91,10 @@ StatusOr<Session> Session::Open(const fs::path& root) {
   return s;
 }
 
-fs::path Session::DirFor(const std::string& kind) const {
-  return root_ / (kind == "calib" ? "calib" : "shots");
-}
-
 Status Session::UpdateManifest(const Json& patch) {
   Json updated = manifest_;
   updated.merge_patch(patch);
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(root_ / kManifestName, updated));
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(layout().manifest(), updated));
   manifest_ = std::move(updated);
   return Status::Ok();
 }
@@ -106,7 +102,7 @@ Status Session::UpdateManifest(const Json& patch) {
 Status Session::RecordShot(const ShotRecord& record) {
   Json j = record.ToJson();
   j["event"] = "shot";
-  MESOCAP_RETURN_IF_ERROR(AppendLineDurably(root_ / kJournalName, j.dump()));
+  MESOCAP_RETURN_IF_ERROR(AppendLineDurably(layout().journal(), j.dump()));
   shots_.push_back(record);
   return Status::Ok();
 }
@@ -124,20 +120,9 @@ int Session::NextIndex(const std::string& kind) const {
     if (r.kind == kind) highest = std::max(highest, r.index);
   // Files present but never journaled (a crash between rename and append) also block reuse.
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(DirFor(kind), ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind(kind + "_", 0) != 0) continue;
-    const std::string digits = name.substr(kind.size() + 1, name.find('.') - kind.size() - 1);
-    if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-    highest = std::max(highest, std::stoi(digits));
-  }
+  for (const auto& entry : fs::directory_iterator(layout().shots_of_kind(kind), ec))
+    highest = std::max(highest, SessionLayout::ShotIndexOf(kind, entry.path().filename().string()));
   return highest + 1;
-}
-
-std::string Session::ShotFileName(const std::string& kind, int index, const std::string& ext) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%s_%04d%s", kind.c_str(), index, ext.c_str());
-  return (fs::path(kind == "calib" ? "calib" : "shots") / buf).string();
 }
 
 }  // namespace mesocap

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/json.h"
+#include "core/session_layout.h"
 #include "core/status.h"
 
 namespace mesocap {
@@ -32,9 +33,6 @@ struct ShotRecord {
 
 class Session {
  public:
-  static constexpr const char* kManifestName = "session.json";
-  static constexpr const char* kJournalName = "journal.jsonl";
-
   // Creates a new session at `root`, which must not exist or be an empty folder.
   // `manifest` holds the caller's fields (source, camera, provenance ...).
   static StatusOr<Session> Create(const std::filesystem::path& root, Json manifest);
@@ -43,7 +41,7 @@ class Session {
   static StatusOr<Session> Open(const std::filesystem::path& root);
 
   const std::filesystem::path& root() const { return root_; }
-  std::filesystem::path DirFor(const std::string& kind) const;  // shots/ or calib/
+  SessionLayout layout() const { return SessionLayout(root_); }
   const Json& manifest() const { return manifest_; }
   Status UpdateManifest(const Json& patch);  // merge_patch + atomic rewrite
 
@@ -53,8 +51,6 @@ class Session {
   std::vector<ShotRecord> ShotsOfKind(const std::string& kind) const;
   // Next free index of a kind: one past the highest recorded, so resuming never overwrites.
   int NextIndex(const std::string& kind) const;
-  // File name for shot `index` of `kind` with extension `ext` (".jpg"), relative to root.
-  static std::string ShotFileName(const std::string& kind, int index, const std::string& ext);
   int torn_journal_lines() const { return torn_lines_; }
 
  private:

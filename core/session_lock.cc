@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/provenance.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;
@@ -60,7 +61,7 @@ std::string Describe(const fs::path& session, const Json& holder) {
 }  // namespace
 
 Json SessionLock::Holder(const fs::path& session) {
-  const fs::path path = session / kFileName;
+  const fs::path path = SessionLayout(session).lock();
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return nullptr;
   const bool free = ::flock(fd, LOCK_SH | LOCK_NB) == 0;  // a reader's probe: shared, released at once
@@ -78,7 +79,7 @@ StatusOr<SessionLock> SessionLock::Acquire(const fs::path& session_path, const s
   const fs::path session = fs::absolute(session_path).lexically_normal();
   SessionLock lock;
   if (UnderAncestorsLock(session)) return lock;
-  const fs::path path = session / kFileName;
+  const fs::path path = SessionLayout(session).lock();
   lock.fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (lock.fd_ < 0) return Status::Error(path.string() + ": cannot create the session lock: " + std::strerror(errno));
   // A few tries 10 ms apart: a reader's probe (Holder) holds a shared lock for an instant.

@@ -19,8 +19,6 @@ namespace mesocap {
 
 class SessionLock {
  public:
-  static constexpr const char* kFileName = ".mesocap.lock";
-
   // Takes the lock of the session folder `session` for `command` ("process", "export", ...), or
   // fails: "SESSION is being written by mesocap process (pid 123 on host lab-1, since ...)".
   static StatusOr<SessionLock> Acquire(const std::filesystem::path& session, const std::string& command);

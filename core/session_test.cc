@@ -16,11 +16,11 @@ TEST(Session, JournalSurvivesATornLastLine) {
   for (int i = 1; i <= 3; ++i) {
     ShotRecord r;
     r.index = i;
-    r.file = Session::ShotFileName("shot", i, ".jpg");
+    r.file = SessionLayout::ShotEntry("shot", i, ".jpg");
     ASSERT_TRUE(s->RecordShot(r).ok());
   }
   // A crash while appending the fourth record leaves half a line.
-  std::ofstream(root / Session::kJournalName, std::ios::app) << R"({"event":"shot","index":4,"ki)";
+  std::ofstream(SessionLayout(root).journal(), std::ios::app) << R"({"event":"shot","index":4,"ki)";
   auto reopened = Session::Open(root);
   ASSERT_TRUE(reopened.ok());
   EXPECT_EQ(reopened->shots().size(), 3u);
@@ -30,7 +30,7 @@ TEST(Session, JournalSurvivesATornLastLine) {
   // The next record after the torn line survives whole.
   ShotRecord r;
   r.index = 4;
-  r.file = Session::ShotFileName("shot", 4, ".jpg");
+  r.file = SessionLayout::ShotEntry("shot", 4, ".jpg");
   ASSERT_TRUE(reopened->RecordShot(r).ok());
   auto again = Session::Open(root);
   ASSERT_TRUE(again.ok());
@@ -43,7 +43,7 @@ TEST(Session, NextIndexSkipsFilesThatWereNeverJournaled) {
   auto s = Session::Create(root, {});
   ASSERT_TRUE(s.ok());
   std::filesystem::create_directories(root / "shots");
-  std::ofstream(root / Session::ShotFileName("shot", 7, ".jpg")) << "x";
+  std::ofstream(root / SessionLayout::ShotEntry("shot", 7, ".jpg")) << "x";
   EXPECT_EQ(s->NextIndex("shot"), 8);
   EXPECT_EQ(s->NextIndex("calib"), 1);
 }

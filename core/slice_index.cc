@@ -52,6 +52,15 @@ StatusOr<SliceIndex> ReadSliceIndex(const std::filesystem::path& index_json) {
     const Json& list = JsonArray(bare ? *json : JsonField(*json, "", "slices"), list_at, 1, kMaxSlices);
     for (size_t k = 0; k < list.size(); ++k)
       index.slices.push_back(EntryFromJson(list[k], JsonIndexPath(bare ? "" : "slices", k), index_json.parent_path()));
+    if (!bare && json->contains("skipped")) {
+      const Json& skipped = JsonArray((*json)["skipped"], "skipped", 0, kMaxSlices);
+      for (size_t k = 0; k < skipped.size(); ++k) {
+        const std::string at = JsonIndexPath("skipped", k);
+        index.skipped.push_back({JsonInteger(JsonField(skipped[k], at, "board"), JsonFieldPath(at, "board"), 0, 1 << 20),
+                                 JsonString(JsonField(skipped[k], at, "shot"), JsonFieldPath(at, "shot")),
+                                 JsonString(JsonField(skipped[k], at, "reason"), JsonFieldPath(at, "reason"))});
+      }
+    }
   } catch (const std::exception& e) {
     return Status::Error(index_json.string() + ": " + e.what());
   }

@@ -23,9 +23,17 @@ struct SliceIndexEntry {
   double texel_px = 0;          // a texel's size in the photo, pixels (measured slices); 0 when unknown
 };
 
+// A (board, shot) the resampling left out, and why (mesocap-slices).
+struct SkippedSlice {
+  int board = 0;
+  std::string shot;  // the shot's file, relative to the session
+  std::string reason;
+};
+
 struct SliceIndex {
   std::string format;  // "mesocap-slices", "mesocap-btf", or "" for a bare list
   std::vector<SliceIndexEntry> slices;
+  std::vector<SkippedSlice> skipped;  // mesocap-slices; empty when the index lists none
   // mesocap-slices: the shots were JPEGs keeping colour at half resolution ("chroma_subsampled_shots";
   // false when the index does not say).
   bool chroma_subsampled_shots = false;

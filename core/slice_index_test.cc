@@ -67,5 +67,26 @@ TEST(SliceIndex, RefusesOutOfRangeAnglesAndPathsLeavingTheFolder) {
   EXPECT_FALSE(ReadSliceIndex(dir / "index.json").ok());
 }
 
+// The resampling's skipped (board, shot) pairs are read typed; a malformed one is an error naming
+// its field, not a row of defaults.
+TEST(SliceIndex, ReadsTheSkippedPairsAndRefusesAMalformedOne) {
+  const auto dir = testing::MakeTempDir();
+  Json index = {{"format", "mesocap-slices"},
+                {"slices", {Entry("a.exr", 10, 20)}},
+                {"skipped", {{{"board", 3}, {"shot", "shots/shot_0004.jpg"}, {"reason", "12.5% of the patch saturated"}}}}};
+  std::ofstream(dir / "index.json") << index.dump();
+  auto read = ReadSliceIndex(dir / "index.json");
+  ASSERT_TRUE(read.ok()) << read.status().message();
+  ASSERT_EQ(read->skipped.size(), 1u);
+  EXPECT_EQ(read->skipped[0].board, 3);
+  EXPECT_EQ(read->skipped[0].shot, "shots/shot_0004.jpg");
+  EXPECT_EQ(read->skipped[0].reason, "12.5% of the patch saturated");
+  index["skipped"][0].erase("reason");
+  std::ofstream(dir / "index.json") << index.dump();
+  read = ReadSliceIndex(dir / "index.json");
+  ASSERT_FALSE(read.ok());
+  EXPECT_NE(read.status().message().find("skipped[0].reason"), std::string::npos) << read.status().message();
+}
+
 }  // namespace
 }  // namespace mesocap

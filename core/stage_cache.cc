@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 
@@ -47,7 +48,7 @@ StatusOr<std::string> HashOutputs(const fs::path& session, const std::vector<std
 StatusOr<StageCache> StageCache::Open(const fs::path& session) {
   StageCache cache;
   cache.session_ = session;
-  const fs::path file = session / kFileName;
+  const fs::path file = SessionLayout(session).stage_cache();
   if (!fs::exists(file)) return cache;
   auto j = ReadJsonFile(file);
   if (!j.ok()) return j.status();
@@ -103,7 +104,7 @@ Status StageCache::Record(const std::string& stage, StageRecord record) {
   stages_[stage] = std::move(record);
   Json stages = Json::object();
   for (const auto& [name, r] : stages_) stages[name] = r.ToJson();
-  return WriteJsonFile(session_ / kFileName, Json{{"format", "mesocap-stages"}, {"format_version", 1}, {"stages", stages}});
+  return WriteJsonFile(SessionLayout(session_).stage_cache(), Json{{"format", "mesocap-stages"}, {"format_version", 1}, {"stages", stages}});
 }
 
 }  // namespace mesocap

@@ -30,8 +30,6 @@ struct StageRecord {
 
 class StageCache {
  public:
-  static constexpr const char* kFileName = "stages.json";
-
   // Reads SESSION/stages.json if it exists. A corrupt file is an error naming it; delete it
   // to start afresh.
   static StatusOr<StageCache> Open(const std::filesystem::path& session);

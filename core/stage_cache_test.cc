@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/content_hash.h"
+#include "core/session_layout.h"
 #include "core/provenance.h"
 #include "tests/testing.h"
 
@@ -94,7 +95,7 @@ TEST(StageCache, ACorruptFileIsNamedNotIgnored) {
   for (const std::string text : {"{", "[]", R"({"format": "mesocap-stages", "stages": {"fit": {"inputs_hash": 3}}})",
                                  R"({"format": "mesocap-stages", "stages": {"fit": {"inputs_hash": "a", "outputs_hash": "b",
                                      "outputs": ["../escape"], "seconds": 1, "finished_utc": "t"}}})"}) {
-    ASSERT_TRUE(WriteTextAtomically(session / StageCache::kFileName, text).ok());
+    ASSERT_TRUE(WriteTextAtomically(SessionLayout(session).stage_cache(), text).ok());
     auto cache = StageCache::Open(session);
     ASSERT_FALSE(cache.ok()) << text;
     EXPECT_NE(cache.status().message().find("stages.json"), std::string::npos) << cache.status().message();

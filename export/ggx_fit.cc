@@ -31,6 +31,16 @@ Json GgxFitOptions::ToJson() const {
           {"max_iterations", max_iterations}};
 }
 
+GgxMaterialMaps GgxMaterialMaps::FiguresFromJson(const Json& j) {
+  GgxMaterialMaps maps;
+  maps.slices_used = JsonInteger(JsonField(j, "", "slices_used"), "slices_used", 0, 1 << 30);
+  maps.median_relative_error = JsonNumber(JsonField(j, "", "median_relative_error"), "median_relative_error", 0, 1e9);
+  maps.seconds = JsonNumber(JsonField(j, "", "seconds"), "seconds", 0, 1e9);
+  maps.mean_iterations = JsonNumber(JsonField(j, "", "mean_iterations"), "mean_iterations", 0, 1e9);
+  maps.mean_evaluations = JsonNumber(JsonField(j, "", "mean_evaluations"), "mean_evaluations", 0, 1e9);
+  return maps;
+}
+
 Json GgxMaterialMaps::ToJson() const {
   return {{"width", base_color.width()}, {"height", base_color.height()}, {"slices_used", slices_used},
           {"median_relative_error", median_relative_error}, {"seconds", seconds},

@@ -37,6 +37,8 @@ struct GgxMaterialMaps {
   double mean_iterations = 0, mean_evaluations = 0;  // Ceres's, per texel
   double seconds = 0;
   Json ToJson() const;  // the figures, not the maps
+  // ToJson's figures, back (the maps stay empty); throws JsonFieldError naming the field.
+  static GgxMaterialMaps FiguresFromJson(const Json& j);
 };
 
 // The fitted material's slice under a light and a view (unit directions, patch frame): what a

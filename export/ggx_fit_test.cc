@@ -74,14 +74,14 @@ TEST(GgxFit, ATexturedMaterialGetsAnErrorMapAndAGltfAsset) {
     EXPECT_LE(maps->metallic.data()[i], 1.0f);
   }
   const fs::path out = testing::MakeTempDir();
-  ASSERT_TRUE(WriteGltfMaterial(out, *maps).ok());
+  ASSERT_TRUE(WriteGltfMaterial({out}, *maps).ok());
   for (const char* file : {"material.gltf", "material.bin", "base_color.png", "metallic_roughness.png", "normal.png"})
     EXPECT_TRUE(fs::exists(out / file)) << file;
   std::string report;
   EXPECT_EQ(testing::ValidateGltf(out / "material.gltf", &report), 0) << report;
   std::printf("gltf-validator: %s\n", report.c_str());
   // The textures decode back to the maps within their 8-bit steps, and relight alike.
-  auto back = ReadGltfMaterialTextures(out);
+  auto back = ReadGltfMaterialTextures({out});
   ASSERT_TRUE(back.ok()) << back.status().message();
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 16; ++x) {

@@ -125,7 +125,7 @@ int AddTexture(tinygltf::Model* model, const std::string& uri) {
 }
 
 // The textures in glTF's encodings.
-Status WriteTextures(const fs::path& dir, const GgxMaterialMaps& maps) {
+Status WriteTextures(const GltfFolder& folder, const GgxMaterialMaps& maps) {
   const int w = maps.base_color.width(), h = maps.base_color.height();
   Image metallic_roughness(w, h, 3), normal(w, h, 3);
   for (int y = 0; y < h; ++y)
@@ -135,21 +135,21 @@ Status WriteTextures(const fs::path& dir, const GgxMaterialMaps& maps) {
       metallic_roughness.at(x, y, 2) = maps.metallic.at(x, y, 0);
       for (int c = 0; c < 3; ++c) normal.at(x, y, c) = 0.5f * (maps.normal.at(x, y, c) + 1.0f);
     }
-  MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "base_color.png", maps.base_color, {.format = PixelFormat::kUint8Srgb}));
-  MESOCAP_RETURN_IF_ERROR(WriteImage(dir / "metallic_roughness.png", metallic_roughness, {.format = PixelFormat::kUint8Linear}));
-  return WriteImage(dir / "normal.png", normal, {.format = PixelFormat::kUint8Linear});
+  MESOCAP_RETURN_IF_ERROR(WriteImage(folder.base_color(), maps.base_color, {.format = PixelFormat::kUint8Srgb}));
+  MESOCAP_RETURN_IF_ERROR(WriteImage(folder.metallic_roughness(), metallic_roughness, {.format = PixelFormat::kUint8Linear}));
+  return WriteImage(folder.normal(), normal, {.format = PixelFormat::kUint8Linear});
 }
 
 }  // namespace
 
-Status WriteGltfMaterial(const fs::path& dir, const GgxMaterialMaps& maps, const GltfMaterialOptions& options) {
+Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMaterialOptions& options) {
   if (maps.base_color.empty()) return Status::Error("no material to write");
-  MESOCAP_RETURN_IF_ERROR(WriteTextures(dir, maps));
+  MESOCAP_RETURN_IF_ERROR(WriteTextures(folder, maps));
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "mesocap";
   model.buffers.resize(1);
-  model.buffers[0].uri = "material.bin";
+  model.buffers[0].uri = GltfFolder::buffer_name();
   tinygltf::Sampler sampler;
   sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
   sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
@@ -157,11 +157,11 @@ Status WriteGltfMaterial(const fs::path& dir, const GgxMaterialMaps& maps, const
   model.samplers.push_back(sampler);
   tinygltf::Material material;
   material.name = options.name;
-  material.pbrMetallicRoughness.baseColorTexture.index = AddTexture(&model, "base_color.png");
-  material.pbrMetallicRoughness.metallicRoughnessTexture.index = AddTexture(&model, "metallic_roughness.png");
+  material.pbrMetallicRoughness.baseColorTexture.index = AddTexture(&model, GltfFolder::base_color_name());
+  material.pbrMetallicRoughness.metallicRoughnessTexture.index = AddTexture(&model, GltfFolder::metallic_roughness_name());
   material.pbrMetallicRoughness.metallicFactor = 1.0;
   material.pbrMetallicRoughness.roughnessFactor = 1.0;
-  material.normalTexture.index = AddTexture(&model, "normal.png");
+  material.normalTexture.index = AddTexture(&model, GltfFolder::normal_name());
   model.materials.push_back(material);
 
   const float side = float(options.patch_m);
@@ -181,18 +181,19 @@ Status WriteGltfMaterial(const fs::path& dir, const GgxMaterialMaps& maps, const
 
   tinygltf::TinyGLTF writer;
   writer.SetImageWriter(nullptr, nullptr);  // the PNGs are written above; keep their URIs
-  const fs::path file = dir / "material.gltf";
+  const fs::path file = folder.material();
   if (!writer.WriteGltfSceneToFile(&model, file.string(), false, false, true, false))
     return Status::Error(file.string() + ": tinygltf could not write the asset");
   return Status::Ok();
 }
 
-StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const fs::path& dir) {
-  auto base = ReadImage(dir / "base_color.png", {.linearize = true, .max_channels = 3});
+StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const GltfFolder& folder) {
+  const fs::path& dir = folder.root;
+  auto base = ReadImage(folder.base_color(), {.linearize = true, .max_channels = 3});
   if (!base.ok()) return base.status();
-  auto mr = ReadImage(dir / "metallic_roughness.png", {.linearize = false, .max_channels = 3});
+  auto mr = ReadImage(folder.metallic_roughness(), {.linearize = false, .max_channels = 3});
   if (!mr.ok()) return mr.status();
-  auto normal = ReadImage(dir / "normal.png", {.linearize = false, .max_channels = 3});
+  auto normal = ReadImage(folder.normal(), {.linearize = false, .max_channels = 3});
   if (!normal.ok()) return normal.status();
   const int w = base->width(), h = base->height();
   for (const Image* image : {&*base, &*mr, &*normal})

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/session_layout.h"
 #include "core/status.h"
 #include "export/ggx_fit.h"
 
@@ -19,12 +20,11 @@ struct GltfMaterialOptions {
   bool tileable = false;   // textures repeat (a synthesis map's output); else clamp to the edge
 };
 
-// Writes into `dir` (existing); the caller stages the folder.
-Status WriteGltfMaterial(const std::filesystem::path& dir, const GgxMaterialMaps& maps,
-                         const GltfMaterialOptions& options = {});
+// Writes into `folder` (existing); the caller stages it.
+Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMaterialOptions& options = {});
 
 // The textures WriteGltfMaterial wrote, decoded back into maps (8-bit: within half a step of what
 // was written; relative_error is left empty).
-StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const std::filesystem::path& dir);
+StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const GltfFolder& folder);
 
 }  // namespace mesocap

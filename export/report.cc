@@ -4,6 +4,7 @@
 
 #include "core/atomic_file.h"
 #include "core/provenance.h"
+#include "core/session_layout.h"
 
 namespace mesocap {
 
@@ -96,8 +97,8 @@ Status Report::Write(const std::filesystem::path& dir) const {
   const std::string footer = "mesocap " + std::string(Version()) + ", " + UtcNowIso8601() + ": `" + CommandLine() + "`";
   md += "---\n" + footer + "\n";
   html += "<hr><p><small>" + Escape(footer) + "</small></p></body></html>\n";
-  MESOCAP_RETURN_IF_ERROR(WriteTextAtomically(dir / "report.md", md));
-  return WriteTextAtomically(dir / "report.html", html);
+  MESOCAP_RETURN_IF_ERROR(WriteTextAtomically(dir / ReportMarkdownName(), md));
+  return WriteTextAtomically(dir / ReportHtmlName(), html);
 }
 
 }  // namespace mesocap

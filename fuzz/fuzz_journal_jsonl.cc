@@ -7,11 +7,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::filesystem::path root = [] {
     const auto dir = mesocap::fuzz::ScratchDir() / "session";
     std::filesystem::create_directories(dir);
-    mesocap::fuzz::WriteText(dir / mesocap::Session::kManifestName,
+    mesocap::fuzz::WriteText(mesocap::SessionLayout(dir).manifest(),
                              "{\"format\":\"mesocap-session\",\"format_version\":1,\"source\":\"virtual\"}\n");
     return dir;
   }();
-  mesocap::fuzz::WriteBytes(root / mesocap::Session::kJournalName, data, size);
+  mesocap::fuzz::WriteBytes(mesocap::SessionLayout(root).journal(), data, size);
   mesocap::fuzz::Run([&] {
     auto session = mesocap::Session::Open(root);
     mesocap::fuzz::Explain("Session::Open", session.status());

@@ -89,7 +89,7 @@ void Sessions(const fs::path& manifest_dir, const fs::path& journal_dir) {
     ShotRecord r;
     r.index = i;
     r.kind = i == 3 ? "calib" : "shot";
-    r.file = Session::ShotFileName(r.kind, i, ".jpg");
+    r.file = SessionLayout::ShotEntry(r.kind, i, ".jpg");
     r.time_utc = "2026-01-01T12:00:0" + std::to_string(i) + "Z";
     r.settings = {{"iso", 100}, {"shutterspeed", "1/125"}, {"f-number", "f/8"}, {"flash", true}};
     r.exif = {{"ExposureTime", 0.008}, {"FNumber", 8.0}, {"ISO", 100}, {"Flash", i == 2 ? 0 : 1}};
@@ -97,8 +97,8 @@ void Sessions(const fs::path& manifest_dir, const fs::path& journal_dir) {
     Check(session->RecordShot(r));
   }
   Check(session->UpdateManifest({{"calibration", {{"done", true}}}}));
-  fs::copy_file(tmp / Session::kManifestName, manifest_dir / "session.json", fs::copy_options::overwrite_existing);
-  fs::copy_file(tmp / Session::kJournalName, journal_dir / "journal.jsonl", fs::copy_options::overwrite_existing);
+  fs::copy_file(SessionLayout(tmp).manifest(), manifest_dir / "session.json", fs::copy_options::overwrite_existing);
+  fs::copy_file(SessionLayout(tmp).journal(), journal_dir / "journal.jsonl", fs::copy_options::overwrite_existing);
   fuzz::WriteText(manifest_dir / "minimal.json", "{\"format\":\"mesocap-session\",\"format_version\":1}\n");
   // A torn last line (a crash while appending) and a non-shot event.
   fuzz::WriteText(journal_dir / "torn.jsonl",

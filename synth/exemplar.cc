@@ -10,6 +10,7 @@
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/json.h"
+#include "core/session_layout.h"
 #include "core/slice_index.h"
 #include "core/parallel.h"
 #include "export/ptm_file.h"
@@ -261,7 +262,7 @@ StatusOr<Exemplar> LoadExemplar(const fs::path& path, const ExemplarOptions& opt
   if (!fs::exists(path, ec)) return Status::Error(path.string() + ": no such file or folder");
   fs::path index;
   if (fs::is_directory(path, ec)) {
-    for (const fs::path& candidate : {path / "index.json", path / "slices" / "index.json"})
+    for (const fs::path& candidate : {BtfFolder{path}.index(), SessionLayout(path).slices().index()})
       if (fs::is_regular_file(candidate, ec)) {
         index = candidate;
         break;
