@@ -22,6 +22,7 @@
 #include "app/commands.h"
 #include "app/photo_rows.h"
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "core/json.h"
@@ -247,6 +248,7 @@ StatusOr<Ptm> FitWholePhotos(const std::vector<LpEntry>& entries, const std::vec
     ParallelFor(
         0, n,
         [&](int i) {
+          if (CancelRequested()) return;  // Ctrl-C: the photos not yet decoded are left
           const fs::path& file = entries[size_t(i)].image;
           if (eight_bit) {
             auto image = ReadImageU8(file, 3);

@@ -6,6 +6,7 @@
 #include "app/session_stages.h"
 #include "app/synth_output.h"
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/session_layout.h"
@@ -116,7 +117,10 @@ Status WriteBtfMultiPart(const SliceIndex& index, const fs::path& path) {
     part.options.attributes["mesocap:file"] = e.file.filename().string();
     parts.push_back(std::move(part));
   }
-  return WriteMultiPartExr(path, parts, [&](int k) { return ReadImage(index.slices[size_t(k)].file); });
+  return WriteMultiPartExr(path, parts, [&](int k) -> StatusOr<Image> {
+    if (CancelRequested()) return Status::Cancelled();  // Ctrl-C: a full BTF is thousands of parts
+    return ReadImage(index.slices[size_t(k)].file);
+  });
 }
 
 StatusOr<std::string> ExportExr(const fs::path& session, const ExportFolder& exports, const ExportOptions& options) {
@@ -133,6 +137,7 @@ StatusOr<std::string> ExportExr(const fs::path& session, const ExportFolder& exp
   // Hard links where the file system allows (the slices are never modified in place: a re-run
   // swaps a new folder in), copies elsewhere.
   for (const SliceIndexEntry& e : index->slices) {
+    if (CancelRequested()) return Status::Cancelled();
     const fs::path to = staged.root / fs::relative(e.file, btf.root);
     fs::create_hard_link(e.file, to, ec);
     if (ec) {

@@ -218,7 +218,8 @@ StatusOr<StageSummary> RunPtmStage(const fs::path& session, const fs::path& layo
   ProgressBar bar("fit-ptm", progress);
   int done = 0, fitted = 0;
   for (const auto& [board, members] : by_board) {
-    ReportProgress(bar.AsCallback(), done++, int(by_board.size()), Format("board %d", board));
+    if (!ReportProgress(bar.AsCallback(), done++, int(by_board.size()), Format("board %d", board)))
+      return Status::Cancelled();
     const LayoutBoard* layout_board = nullptr;
     for (const LayoutBoard& b : layout->boards)
       if (b.id == board) layout_board = &b;
@@ -333,7 +334,7 @@ StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOp
   ProgressBar bar(options.method, progress);
   TextonAnalysis textons;
   auto map = RunSynthesisMethod(*exemplar, method, &report, &note, bar.AsCallback(), &textons);
-  if (!map.ok()) return Status::Error(index.string() + ": " + map.status().message());
+  if (!map.ok()) return map.status().WithContext(index.string() + ": ");
   // Which slices to synthesize: those whose light and view lie on the coarse grid, then the rest,
   // up to max_slices (a 6561-slice BTF at 512 x 512 would be gigabytes).
   SynthOutputRequest request;

@@ -178,7 +178,9 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
   ShotAccumulator accumulated;
   std::vector<std::string> unreadable(n);
   std::atomic<int> done{0};
+  std::atomic<bool> cancelled{false};
   ParallelFor(0, n, [&](int s) {
+    if (cancelled) return;
     auto im = ReadImage(options.session / records[s].file);
     if (!im.ok()) {
       unreadable[s] = im.status().message();
@@ -188,8 +190,9 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
     if (auto it = marked.find(fs::path(records[s].file).generic_string()); it != marked.end())
       detections[s].insert(detections[s].end(), it->second.begin(), it->second.end());
     accumulated.Add(*im);
-    ReportProgress(progress, ++done, 2 * n, records[s].file);
+    if (!ReportProgress(progress, ++done, 2 * n, records[s].file)) cancelled = true;
   }, options.num_threads);
+  if (cancelled) return Status::Cancelled();
   if (accumulated.empty()) return Status::Error(options.session.string() + ": no flash shot could be read");
   const Image sum_image = accumulated.Sum(), max_image = accumulated.TakeMax();
   for (int s = 0; s < n; ++s)
@@ -217,6 +220,7 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
   // Pass 2: per shot, the flash from the highlights and the grey cards' readings.
   result.shots.resize(n);
   ParallelFor(0, n, [&](int s) {
+    if (cancelled) return;
     ShotCalibration& sc = result.shots[s];
     sc.file = records[s].file;
     if (!unreadable[s].empty()) {
@@ -231,8 +235,9 @@ StatusOr<CalibrationResult> CalibrateSession(const CalibrateOptions& options, co
     sc.light = EstimateFlash(camera, result.spheres.spheres, *im, options.highlights);
     if (!sc.light.ok) sc.flag = sc.light.flag;
     else sc.cards = ReadGreyCards(camera, result.grey_cards, *im, sc.light.light_m);
-    ReportProgress(progress, ++done, 2 * n, records[s].file);
+    if (!ReportProgress(progress, ++done, 2 * n, records[s].file)) cancelled = true;
   }, options.num_threads);
+  if (cancelled) return Status::Cancelled();
 
   std::vector<std::vector<CardReading>> readings;
   std::vector<int> index;

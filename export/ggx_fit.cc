@@ -255,15 +255,18 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   for (const SliceIndexEntry* e : chosen) dirs.emplace_back(e->light, e->view);
   std::vector<std::string> errors(n);
   std::atomic<int> read = 0;
+  std::atomic<bool> cancelled = false;
   ParallelFor(0, int(n), [&](int k) {
+    if (cancelled) return;
     auto slice = ReadImage(chosen[k]->file);
     if (!slice.ok()) return void(errors[k] = slice.status().message());
     if (slice->width() != width || slice->height() != height || slice->channels() < 3)
       return void(errors[k] = chosen[k]->file.string() + ": not the size or channels of the other slices");
     for (size_t t = 0; t < texels; ++t)
       for (int c = 0; c < 3; ++c) table[(t * n + k) * 3 + c] = slice->data()[t * slice->channels() + c];
-    ReportProgress(progress, ++read, int(n) + height, "reading slices");
+    if (!ReportProgress(progress, ++read, int(n) + height, "reading slices")) cancelled = true;
   }, options.num_threads);
+  if (cancelled) return Status::Cancelled();
   for (const std::string& e : errors)
     if (!e.empty()) return Status::Error(e);
 
@@ -276,7 +279,6 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   const StartGrid grid(dirs);
   std::atomic<int> rows_done = 0;
   std::atomic<long> iterations = 0, evaluations = 0;
-  std::atomic<bool> cancelled = false;
   ParallelFor(0, height, [&](int y) {
     if (cancelled) return;
     TexelFit fit;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/cancel.h"
 #include "core/directions.h"
 #include "core/median.h"
 #include "core/parallel.h"
@@ -249,8 +250,10 @@ StatusOr<BtfEvaluation> EvaluateStatisticalBtf(const TrueSliceFn& truth, const B
     if (options.input_views[v].normalized().z() > options.input_views[top].normalized().z()) top = v;
   options.btf = WithColourChannels(options.btf, slices[top]);
   std::vector<MeasuredView> measured;
-  for (int v = 0; v < views; ++v)
+  for (int v = 0; v < views; ++v) {
+    if (CancelRequested()) return Status::Cancelled();
     measured.push_back(MeasureView(options.input_views[v], options.input_lights_by_view[v], slices[v], options.btf));
+  }
   auto btf = StatisticalBtf::Create(std::move(slices[top]), options.input_lights_by_view[top], std::move(measured), options.btf);
   if (!btf.ok()) return btf.status();
   slices.clear();

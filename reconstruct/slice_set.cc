@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/cancel.h"
 #include "core/directions.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -228,8 +229,12 @@ StatusOr<MeasuredSlices> LoadMeasuredSlices(const std::filesystem::path& index_j
   const SliceReader reader(all, options);
   ParallelFor(
       0, top_count,
-      [&](int k) { readings.top_images[size_t(k)] = reader.Read(k, &readings.errors[size_t(k)], &top_blur[size_t(k)]); },
+      [&](int k) {
+        if (CancelRequested()) return;
+        readings.top_images[size_t(k)] = reader.Read(k, &readings.errors[size_t(k)], &top_blur[size_t(k)]);
+      },
       options.btf.num_threads);
+  if (CancelRequested()) return Status::Cancelled();
   // (An unreadable slice is an empty image, which the basis skips.)
   StatisticalBtfOptions btf_options = WithColourChannels(options.btf, readings.top_images);
   btf_options.chromaticity_from_top_view = options.chroma_from_top.value_or(index->chroma_subsampled_shots);

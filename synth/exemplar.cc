@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "core/directions.h"
+#include "core/cancel.h"
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/session_layout.h"
@@ -67,6 +68,7 @@ Status ForEachSlice(int count, const std::function<StatusOr<Image>(int)>& read_s
                     const std::function<void(int, const Image&)>& visit) {
   const int batch = std::max(1, EffectiveThreadCount(num_threads));
   for (int first = 0; first < count; first += batch) {
+    if (CancelRequested()) return Status::Cancelled();  // Ctrl-C: a full BTF's passes take minutes
     const int n = std::min(batch, count - first);
     std::vector<StatusOr<Image>> read(n, Status::Error("not read"));
     ParallelFor(0, n, [&](int i) { read[i] = read_slice(first + i); }, num_threads);
