@@ -5,7 +5,7 @@
 
 #include "core/directions.h"
 #include "core/session_layout.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 
 namespace mesocap::app {
 

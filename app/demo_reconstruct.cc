@@ -20,7 +20,7 @@
 #include "export/ggx_fit.h"
 #include "export/gltf_material.h"
 #include "export/previews.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "reconstruct/btf_evaluation.h"
 #include "reconstruct/ptm.h"
 #include "reconstruct/slice_set.h"

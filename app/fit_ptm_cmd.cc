@@ -1,5 +1,5 @@
 // mesocap fit-ptm: fit a polynomial texture map (reconstruct/ptm.h) to an RTI capture given as a
-// .lp light file and its photos, and write it as HP's .ptm (export/ptm_file.h) plus a JSON report.
+// .lp light file and its photos, and write it as HP's .ptm (formats/ptm_file.h) plus a JSON report.
 #include "app/fit_ptm_args.h"
 
 #include <sys/resource.h>
@@ -31,8 +31,8 @@
 #include "core/provenance.h"
 #include "core/resource_usage.h"
 #include "core/scratch_file.h"
-#include "export/lp_file.h"
-#include "export/ptm_file.h"
+#include "formats/lp_file.h"
+#include "formats/ptm_file.h"
 #include "reconstruct/ptm.h"
 
 namespace mesocap::app {

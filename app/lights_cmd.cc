@@ -17,7 +17,7 @@
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/provenance.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 
 namespace mesocap::app {
 namespace {

@@ -13,7 +13,7 @@
 #include "core/image_u8_io.h"
 #include "core/scratch_file.h"
 #include "core/status.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 
 namespace mesocap::app {
 

@@ -26,7 +26,7 @@
 #include "export/gltf_material.h"
 #include "export/material_preview.h"
 #include "export/previews.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "export/viewer_page.h"
 
 namespace mesocap::app {

@@ -1,4 +1,4 @@
-// mesocap relight: evaluate a .ptm (export/ptm_file.h) for one light direction and write the image.
+// mesocap relight: evaluate a .ptm (formats/ptm_file.h) for one light direction and write the image.
 #include "app/relight_args.h"
 
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "app/commands.h"
 #include "core/image_io.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "reconstruct/ptm.h"
 
 namespace mesocap::app {

@@ -16,7 +16,7 @@
 #include "core/text_format.h"
 #include "export/ggx_fit.h"
 #include "export/gltf_material.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 #include "export/previews.h"
 #include "synth/synth_map.h"
 

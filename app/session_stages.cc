@@ -21,7 +21,7 @@
 #include "core/slice_index.h"
 #include "core/text_format.h"
 #include "export/previews.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 
 namespace mesocap::app {
 

@@ -11,7 +11,7 @@
 #include "core/resource_usage.h"
 #include "core/slice_attributes.h"
 #include "export/previews.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "synth/map_apply.h"
 #include "synth/synth_quality.h"
 

@@ -10,7 +10,7 @@
 
 #include "core/image_u8_io.h"
 #include "core/parallel.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 
 int main(int argc, char** argv) {
   using namespace mesocap;

@@ -16,7 +16,7 @@
 
 #include "core/image_io.h"
 #include "core/parallel.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 
 int main(int argc, char** argv) {
   using namespace mesocap;

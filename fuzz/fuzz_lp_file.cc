@@ -1,6 +1,6 @@
-// RTI light-position files (.lp) through export/lp_file.h ReadLpFile. The folder holds a few
+// RTI light-position files (.lp) through formats/lp_file.h ReadLpFile. The folder holds a few
 // (empty) image files so that lines naming them resolve, as in a real RTI folder.
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 #include "fuzz/fuzz_support.h"
 
 namespace {

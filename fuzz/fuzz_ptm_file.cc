@@ -1,5 +1,5 @@
-// .ptm files (HP PTM 1.2, LRGB and RGB) through export/ptm_file.h ReadPtmFile.
-#include "export/ptm_file.h"
+// .ptm files (HP PTM 1.2, LRGB and RGB) through formats/ptm_file.h ReadPtmFile.
+#include "formats/ptm_file.h"
 #include "fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -15,10 +15,10 @@
 #include "core/rig_layout.h"
 #include "core/session.h"
 #include "core/stage_cache.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 #include "synth/synth_map.h"
 #include "synth/texton_analysis.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "fuzz/fuzz_support.h"
 
 namespace fs = std::filesystem;

@@ -7,14 +7,14 @@
 
 #include <Eigen/Dense>
 
-#include "core/directions.h"
 #include "core/cancel.h"
+#include "core/directions.h"
 #include "core/image_io.h"
 #include "core/json.h"
 #include "core/session_layout.h"
 #include "core/slice_index.h"
 #include "core/parallel.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "reconstruct/ptm_legendre.h"
 
 namespace mesocap {

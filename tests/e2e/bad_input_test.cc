@@ -8,7 +8,7 @@
 #include <set>
 
 #include "core/image_io.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "reconstruct/ptm.h"
 #include "tests/testing.h"
 

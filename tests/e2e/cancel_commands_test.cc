@@ -10,7 +10,7 @@
 
 #include "core/image_io.h"
 #include "core/session_layout.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 #include "tests/e2e/interrupt.h"
 #include "tests/testing.h"
 

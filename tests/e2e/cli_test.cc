@@ -10,7 +10,7 @@
 
 #include "core/image_io.h"
 #include "core/json.h"
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 #include "tests/testing.h"
 
 namespace mesocap {

@@ -11,8 +11,8 @@
 #include "core/image_io.h"
 #include "core/image_u8_io.h"
 #include "core/json.h"
-#include "export/lp_file.h"
-#include "export/ptm_file.h"
+#include "formats/lp_file.h"
+#include "formats/ptm_file.h"
 #include "reconstruct/ptm.h"
 #include "tests/testing.h"
 

@@ -8,7 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/image_io.h"
 #include "core/json.h"
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 #include "synth/synth_map.h"
 #include "synth/synth_test_support.h"
 #include "synth/texton_analysis.h"

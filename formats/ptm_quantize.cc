@@ -1,4 +1,4 @@
-#include "export/ptm_quantize.h"
+#include "formats/ptm_quantize.h"
 
 #include <emmintrin.h>
 

@@ -1,4 +1,4 @@
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "export/lp_file.h"
+#include "formats/lp_file.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "export/ptm_file.h"
+#include "formats/ptm_file.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -18,7 +18,7 @@
 
 #include "core/atomic_file.h"
 #include "core/parallel.h"
-#include "export/ptm_quantize.h"
+#include "formats/ptm_quantize.h"
 
 namespace mesocap {
 namespace fs = std::filesystem;

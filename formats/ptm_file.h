@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "core/status.h"
-#include "export/ptm_quantize.h"
+#include "formats/ptm_quantize.h"
 #include "reconstruct/ptm.h"
 
 namespace mesocap {
