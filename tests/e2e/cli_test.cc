@@ -10,6 +10,7 @@
 
 #include "core/image_io.h"
 #include "core/json.h"
+#include "core/session_layout.h"
 #include "formats/lp_file.h"
 #include "tests/testing.h"
 
@@ -45,6 +46,24 @@ TEST(Cli, EveryCommandAnswersHelp) {
       ++commands;
     }
   EXPECT_GE(commands, 15);
+}
+
+// `mesocap layout --json` gives scripts the paths the program itself uses; the text form joins
+// them to the session as given.
+TEST(Cli, LayoutPrintsThePathsTheProgramUses) {
+  const fs::path session = testing::MakeTempDir() / "s1";
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("layout " + session.string() + " --json", &out), 0) << out;
+  const Json printed = Json::parse(out);
+  const SessionLayout layout(session);
+  EXPECT_EQ(printed["root"], fs::absolute(session).lexically_normal().string());
+  EXPECT_EQ(printed["calibration"]["rig"], layout.Relative(layout.calibration().rig()));
+  EXPECT_EQ(printed["slices"]["index"], layout.Relative(layout.slices().index()));
+  EXPECT_EQ(printed["export"]["gltf"]["material"], layout.Relative(layout.exports().gltf().material()));
+  EXPECT_EQ(printed, layout.ToJson());
+  ASSERT_EQ(testing::RunMesocap("layout " + session.string(), &out), 0) << out;
+  EXPECT_NE(out.find("calibration.rig\t" + layout.calibration().rig().string() + "\n"), std::string::npos) << out;
+  EXPECT_NE(testing::RunMesocap("layout", &out), 0) << "the session is required";
 }
 
 // The shared libraries the dynamic loader opened for `mesocap ARGS` (LD_DEBUG=files), as text.
