@@ -2,9 +2,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/session_layout.h"
+
 namespace mesocap::app {
 
 CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args) {
+  const SessionLayout S = HelpLayout();
   CLI::App* sub = app.add_subcommand("capture", "Tethered capture from a camera (libgphoto2) into a session");
   CaptureOptions& o = args->options;
   sub->add_option("--out", o.out, "Session folder: new (must not exist or be empty), or existing with --resume");
@@ -17,7 +20,7 @@ CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args) {
   sub->add_option("--set", o.settings,
                   "Camera setting key=value, repeatable (iso, shutterspeed, f-number, imageformat, "
                   "capturetarget, flashmode ... as the body names them); a wrong key or value lists the choices");
-  sub->add_flag("--calibration", o.calibration, "Checkerboard shots: into calib/ instead of shots/");
+  sub->add_flag("--calibration", o.calibration, "Checkerboard shots: into " + FolderName(S.calib()) + " instead of " + FolderName(S.shots()));
   sub->add_flag("--resume", o.resume, "Add to an existing session, numbering after its last shot");
   sub->add_option("--mode", args->mode,
                   "interval: N shots, one every --interval s; enter: one shot per Enter key; remote: the "
@@ -32,12 +35,12 @@ CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args) {
   sub->add_flag("--no-progress", args->no_progress, "Do not draw a progress bar");
   sub->add_flag("--guide", args->guide,
                 "After each flash shot, print where the flash was (from the balls) and where the next shots are "
-                "needed; SESSION/coverage/ shows it per board (as `mesocap coverage`)");
+                "needed; " + S.coverage().root.string() + "/ shows it per board (as `mesocap coverage`)");
   sub->add_flag("--follow-guide", args->follow_guide,
                 "With --guide and the virtual rig: the virtual photographer moves the flash to the first suggestion");
-  sub->add_option("--layout", args->guidance.layout_file, "Guidance: the rig layout (default SESSION/rig_layout.json)");
+  sub->add_option("--layout", args->guidance.layout_file, "Guidance: the rig layout (default " + S.rig_layout().string() + ")");
   sub->add_option("--camera-file", args->guidance.camera_file,
-                  "Guidance: intrinsics (camera.json from calibrate-camera); default: from the session's calib/ shots");
+                  "Guidance: intrinsics (camera.json from calibrate-camera); default: from the session's " + FolderName(S.calib()) + " shots");
   sub->add_option("--guide-after", args->guidance.locate_after_shots,
                   "Guidance: flash shots before the boards and balls are located (a full calibration, once)")
       ->capture_default_str();

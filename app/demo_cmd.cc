@@ -30,6 +30,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// `path` as a link or name in the demo's report, which sits in `base`.
+std::string Shown(const fs::path& path, const fs::path& base) { return path.lexically_relative(base).generic_string(); }
+
 // The photo at no less than `width` pixels across: a JPEG decoded at 1/2 to 1/8 of its size by
 // libjpeg's scaled inverse DCT (a 6 MP shot in a few ms), anything else read whole.
 StatusOr<Image> ReadPreview(const fs::path& file, int width) {
@@ -89,7 +92,8 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
   report->Heading("Calibration against ground truth");
   report->Paragraph("The calibrate stage estimated the intrinsics from the checkerboard shots (" + intrinsics_rms +
                     "), then every board pose from its AprilTags, the balls from their outlines, the flash of every "
-                    "shot from the balls' mirror highlights and its power from the grey cards. Errors against truth.json:");
+                    "shot from the balls' mirror highlights and its power from the grey cards. Errors against " +
+                    SessionLayout("").truth().string() + ":");
   report->Table({"quantity", "error", "target"},
                 {{"focal length fx / fy", Format("%.3f%% / %.3f%%", score.fx_error_pct, score.fy_error_pct), "< 0.3%"},
                  {"board rotation (max)", Format("%.3f deg (%d/%d boards)", score.board_rotation_max_deg, score.boards_posed, score.boards_total), "< 0.3 deg"},
@@ -104,7 +108,7 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
       for (const std::string& r : o.summary.warnings) rejected += (rejected.empty() ? "" : "; ") + r;
   if (!rejected.empty()) report->Paragraph("Rejected or flagged: " + rejected);
   // The demo's report sits beside the session folder.
-  report->Picture(SessionLayout(session_dir).calibration().lights_plot().lexically_relative(session_dir.parent_path()).generic_string(),
+  report->Picture(Shown(SessionLayout(session_dir).calibration().lights_plot(), session_dir.parent_path()),
                   "The flash directions as calibrated (compare with the true ones above)");
   std::printf("demo: calibration: %s\n", score.Brief().c_str());
   return Status::Ok();
@@ -157,10 +161,11 @@ Status AddSliceScores(const fs::path& out, const fs::path& session_dir, const Ri
   }
   report->Heading("BTF slices against the true BTF");
   report->Paragraph(Format("The resample stage turned every lit patch into a %dx%d slice normalised by the flash irradiance "
-                           "(%zu slices, %zu skipped with their reasons in session/slices/index.json). Top-board slices "
+                           "(%zu slices, %zu skipped with their reasons in %s). Top-board slices "
                            "against the true BTF at the same directions (directional light, orthographic view), compared "
                            "after both are area-averaged to 64x64 texels:",
-                           size, size, (*index)["slices"].size(), (*index)["skipped"].size()));
+                           size, size, (*index)["slices"].size(), (*index)["skipped"].size(),
+                           Shown(SessionLayout(session_dir).slices().index(), out).c_str()));
   if (pairs.empty()) return Status::Ok();
   MESOCAP_RETURN_IF_ERROR(WriteImage(out / "slices_vs_truth.jpg", ContactSheet(pairs, pair_labels, 2, 400),
                                      {.format = PixelFormat::kUint8Srgb}));
@@ -212,7 +217,7 @@ int RunDemo(DemoArgs& a) {
   }
 
   // Ground truth.
-  report.Heading("Ground truth (session/truth.json)");
+  report.Heading("Ground truth (" + Shown(SessionLayout(session_dir).truth(), a.out) + ")");
   const auto& K = scene->camera.K;
   const auto& d = scene->camera.dist;
   report.Table({"fx px", "fy px", "cx px", "cy px", "k1", "k2", "p1", "p2", "k3"},
@@ -260,7 +265,8 @@ int RunDemo(DemoArgs& a) {
   for (const StageOutcome& o : *outcomes) clock.Add("process: " + o.name, o.seconds);
   if (Status st = WriteProcessReport(session_dir, *outcomes); !st.ok()) return Fail("demo", st);
   report.Heading("mesocap process");
-  report.Paragraph("`mesocap process session` ran every stage (its own report: session/report.html):");
+  report.Paragraph("`mesocap process session` ran every stage (its own report: " +
+                   Shown(SessionLayout(session_dir).report_html(), a.out) + "):");
   std::vector<std::vector<std::string>> stage_rows;
   for (const StageOutcome& o : *outcomes)
     stage_rows.push_back({o.name, Format("%.1f", o.seconds), o.summary.brief, std::to_string(o.summary.warnings.size())});
@@ -286,10 +292,14 @@ int RunDemo(DemoArgs& a) {
   clock.Stop();
   AddTiming(clock, &report);
   report.Heading("Files");
-  report.Paragraph("session/: the virtual session as `mesocap process` left it: shots/, calib/, journal.jsonl, session.json, "
-                   "truth.json, rig_layout.json, calibration/ (rig.json, report.json, plots), slices/ (OpenEXR BTF slices, "
-                   "index.json, board_BB.lp), ptm/ (a PTM per board), btf/ (the reconstructed BTF, coarse grid), export/ "
-                   "(material.ptm, lp/, btf/, previews/), stages.json and its own report.html. Formats: docs/formats.md.");
+  const SessionLayout session(session_dir);
+  const auto in_session = [&](const fs::path& p) { return session.Relative(p); };
+  report.Paragraph(FolderName(session.root()) + ": the virtual session as `mesocap process` left it (its files are listed by `mesocap layout " +
+                   Shown(session.root(), a.out) + "`): the shots, " + in_session(session.truth()) + ", " +
+                   in_session(session.calibration().root) + "/ (calibration), " + in_session(session.slices().root) +
+                   "/ (OpenEXR BTF slices), " + in_session(session.ptm().root) + "/ (a PTM per board), " +
+                   in_session(session.btf().root) + "/ (the reconstructed BTF, coarse grid), " +
+                   in_session(session.exports().root) + "/ (the exports) and its own report. Formats: docs/formats.md.");
   if (Status st = report.Write(a.out); !st.ok()) return Fail("demo", st);
   std::printf("demo: %s\n", sim->Brief().c_str());
   std::printf("demo: finished in %.0f s -> %s\n", clock.TotalSeconds(), (a.out / ReportHtmlName()).string().c_str());

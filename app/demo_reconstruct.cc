@@ -203,13 +203,15 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
   report->Paragraph(Format("The export stage fitted a glTF 2.0 metallic-roughness material (base colour, roughness, metallic "
                            "and a normal per texel; the glTF BRDF: GGX with the separable Smith term and Schlick's "
                            "Fresnel) to the reconstructed BTF, from %d of its slices, in %.1f s: median relative fit "
-                           "error %.1f%% (session/export/gltf/: material.gltf with a preview quad and sphere, its textures, "
-                           "fit_error.png). A BRDF per texel cannot cast shadows or mask, which the material does. "
+                           "error %.1f%% (%s/: %s with a preview quad and sphere, its textures, "
+                           "%s). A BRDF per texel cannot cast shadows or mask, which the material does. "
                            "Relit at %d pairs of the reconstructed grid and compared with the true BTF (relative RMS): "
                            "median %.1f%% for the glTF material and %.1f%% for the reconstructed BTF it was fitted to.",
                            (*fit)["slices_used"].get<int>(), (*fit)["seconds"].get<double>(),
-                           100 * (*fit)["median_relative_error"].get<double>(), kPairs, 100 * UpperMedian(gltf_errors),
-                           100 * UpperMedian(btf_errors)));
+                           100 * (*fit)["median_relative_error"].get<double>(),
+                           gltf.root.lexically_relative(in.out).generic_string().c_str(),
+                           gltf.material().filename().string().c_str(), gltf.fit_error(".png").filename().string().c_str(),
+                           kPairs, 100 * UpperMedian(gltf_errors), 100 * UpperMedian(btf_errors)));
   report->Picture("gltf_material.jpg", "True BTF | reconstructed BTF | the glTF material relit, one exposure per row");
   report->Picture(gltf.fit_error(".png").lexically_relative(in.out).generic_string(),
                   "The fit's relative error per texel (black 0, white 50% or more)");

@@ -2,15 +2,18 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/session_layout.h"
+
 namespace mesocap::app {
 
 CLI::App* AddEvaluateOptions(CLI::App& app, EvaluateArgs* args) {
+  const SessionLayout S = HelpLayout();
   CLI::App* sub = app.add_subcommand(
       "evaluate", "Score the statistical BTF reconstruction against a virtual material's true BTF (paper's validation)");
   CLI::Option* material = sub->add_option("--material", args->material, "Virtual material")->capture_default_str();
   sub->add_option("--session", args->session,
                   "A virtual session (mesocap simulate, then calibrate): reconstruct from its calibrated slices "
-                  "(SESSION/slices) and score against its material's true BTF")
+                  "(" + S.slices().root.string() + ") and score against its material's true BTF")
       ->excludes(material);
   sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
   sub->add_option("--size", args->size, "Texels per side of every slice (power of two)")->capture_default_str();

@@ -89,7 +89,8 @@ StatusOr<BtfEvaluation> EvaluateSession(const EvaluateArgs& a, const RigScene& s
   if (!btf.ok()) return btf.status();
   for (const std::string& warning : loaded.warnings) std::fprintf(stderr, "evaluate: %s\n", warning.c_str());
   const auto top = std::find_if(scene.boards.begin(), scene.boards.end(), [&](const RigBoard& b) { return b.id == loaded.top_board; });
-  if (top == scene.boards.end()) return Status::Error(Format("board %d of the slices is not in truth.json", loaded.top_board));
+  if (top == scene.boards.end()) return Status::Error(Format("board %d of the slices is not in %s", loaded.top_board,
+                                                                SessionLayout("").truth().string().c_str()));
   TrueBtfRequest grid;
   grid.size = btf->width();
   grid.samples_per_axis = TruthSamplesPerAxis(a, true);

@@ -2,15 +2,18 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/session_layout.h"
+
 namespace mesocap::app {
 
 CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
+  const SessionLayout S = HelpLayout();
   CLI::App* sub = app.add_subcommand(
       "process", "Run every stage on a session (calibrate, resample, fit-ptm, reconstruct, export), skipping unchanged ones");
   sub->add_option("session", args->options.session, "Session folder (from capture, import or simulate)")->required();
   sub->add_option("--camera", args->options.calibrate.camera_file,
-                  "Intrinsics (camera.json from calibrate-camera); default: from the session's calib/ shots");
-  sub->add_option("--layout", args->options.calibrate.layout_file, "Rig layout (default SESSION/rig_layout.json)");
+                  "Intrinsics (camera.json from calibrate-camera); default: from the session's " + FolderName(S.calib()) + " shots");
+  sub->add_option("--layout", args->options.calibrate.layout_file, "Rig layout (default " + S.rig_layout().string() + ")");
   sub->add_option("--pose-shots", args->options.calibrate.calibrate.pose_shots, "Shots searched for AprilTags")->capture_default_str();
   sub->add_option("--marked-corners", args->options.calibrate.calibrate.marked_corners, "Hand-marked board corners (docs/formats.md)");
   sub->add_option("--slice-size", args->options.resample.slice_size, "Texels per side of each measured BTF slice")->capture_default_str();
@@ -25,7 +28,8 @@ CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
   sub->add_flag("--btf-pixel-only", args->options.reconstruct.pixel_only, "Reconstruct from pixel histograms only (no subbands)");
   args->options.reconstruct.method.AddTo(sub, "--btf-");
   sub->add_option("--synth", args->options.synth.method,
-                  "Also enlarge the reconstructed BTF: roller, quilt, ptm-block or texton (SESSION/synth/; export adds gltf_synth/)");
+                  "Also enlarge the reconstructed BTF: roller, quilt, ptm-block or texton (" + S.synth().root.string() +
+                      "/; export adds " + FolderName(S.exports().gltf_synth().root) + ")");
   sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();
   sub->add_option("--synth-seed", args->options.synth.seed, "Random seed of the synthesis")->capture_default_str();
   sub->add_option("--force", args->options.force, "Rerun this stage even if unchanged (repeatable; 'all' for every stage)");

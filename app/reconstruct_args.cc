@@ -2,12 +2,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/session_layout.h"
+
 namespace mesocap::app {
 
 CLI::App* AddReconstructOptions(CLI::App& app, ReconstructArgs* args) {
+  const SessionLayout S = HelpLayout();
   CLI::App* sub = app.add_subcommand("reconstruct", "Reconstruct a full BTF from a session's measured slices (statistical, Ngan & Durand)");
-  sub->add_option("session", args->session, "Session folder (reads SESSION/slices/index.json)");
-  sub->add_option("--slices", args->index, "A slice index.json instead of the session's");
+  sub->add_option("session", args->session, "Session folder (reads " + S.slices().index().string() + ")");
+  sub->add_option("--slices", args->index, "A slice " + S.slices().index().filename().string() + " instead of the session's");
   sub->add_option("--out", args->out, "Output folder (must not exist or be empty)")->required();
   sub->add_option("--pair", args->pairs, "theta_i,phi_i,theta_o,phi_o in degrees (repeatable; default: the Bonn 81x81 grid)");
   sub->add_option("--grid", args->grid, "Without --pair: every light with every view of 'bonn' (81 directions, "

@@ -69,7 +69,9 @@ StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout&
   if (!session.ok()) return session.status();
   std::vector<fs::path> images;
   for (const auto& r : session->ShotsOfKind("calib")) images.push_back(session_dir / r.file);
-  if (images.empty()) return Status::Error(session_dir.string() + ": no checkerboard shots (calib/) and no --camera file");
+  if (images.empty())
+    return Status::Error(session_dir.string() + ": no checkerboard shots (" + FolderName(SessionLayout(session_dir).calib()) +
+                         ") and no --camera file");
   IntrinsicsOptions io;
   io.cols = layout.checker_cols;
   io.rows = layout.checker_rows;

@@ -2,11 +2,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/session_layout.h"
+
 namespace mesocap::app {
 namespace {
 
 void AddCommonOptions(CLI::App* sub, SynthArgs& a, bool needs_size) {
-  sub->add_option("--input", a.input, "Exemplar: an image, a BTF folder or index.json, a session (its slices), or a .ptm")
+  sub->add_option("--input", a.input, "Exemplar: an image, a BTF folder or its " + BtfFolder{}.index().string() + ", a session (its slices), or a .ptm")
       ->required();
   sub->add_option("--out", a.out, "Output folder (must not exist or be empty)")->required();
   if (needs_size) sub->add_option("--size", a.size, "Output texels, WxH")->capture_default_str();
@@ -44,7 +46,7 @@ void AddTextonOptions(CLI::App* sub, SynthArgs& a) {
   sub->add_option("--texton-dimensions", a.texton_analysis.dimensions,
                   "texton: principal directions kept of the concatenated filter responses")
       ->capture_default_str();
-  sub->add_option("--analysis", a.analysis, "texton: reuse a saved analysis (textons.exr of an earlier run on this exemplar)");
+  sub->add_option("--analysis", a.analysis, "texton: reuse a saved analysis (" + SynthFolder{}.textons().string() + " of an earlier run on this exemplar)");
   sub->add_option("--audit", a.texton.audit_fraction,
                   "texton: share of queries also answered by the full search (reports how often both agree)")
       ->capture_default_str();
@@ -81,7 +83,7 @@ CLI::App* AddSynthOptions(CLI::App& app, SynthArgs* args) {
 
 CLI::App* AddSynthApplyOptions(CLI::App& app, SynthArgs* args) {
   CLI::App* sub = app.add_subcommand("synth-apply", "Apply a synthesis map to another exemplar of the same sample");
-  sub->add_option("--map", args->map, "map.exr written by synth or paint")->required();
+  sub->add_option("--map", args->map, SynthFolder{}.map().string() + " written by synth or paint")->required();
   AddCommonOptions(sub, *args, false);
   return sub;
 }

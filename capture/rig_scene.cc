@@ -299,10 +299,10 @@ StatusOr<RigScene> TruthFromJson(const Json& j) {
     auto scene = MakeRigScene(o);
     if (!scene.ok()) return scene.status();
     if ((Matrix3dFromJson(j.at("camera").at("K")) - scene->camera.K).norm() > 1e-9)
-      return Status::Error("truth.json does not match the rig its options describe");
+      return Status::Error(SessionLayout("").truth().string() + " does not match the rig its options describe");
     return scene;
   } catch (const std::exception& e) {
-    return Status::Error(std::string("truth.json: ") + e.what());
+    return Status::Error(SessionLayout("").truth().string() + ": " + e.what());
   }
 }
 

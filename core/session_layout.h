@@ -166,6 +166,11 @@ class SessionLayout {
   std::filesystem::path root_;
 };
 
+// For help texts and messages: the layout of a session called SESSION ("SESSION/rig_layout.json").
+inline SessionLayout HelpLayout() { return SessionLayout("SESSION"); }
+// A folder's own name with a slash ("calib/"), as help texts name one.
+inline std::string FolderName(const std::filesystem::path& folder) { return folder.filename().string() + "/"; }
+
 // The report files Report::Write puts in a folder.
 std::string ReportHtmlName();
 std::string ReportMarkdownName();

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -83,29 +84,55 @@ std::string RegexEscape(const std::string& s) {
   return std::regex_replace(s, special, R"(\$&)");
 }
 
-// How `name` shows when code spells it as a path: a file name (it has an extension) in any string
-// literal without spaces, as the whole literal or one of its '/'-separated parts; a folder name
-// joined with `/` (`dir / "slices"`) or inside a literal of several parts ("slices/index.json").
-// A folder name alone in quotes is also a JSON key or a stage name ("slices", "export"), so that
-// form is not counted.
-std::regex SpellingOf(const std::string& name) {
-  // A patterned name (board_BB.lp, shot_NNNN.jpg, preview_lightK.png) by its fixed part before the
-  // placeholder, as a printf format or a literal joined to a number: "board_%02d.lp", "board_" + ...
-  for (const char* placeholder : {"BB", "NNNN", "KKKK", "K."})
-    if (const size_t at = name.find(placeholder); at != std::string::npos)
-      return std::regex("\"" + RegexEscape(name.substr(0, at)) + "(%|\")");
-  const std::string n = RegexEscape(name);
-  const std::string part = R"([^"\s]*)";
-  if (name.find('.') != std::string::npos && name[0] != '.')
-    return std::regex("\"(" + part + "/)?" + n + "(/" + part + ")?\"");
-  if (name[0] == '.') return std::regex("\"" + n + "\"");  // .mesocap.lock
-  return std::regex("/\\s*\"" + n + "[\"/]|\"" + part + "/" + n + "[\"/]|\"" + n + "/" + part + "\"");
+// Whether `line` (code, comment removed) spells `name` in a string literal: a file name (one with
+// an extension) anywhere in a literal, as a word; a folder name next to a '/' in a literal
+// ("slices/index.json", "SESSION/calibration/") or joined to a path (`dir / "slices"`); a
+// patterned name by its fixed part before a number ("board_%02d.lp", "board_" + ...). A folder
+// name alone in quotes is also a JSON key or a stage name ("slices", "export"), so that form is
+// not counted.
+class Spelling {
+ public:
+  explicit Spelling(const std::string& name) {
+    std::string fixed;
+    for (const char* placeholder : {"BB", "NNNN", "KKKK", "K."})
+      if (const size_t at = name.find(placeholder); at != std::string::npos && fixed.empty()) fixed = name.substr(0, at);
+    if (!fixed.empty()) {
+      in_literal_ = std::regex("(^|[^A-Za-z0-9_])" + RegexEscape(fixed) + "(%|$)");
+    } else if (name.find('.') != std::string::npos) {
+      in_literal_ = std::regex("(^|[^A-Za-z0-9_])" + RegexEscape(name) + "($|[^A-Za-z0-9_])");
+    } else {
+      const std::string n = RegexEscape(name);
+      in_literal_ = std::regex("(^|[^A-Za-z0-9_.-])" + n + "/|/" + n + "($|[^A-Za-z0-9_.-])");
+      joined_ = std::regex("/\\s*\"" + n + "\"");
+    }
+  }
+  // `literals`: the contents of the line's string literals.
+  bool In(const std::string& line, const std::vector<std::string>& literals) const {
+    if (joined_ && std::regex_search(line, *joined_)) return true;
+    for (const std::string& l : literals)
+      if (std::regex_search(l, in_literal_)) return true;
+    return false;
+  }
+
+ private:
+  std::regex in_literal_;
+  std::optional<std::regex> joined_;
+};
+
+std::vector<std::string> LiteralsOf(const std::string& line) {
+  static const std::regex literal(R"re("((?:[^"\\]|\\.)*)")re");
+  std::vector<std::string> literals;
+  for (auto it = std::sregex_iterator(line.begin(), line.end(), literal); it != std::sregex_iterator(); ++it)
+    literals.push_back((*it)[1].str());
+  return literals;
 }
+
+bool Spells(const std::string& line, const std::string& name) { return Spelling(name).In(line, LiteralsOf(line)); }
 
 TEST(SessionLayout, NoOtherSourceSpellsTheSessionsNames) {
   const fs::path root = MESOCAP_SOURCE_DIR;
-  std::vector<std::pair<std::string, std::regex>> spellings;
-  for (const std::string& name : LayoutComponents()) spellings.emplace_back(name, SpellingOf(name));
+  std::vector<std::pair<std::string, Spelling>> spellings;
+  for (const std::string& name : LayoutComponents()) spellings.emplace_back(name, Spelling(name));
   ASSERT_GT(spellings.size(), 40u);
   int files = 0;
   std::vector<std::string> found;
@@ -122,8 +149,10 @@ TEST(SessionLayout, NoOtherSourceSpellsTheSessionsNames) {
       for (int number = 1; std::getline(in, line); ++number) {
         const std::string code = WithoutComment(line);
         if (code.find("#include") != std::string::npos) continue;
+        if (code.find('"') == std::string::npos) continue;
+        const std::vector<std::string> literals = LiteralsOf(code);
         for (const auto& [name, spelling] : spellings)
-          if (std::regex_search(code, spelling))
+          if (spelling.In(code, literals))
             found.push_back(fs::relative(path, root).string() + ":" + std::to_string(number) + ": " + name + ": " + line);
       }
     }
@@ -136,16 +165,21 @@ TEST(SessionLayout, NoOtherSourceSpellsTheSessionsNames) {
 
 // The check itself finds each form it is meant to find.
 TEST(SessionLayout, TheSpellingCheckFindsEachForm) {
-  EXPECT_TRUE(std::regex_search(R"(session / "calibration" / x)", SpellingOf("calibration")));
-  EXPECT_TRUE(std::regex_search(R"(f("slices/index.json"))", SpellingOf("slices")));
-  EXPECT_TRUE(std::regex_search(R"(f("slices/index.json"))", SpellingOf("index.json")));
-  EXPECT_TRUE(std::regex_search(R"(dir / "rig.json")", SpellingOf("rig.json")));
-  EXPECT_TRUE(std::regex_search(R"(Format("board_%02d.ptm", b))", SpellingOf("board_BB.ptm")));
-  EXPECT_TRUE(std::regex_search(R"("preview_light" + k)", SpellingOf("preview_lightK.png")));
-  EXPECT_TRUE(std::regex_search(R"(p / ".mesocap.lock")", SpellingOf(".mesocap.lock")));
-  EXPECT_FALSE(std::regex_search(R"(j["slices"] = list;)", SpellingOf("slices"))) << "a JSON key";
-  EXPECT_FALSE(std::regex_search(R"(stage("export", after))", SpellingOf("export"))) << "a stage name";
-  EXPECT_FALSE(std::regex_search(R"(Error("see SESSION/calibration/ for more"))", SpellingOf("rig.json")));
+  EXPECT_TRUE(Spells(R"x(session / "calibration" / x)x", "calibration"));
+  EXPECT_TRUE(Spells(R"x(f("slices/index.json"))x", "slices"));
+  EXPECT_TRUE(Spells(R"x(f("slices/index.json"))x", "index.json"));
+  EXPECT_TRUE(Spells(R"x(dir / "rig.json")x", "rig.json"));
+  EXPECT_TRUE(Spells(R"x(help("Rig layout (default SESSION/rig_layout.json)"))x", "rig_layout.json"));
+  EXPECT_TRUE(Spells(R"x(help("writes SESSION/calibration/ whole"))x", "calibration"));
+  EXPECT_TRUE(Spells(R"x(help("into calib/ instead"))x", "calib"));
+  EXPECT_TRUE(Spells(R"x(Format("board_%02d.ptm", b))x", "board_BB.ptm"));
+  EXPECT_TRUE(Spells(R"x("preview_light" + k)x", "preview_lightK.png"));
+  EXPECT_TRUE(Spells(R"x(p / ".mesocap.lock")x", ".mesocap.lock"));
+  EXPECT_FALSE(Spells(R"x(j["slices"] = list;)x", "slices")) << "a JSON key";
+  EXPECT_FALSE(Spells(R"x(stage("export", after))x", "export")) << "a stage name";
+  EXPECT_FALSE(Spells(R"x(Error("see the calibration shots"))x", "calibration")) << "a word";
+  EXPECT_FALSE(Spells(R"x(f("import_report.json"))x", "report.json")) << "another name's part";
+  EXPECT_FALSE(Spells(R"x(f("calibration/"))x", "calib"));
 }
 
 }  // namespace

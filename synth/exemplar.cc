@@ -269,7 +269,9 @@ StatusOr<Exemplar> LoadExemplar(const fs::path& path, const ExemplarOptions& opt
         index = candidate;
         break;
       }
-    if (index.empty()) return Status::Error(path.string() + ": a folder without index.json or slices/index.json is not a BTF");
+    if (index.empty())
+      return Status::Error(path.string() + ": a folder without " + BtfFolder{path}.index().filename().string() + " or " +
+                           SessionLayout("").slices().index().string() + " is not a BTF");
   } else if (path.extension() == ".json") {
     index = path;
   }
