@@ -112,24 +112,28 @@ std::string ReasonKind(const std::string& reason) {
 // the full list folded away under them.
 void AddRejectedItems(const SessionLayout& session, Report* report) {
   std::vector<std::vector<std::string>> rows;
+  std::vector<Status> unreadable;
   const CalibrationFolder calibration = session.calibration();
   if (fs::exists(calibration.report())) {
     auto json = ReadJsonFile(calibration.report());
-    if (!json.ok()) return SayUnreadable(json.status(), report);
     try {
-      for (const std::string& r : CalibrationResult::RejectedFromReportJson(*json))
-        rows.push_back({calibration.root.filename().string(), "", r});
+      if (!json.ok()) unreadable.push_back(json.status());
+      else
+        for (const std::string& r : CalibrationResult::RejectedFromReportJson(*json))
+          rows.push_back({calibration.root.filename().string(), "", r});
     } catch (const JsonFieldError& e) {
-      return SayUnreadable(Status::Error(calibration.report().string() + ": " + e.what()), report);
+      unreadable.push_back(Status::Error(calibration.report().string() + ": " + e.what()));
     }
   }
   if (fs::exists(session.slices().index())) {
     auto index = ReadSliceIndex(session.slices().index());
-    if (!index.ok()) return SayUnreadable(index.status(), report);
-    for (const SkippedSlice& s : index->skipped) rows.push_back({s.shot, std::to_string(s.board), s.reason});
+    if (!index.ok()) unreadable.push_back(index.status());
+    else
+      for (const SkippedSlice& s : index->skipped) rows.push_back({s.shot, std::to_string(s.board), s.reason});
   }
   report->Heading(Format("Rejected shots and skipped slices (%zu)", rows.size()));
-  if (rows.empty()) return report->Paragraph("None.");
+  for (const Status& status : unreadable) SayUnreadable(status, report);
+  if (rows.empty()) return report->Paragraph(unreadable.empty() ? "None." : "None readable.");
   std::map<std::string, std::pair<int, std::set<std::string>>> groups;  // kind -> count, boards
   for (const auto& row : rows) {
     auto& [count, boards] = groups[ReasonKind(row[2])];

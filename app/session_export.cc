@@ -192,11 +192,16 @@ StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMa
     return Status::Error(synth.map().string() + ": points into a sample of another size than the BTF; "
                          "run `mesocap process " + session.string() + " --force synth`");
   bool tileable = map->method == "texton";
+  std::string not_tileable = "not tileable";
   if (map->method == "roller") {
-    auto report = ReadSynthReportSummary(synth);
-    if (!report.ok()) return report.status();
-    const int tw = report->tile_width, th = report->tile_height;
-    tileable = tw > 0 && th > 0 && map->width % tw == 0 && map->height % th == 0;
+    // Whole tiles only when the report says which tile (a roller map applied by synth-apply
+    // records none); an unreadable report is said, not taken for a tile.
+    if (auto report = ReadSynthReportSummary(synth); !report.ok()) {
+      not_tileable = "not tileable: " + report.status().message();
+    } else {
+      const int tw = report->tile_width, th = report->tile_height;
+      tileable = tw > 0 && th > 0 && map->width % tw == 0 && map->height % th == 0;
+    }
   }
   auto staging = StagingFolder::Begin(exports.gltf_synth().root);
   if (!staging.ok()) return staging.status();
@@ -206,7 +211,7 @@ StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMa
   MESOCAP_RETURN_IF_ERROR(WriteGltfMaterial({staging->path()}, ApplyMapToMaterial(*map, maps), gltf));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   return Format("; %s (%s %dx%d, %s)", exports.gltf_synth().material().string().c_str(), map->method.c_str(),
-                map->width, map->height, !tileable                 ? "not tileable"
+                map->width, map->height, !tileable                 ? not_tileable.c_str()
                 : map->method == "texton" ? "tileable: it wraps around"
                                           : "tileable: whole roller tiles");
 }

@@ -194,7 +194,7 @@ StatusOr<SynthReportSummary> ReadSynthReportSummary(const SynthFolder& folder) {
     const Json& output = JsonField(*json, "", "output");
     summary.width = JsonInteger(JsonField(output, "output", "width"), "output.width", 1, 1 << 20);
     summary.height = JsonInteger(JsonField(output, "output", "height"), "output.height", 1, 1 << 20);
-    if (summary.method == "roller") {
+    if (summary.method == "roller" && json->contains("derived")) {  // synth-apply of a roller map: none
       const Json& derived = JsonField(*json, "", "derived");
       summary.tile_width = JsonInteger(JsonField(derived, "derived", "tile_width"), "derived.tile_width", 0, 1 << 20);
       summary.tile_height = JsonInteger(JsonField(derived, "derived", "tile_height"), "derived.tile_height", 0, 1 << 20);

@@ -39,7 +39,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& exemplar, Synt
 struct SynthReportSummary {
   std::string method;
   int width = 0, height = 0;            // the output, texels
-  int tile_width = 0, tile_height = 0;  // roller: its tile; 0 for the other methods
+  int tile_width = 0, tile_height = 0;  // roller: its tile; 0 for the other methods and for a map synth-apply wrote
 };
 // The error names the file and the field.
 StatusOr<SynthReportSummary> ReadSynthReportSummary(const SynthFolder& folder);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "calib/marked_corners.h"
@@ -71,16 +72,20 @@ CalibrationResult CalibrationResult::FromRigJson(const Json& j) {
     b.id = JsonInteger(JsonField(boards[k], path, "id"), JsonFieldPath(path, "id"), 0, 1 << 20);
     b.found = JsonBool(JsonField(boards[k], path, "found"), JsonFieldPath(path, "found"));
     if (b.found) {
-      const auto number = [&](const char* name, double hi) {
-        return JsonNumber(JsonField(boards[k], path, name), JsonFieldPath(path, name), 0, hi);
+      // The pose's figures: any non-negative size (a poorly constrained board's spread may be
+      // large), and NaN where the writer had none to give (JSON null).
+      const auto number = [&](const char* name) {
+        const Json& field = JsonField(boards[k], path, name);
+        return field.is_null() ? std::numeric_limits<double>::quiet_NaN()
+                               : JsonNumber(field, JsonFieldPath(path, name), 0, std::numeric_limits<double>::max());
       };
       b.R = JsonMatrix3d(JsonField(boards[k], path, "R"), JsonFieldPath(path, "R"), 1.5);
       b.t = JsonVector3d(JsonField(boards[k], path, "t"), JsonFieldPath(path, "t"), kMetres);
       b.corners_used = JsonInteger(JsonField(boards[k], path, "corners_used"), JsonFieldPath(path, "corners_used"), 0, 1 << 30);
       b.shots_seen = JsonInteger(JsonField(boards[k], path, "shots_seen"), JsonFieldPath(path, "shots_seen"), 0, 1 << 30);
-      b.rms_reprojection_px = number("rms_reprojection_px", kPixels);
-      b.rotation_stddev_deg = number("rotation_stddev_deg", 360);
-      b.translation_stddev_mm = number("translation_stddev_mm", 1e9);
+      b.rms_reprojection_px = number("rms_reprojection_px");
+      b.rotation_stddev_deg = number("rotation_stddev_deg");
+      b.translation_stddev_mm = number("translation_stddev_mm");
     } else if (boards[k].contains("why_not")) {
       b.why_not = JsonString(boards[k]["why_not"], JsonFieldPath(path, "why_not"));
     }

@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "calib/truth_comparison.h"
@@ -117,6 +119,36 @@ TEST(Calibrate, ABrokenRigFileNamesTheField) {
   Json escaping = good;
   escaping["shots"][0]["file"] = "../outside.jpg";
   EXPECT_THROW(CalibrationResult::FromRigJson(escaping), JsonFieldError);
+}
+
+// A posed board's figures come back as written: a spread of any size, and NaN (written as null)
+// as NaN, so a poorly constrained board never makes its own calibration unreadable; a missing or
+// negative one is an error naming it.
+TEST(Calibrate, ABoardsPoseFiguresReadBackWhateverTheirSize) {
+  CalibrationResult result;
+  result.camera.width = 3000;
+  result.camera.height = 2000;
+  result.boards.push_back({});
+  BoardPose& board = result.boards.back();
+  board.found = true;
+  board.corners_used = 40;
+  board.shots_seen = 12;
+  board.rms_reprojection_px = 0.4;
+  board.rotation_stddev_deg = 725.0;
+  board.translation_stddev_mm = std::numeric_limits<double>::quiet_NaN();
+  const CalibrationResult back = CalibrationResult::FromRigJson(Json::parse(result.RigJson().dump()));
+  ASSERT_EQ(back.boards.size(), 1u);
+  EXPECT_EQ(back.boards[0].corners_used, 40);
+  EXPECT_EQ(back.boards[0].shots_seen, 12);
+  EXPECT_EQ(back.boards[0].rms_reprojection_px, 0.4);
+  EXPECT_EQ(back.boards[0].rotation_stddev_deg, 725.0);
+  EXPECT_TRUE(std::isnan(back.boards[0].translation_stddev_mm));
+  Json bad = result.RigJson();
+  bad["boards"][0].erase("shots_seen");
+  EXPECT_THROW(CalibrationResult::FromRigJson(bad), JsonFieldError);
+  bad = result.RigJson();
+  bad["boards"][0]["rms_reprojection_px"] = -1;
+  EXPECT_THROW(CalibrationResult::FromRigJson(bad), JsonFieldError);
 }
 
 TEST(Calibrate, HandMarkedBoardCornersPoseBoardsWhoseTagsAreNeverDecoded) {
