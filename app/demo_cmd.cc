@@ -30,9 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// `path` as a link or name in the demo's report, which sits in `base`.
-std::string Shown(const fs::path& path, const fs::path& base) { return path.lexically_relative(base).generic_string(); }
-
 // The photo at no less than `width` pixels across: a JPEG decoded at 1/2 to 1/8 of its size by
 // libjpeg's scaled inverse DCT (a 6 MP shot in a few ms), anything else read whole.
 StatusOr<Image> ReadPreview(const fs::path& file, int width) {
@@ -108,7 +105,7 @@ Status AddCalibrationScores(const fs::path& session_dir, const Json& truth, cons
       for (const std::string& r : o.summary.warnings) rejected += (rejected.empty() ? "" : "; ") + r;
   if (!rejected.empty()) report->Paragraph("Rejected or flagged: " + rejected);
   // The demo's report sits beside the session folder.
-  report->Picture(Shown(SessionLayout(session_dir).calibration().lights_plot(), session_dir.parent_path()),
+  report->Picture(RelativePath(SessionLayout(session_dir).calibration().lights_plot(), session_dir.parent_path()),
                   "The flash directions as calibrated (compare with the true ones above)");
   std::printf("demo: calibration: %s\n", score.Brief().c_str());
   return Status::Ok();
@@ -165,7 +162,7 @@ Status AddSliceScores(const fs::path& out, const fs::path& session_dir, const Ri
                            "against the true BTF at the same directions (directional light, orthographic view), compared "
                            "after both are area-averaged to 64x64 texels:",
                            size, size, (*index)["slices"].size(), (*index)["skipped"].size(),
-                           Shown(SessionLayout(session_dir).slices().index(), out).c_str()));
+                           RelativePath(SessionLayout(session_dir).slices().index(), out).c_str()));
   if (pairs.empty()) return Status::Ok();
   MESOCAP_RETURN_IF_ERROR(WriteImage(out / "slices_vs_truth.jpg", ContactSheet(pairs, pair_labels, 2, 400),
                                      {.format = PixelFormat::kUint8Srgb}));
@@ -217,7 +214,7 @@ int RunDemo(DemoArgs& a) {
   }
 
   // Ground truth.
-  report.Heading("Ground truth (" + Shown(SessionLayout(session_dir).truth(), a.out) + ")");
+  report.Heading("Ground truth (" + RelativePath(SessionLayout(session_dir).truth(), a.out) + ")");
   const auto& K = scene->camera.K;
   const auto& d = scene->camera.dist;
   report.Table({"fx px", "fy px", "cx px", "cy px", "k1", "k2", "p1", "p2", "k3"},
@@ -266,7 +263,7 @@ int RunDemo(DemoArgs& a) {
   if (Status st = WriteProcessReport(session_dir, *outcomes); !st.ok()) return Fail("demo", st);
   report.Heading("mesocap process");
   report.Paragraph("`mesocap process session` ran every stage (its own report: " +
-                   Shown(SessionLayout(session_dir).report_html(), a.out) + "):");
+                   RelativePath(SessionLayout(session_dir).report_html(), a.out) + "):");
   std::vector<std::vector<std::string>> stage_rows;
   for (const StageOutcome& o : *outcomes)
     stage_rows.push_back({o.name, Format("%.1f", o.seconds), o.summary.brief, std::to_string(o.summary.warnings.size())});
@@ -295,7 +292,7 @@ int RunDemo(DemoArgs& a) {
   const SessionLayout session(session_dir);
   const auto in_session = [&](const fs::path& p) { return session.Relative(p); };
   report.Paragraph(FolderName(session.root()) + ": the virtual session as `mesocap process` left it (its files are listed by `mesocap layout " +
-                   Shown(session.root(), a.out) + "`): the shots, " + in_session(session.truth()) + ", " +
+                   RelativePath(session.root(), a.out) + "`): the shots, " + in_session(session.truth()) + ", " +
                    in_session(session.calibration().root) + "/ (calibration), " + in_session(session.slices().root) +
                    "/ (OpenEXR BTF slices), " + in_session(session.ptm().root) + "/ (a PTM per board), " +
                    in_session(session.btf().root) + "/ (the reconstructed BTF, coarse grid), " +

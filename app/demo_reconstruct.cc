@@ -69,7 +69,7 @@ Status AddPtm(const DemoReconstructionInputs& in, Report* report) {
   MESOCAP_RETURN_IF_ERROR(WriteImage(in.out / "ptm.jpg", ContactSheet(row, labels, 7, 160), {.format = PixelFormat::kUint8Srgb}));
   report->Heading("Polynomial texture map of the top board");
   const SessionLayout layout(in.session);
-  const auto shown = [&](const fs::path& p) { return p.lexically_relative(in.out).generic_string(); };
+  const auto shown = [&](const fs::path& p) { return RelativePath(p, in.out); };
   report->Paragraph(Format("The fit-ptm stage fitted an RGB PTM to each board's slices, every texel under its own direction "
                            "to the flash (per-pixel light matrices): the top board's from %d slices, RMS residual %.5f "
                            "(%s/, exported as %s, which opens in RTIViewer; %s/ is the same slices as an RTI capture). "
@@ -209,11 +209,11 @@ Status AddGltfMaterial(const DemoReconstructionInputs& in, Report* report) {
                            "median %.1f%% for the glTF material and %.1f%% for the reconstructed BTF it was fitted to.",
                            (*fit)["slices_used"].get<int>(), (*fit)["seconds"].get<double>(),
                            100 * (*fit)["median_relative_error"].get<double>(),
-                           gltf.root.lexically_relative(in.out).generic_string().c_str(),
+                           RelativePath(gltf.root, in.out).c_str(),
                            gltf.material().filename().string().c_str(), gltf.fit_error(".png").filename().string().c_str(),
                            kPairs, 100 * UpperMedian(gltf_errors), 100 * UpperMedian(btf_errors)));
   report->Picture("gltf_material.jpg", "True BTF | reconstructed BTF | the glTF material relit, one exposure per row");
-  report->Picture(gltf.fit_error(".png").lexically_relative(in.out).generic_string(),
+  report->Picture(RelativePath(gltf.fit_error(".png"), in.out),
                   "The fit's relative error per texel (black 0, white 50% or more)");
   std::printf("demo: glTF material: fit error %.1f%%, relit error to the true BTF %.1f%% (reconstruction %.1f%%)\n",
               100 * (*fit)["median_relative_error"].get<double>(), 100 * UpperMedian(gltf_errors), 100 * UpperMedian(btf_errors));

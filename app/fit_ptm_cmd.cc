@@ -40,9 +40,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// CPU seconds of the whole process (all threads, user + sys): on a shared machine a steadier
-// measure of the work than wall time.
-
 // 16-bit PNG/TIFF hold linear values, so writing with kUint16Linear stores the values as they are.
 ImageWriteOptions StoredValueOptions(const fs::path& path) {
   ImageWriteOptions o;

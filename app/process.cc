@@ -138,7 +138,7 @@ StatusOr<StageSummary> RunExportStage(const fs::path& session) {
   MESOCAP_RETURN_IF_ERROR(WritePreviews(session, staged, &previews));
   MESOCAP_RETURN_IF_ERROR(WriteViewer(session, staged.previews()));
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  const auto rel = [&](const fs::path& p) { return p.lexically_relative(staged.root).generic_string(); };
+  const auto rel = [&](const fs::path& p) { return RelativePath(p, staged.root); };
   summary.brief = rel(staged.material_ptm()) + ", " + rel(staged.lp_file()) + ", " + rel(staged.btf().root) + "/ (OpenEXR), " +
                   rel(staged.gltf().material()) + ", " + rel(staged.previews().root) + "/";
   summary.report = {{"previews", previews}};

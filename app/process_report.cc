@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "app/session_stages.h"
@@ -41,11 +42,9 @@ Status AddViewer(const SessionLayout& session, Report* report) {
 // Which light directions each board measured (its own frame): where the reconstruction has
 // data and where it extrapolates. The picture goes in SESSION/report_files/, beside the report
 // and outside every stage's outputs.
-Status AddLightCoverage(const SessionLayout& session, Report* report) {
-  auto index = ReadSliceIndex(session.slices().index());
-  if (!index.ok()) return Status::Ok();  // no slices: the stage table says why
+Status AddLightCoverage(const SessionLayout& session, const SliceIndex& index, Report* report) {
   std::map<int, std::vector<Eigen::Vector3d>> lights;
-  for (const SliceIndexEntry& e : index->slices) lights[e.board].push_back(e.light);
+  for (const SliceIndexEntry& e : index.slices) lights[e.board].push_back(e.light);
   std::vector<Image> plots;
   std::vector<std::string> labels;
   for (const auto& [board, dirs] : lights) {
@@ -108,29 +107,21 @@ std::string ReasonKind(const std::string& reason) {
   return kind;
 }
 
-// Every rejected calibration item and every skipped (board, shot): grouped by reason with counts,
-// the full list folded away under them.
-void AddRejectedItems(const SessionLayout& session, Report* report) {
+// Every rejected calibration item and every skipped (board, shot) of `slices` (when the session
+// has an index): grouped by reason with counts, the full list folded away under them.
+void AddRejectedItems(const SessionLayout& session, const std::optional<StatusOr<SliceIndex>>& slices, Report* report) {
   std::vector<std::vector<std::string>> rows;
   std::vector<Status> unreadable;
   const CalibrationFolder calibration = session.calibration();
   if (fs::exists(calibration.report())) {
-    auto json = ReadJsonFile(calibration.report());
-    try {
-      if (!json.ok()) unreadable.push_back(json.status());
-      else
-        for (const std::string& r : CalibrationResult::RejectedFromReportJson(*json))
-          rows.push_back({calibration.root.filename().string(), "", r});
-    } catch (const JsonFieldError& e) {
-      unreadable.push_back(Status::Error(calibration.report().string() + ": " + e.what()));
-    }
-  }
-  if (fs::exists(session.slices().index())) {
-    auto index = ReadSliceIndex(session.slices().index());
-    if (!index.ok()) unreadable.push_back(index.status());
+    auto rejected = ReadJsonRecord(calibration.report(), CalibrationResult::RejectedFromReportJson);
+    if (!rejected.ok()) unreadable.push_back(rejected.status());
     else
-      for (const SkippedSlice& s : index->skipped) rows.push_back({s.shot, std::to_string(s.board), s.reason});
+      for (const std::string& r : *rejected) rows.push_back({calibration.root.filename().string(), "", r});
   }
+  if (slices && !slices->ok()) unreadable.push_back(slices->status());
+  else if (slices)
+    for (const SkippedSlice& s : (*slices)->skipped) rows.push_back({s.shot, std::to_string(s.board), s.reason});
   report->Heading(Format("Rejected shots and skipped slices (%zu)", rows.size()));
   for (const Status& status : unreadable) SayUnreadable(status, report);
   if (rows.empty()) return report->Paragraph(unreadable.empty() ? "None." : "None readable.");
@@ -152,8 +143,9 @@ void AddRejectedItems(const SessionLayout& session, Report* report) {
   report->FoldedTable(Format("Every one of the %zu, with its shot", rows.size()), {"shot", "board", "reason"}, rows);
 }
 
-// The pictures and figures of the results: the PTM, the BTF, the glTF material, the synthesis.
-void AddResults(const SessionLayout& session, Report* report) {
+// The pictures and figures of the results: the PTM (of the top board in `slices`, when read), the
+// BTF, the glTF material, the synthesis.
+void AddResults(const SessionLayout& session, const SliceIndex* slices, Report* report) {
   const auto picture = [&](const fs::path& file, const std::string& caption) {
     if (fs::exists(file)) report->Picture(session.Relative(file), caption);
   };
@@ -161,26 +153,20 @@ void AddResults(const SessionLayout& session, Report* report) {
   const PreviewsFolder previews = exports.previews();
   const std::string ptm_export = session.Relative(exports.material_ptm());
   picture(previews.ptm_relit(), "The top board's PTM (" + ptm_export + ") relit under three lights");
-  if (auto top = TopBoardOfSession(session.root()); top.ok())
-    picture(session.ptm().board_residual(*top, ".png"),
+  if (const int top = slices ? TopBoardOf(*slices) : -1; top >= 0)
+    picture(session.ptm().board_residual(top, ".png"),
             "The top board's PTM fit error per texel (RMS residual x 10: white is 0.1 or more)");
   picture(previews.btf_slices(), "Slices of the reconstructed BTF (" + session.Relative(exports.btf().root) + "/), one exposure");
   const GltfFolder gltf = exports.gltf();
   if (fs::exists(gltf.fit_report())) {
-    auto json = ReadJsonFile(gltf.fit_report());
-    GgxMaterialMaps fit;
-    try {
-      if (json.ok()) fit = GgxMaterialMaps::FiguresFromJson(*json);
-    } catch (const JsonFieldError& e) {
-      json = Status::Error(gltf.fit_report().string() + ": " + e.what());
-    }
-    if (!json.ok()) {
-      SayUnreadable(json.status(), report);
+    auto fit = ReadJsonRecord(gltf.fit_report(), GgxMaterialMaps::FiguresFromJson);
+    if (!fit.ok()) {
+      SayUnreadable(fit.status(), report);
     } else {
       report->Paragraph(Format("%s: a glTF 2.0 metallic-roughness material fitted per texel to the reconstructed BTF (%d "
                                "slices, median relative error %.1f%%, %.1f s), on a preview quad and sphere.",
-                               session.Relative(gltf.material()).c_str(), fit.slices_used,
-                               100 * fit.median_relative_error, fit.seconds));
+                               session.Relative(gltf.material()).c_str(), fit->slices_used,
+                               100 * fit->median_relative_error, fit->seconds));
       picture(gltf.fit_error(".png"), "The glTF fit's relative error per texel (black 0, white 50% or more)");
       picture(previews.material_sphere(), "The glTF material on a sphere under three lights");
       picture(previews.material_cloth(), "The glTF material on a draped sheet under the same lights");
@@ -227,10 +213,14 @@ Status WriteProcessReport(const fs::path& session_root, const std::vector<StageO
     for (const std::string& w : o.summary.warnings) warnings.push_back({o.name, w});
   if (warnings.empty()) report.Paragraph("None.");
   else report.Table({"stage", "warning"}, warnings);
-  MESOCAP_RETURN_IF_ERROR(AddLightCoverage(session, &report));
-  AddRejectedItems(session, &report);
+  // The slice index, read once for the three sections that use it.
+  std::optional<StatusOr<SliceIndex>> slices;
+  if (fs::exists(session.slices().index())) slices = ReadSliceIndex(session.slices().index());
+  const SliceIndex* index = slices && slices->ok() ? &**slices : nullptr;
+  if (index) MESOCAP_RETURN_IF_ERROR(AddLightCoverage(session, *index, &report));
+  AddRejectedItems(session, slices, &report);
   report.Heading("Results");
-  AddResults(session, &report);
+  AddResults(session, index, &report);
   MESOCAP_RETURN_IF_ERROR(AddViewer(session, &report));
   report.Paragraph("Every file of the session: docs/formats.md (`mesocap layout " + session_root.string() +
                    "` prints their paths).");

@@ -44,13 +44,7 @@ StatusOr<CalibrationResult> LoadSessionCalibration(const fs::path& session) {
   const fs::path rig_file = SessionLayout(session).calibration().rig();
   if (!fs::exists(rig_file))
     return Status::Error(rig_file.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
-  auto rig = ReadJsonFile(rig_file);
-  if (!rig.ok()) return rig.status();
-  try {
-    return CalibrationResult::FromRigJson(*rig);
-  } catch (const std::exception& e) {
-    return Status::Error(rig_file.string() + ": " + e.what());
-  }
+  return ReadJsonRecord(rig_file, CalibrationResult::FromRigJson);
 }
 
 StatusOr<CameraModel> CameraFor(const CalibrateStageOptions& o, const RigLayout& layout, Json* intrinsics_report,
@@ -185,12 +179,9 @@ StatusOr<StageSummary> RunResampleStage(const fs::path& session, const fs::path&
   return summary;
 }
 
-StatusOr<int> TopBoardOfSession(const fs::path& session) {
-  const fs::path index_file = SessionLayout(session).slices().index();
-  auto index = ReadSliceIndex(index_file);
-  if (!index.ok()) return index.status();
+int TopBoardOf(const SliceIndex& index) {
   std::map<int, std::pair<double, int>> theta_o;  // board -> (sum, count)
-  for (const SliceIndexEntry& e : index->slices) {
+  for (const SliceIndexEntry& e : index.slices) {
     theta_o[e.board].first += e.theta_o_deg;
     ++theta_o[e.board].second;
   }
@@ -198,6 +189,14 @@ StatusOr<int> TopBoardOfSession(const fs::path& session) {
   double best_theta = 1e9;
   for (const auto& [board, sum] : theta_o)
     if (sum.first / sum.second < best_theta) best = board, best_theta = sum.first / sum.second;
+  return best;
+}
+
+StatusOr<int> TopBoardOfSession(const fs::path& session) {
+  const fs::path index_file = SessionLayout(session).slices().index();
+  auto index = ReadSliceIndex(index_file);
+  if (!index.ok()) return index.status();
+  const int best = TopBoardOf(*index);
   if (best < 0) return Status::Error(index_file.string() + ": lists no slices");
   return best;
 }

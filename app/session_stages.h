@@ -13,6 +13,7 @@
 #include "calib/resample.h"
 #include "core/json.h"
 #include "core/rig_layout.h"
+#include "core/slice_index.h"
 #include "core/status.h"
 #include "reconstruct/ptm.h"
 #include "reconstruct/slice_set.h"
@@ -86,5 +87,7 @@ StatusOr<StageSummary> RunSynthStage(const std::filesystem::path& session, const
 
 // The board whose view is closest to head-on in the slice index (the top of the pyramid).
 StatusOr<int> TopBoardOfSession(const std::filesystem::path& session);
+// The same of an index already read; -1 when it lists no slices.
+int TopBoardOf(const SliceIndex& index);
 
 }  // namespace mesocap::app

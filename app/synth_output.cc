@@ -186,23 +186,19 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
 }
 
 StatusOr<SynthReportSummary> ReadSynthReportSummary(const SynthFolder& folder) {
-  auto json = ReadJsonFile(folder.report());
-  if (!json.ok()) return json.status();
-  SynthReportSummary summary;
-  try {
-    summary.method = JsonString(JsonField(*json, "", "method"), "method");
-    const Json& output = JsonField(*json, "", "output");
+  return ReadJsonRecord(folder.report(), [](const Json& json) {
+    SynthReportSummary summary;
+    summary.method = JsonString(JsonField(json, "", "method"), "method");
+    const Json& output = JsonField(json, "", "output");
     summary.width = JsonInteger(JsonField(output, "output", "width"), "output.width", 1, 1 << 20);
     summary.height = JsonInteger(JsonField(output, "output", "height"), "output.height", 1, 1 << 20);
-    if (summary.method == "roller" && json->contains("derived")) {  // synth-apply of a roller map: none
-      const Json& derived = JsonField(*json, "", "derived");
+    if (summary.method == "roller" && json.contains("derived")) {  // synth-apply of a roller map: none
+      const Json& derived = JsonField(json, "", "derived");
       summary.tile_width = JsonInteger(JsonField(derived, "derived", "tile_width"), "derived.tile_width", 0, 1 << 20);
       summary.tile_height = JsonInteger(JsonField(derived, "derived", "tile_height"), "derived.tile_height", 0, 1 << 20);
     }
-  } catch (const JsonFieldError& e) {
-    return Status::Error(folder.report().string() + ": " + e.what());
-  }
-  return summary;
+    return summary;
+  });
 }
 
 }  // namespace mesocap::app

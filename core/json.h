@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 #include <string>
 
 #include <Eigen/Core>
@@ -46,6 +48,19 @@ bool JsonBool(const Json& j, const std::string& path);
 
 // Parses a JSON file; the error names the file and the parser's position.
 StatusOr<Json> ReadJsonFile(const std::filesystem::path& path);
+// A record read from the JSON file `path` by `read` (Json -> T, throwing JsonFieldError on a bad
+// field): T, or an error naming the file and the field.
+template <typename Read>
+auto ReadJsonRecord(const std::filesystem::path& path, Read&& read)
+    -> StatusOr<std::decay_t<decltype(read(std::declval<const Json&>()))>> {
+  auto json = ReadJsonFile(path);
+  if (!json.ok()) return json.status();
+  try {
+    return read(*json);
+  } catch (const std::exception& e) {
+    return Status::Error(path.string() + ": " + e.what());
+  }
+}
 // Writes pretty JSON atomically (temp + fsync + rename).
 Status WriteJsonFile(const std::filesystem::path& path, const Json& json);
 

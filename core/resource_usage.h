@@ -3,7 +3,8 @@
 
 namespace mesocap {
 
-// CPU seconds of every thread of the process (std::clock).
+// CPU seconds of every thread of the process (std::clock): on a shared machine a steadier
+// measure of the work than wall time.
 double ProcessCpuSeconds();
 // The most resident memory the process has held so far (getrusage's ru_maxrss), in MiB.
 double PeakMemoryMiB();

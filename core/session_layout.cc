@@ -7,13 +7,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Board `board`'s name; kPattern gives "board_BB" (for `mesocap layout`).
-std::string BoardName(int board) {
-  if (board == kPattern) return "board_BB";
-  char name[32];
-  std::snprintf(name, sizeof name, "board_%02d", board);
-  return name;
+// `n` in `width` digits, or `placeholder` for kPattern (the name's pattern, for `mesocap layout`).
+std::string Numbered(int n, int width, const char* placeholder) {
+  if (n == kPattern) return placeholder;
+  char digits[16];
+  std::snprintf(digits, sizeof digits, "%0*d", width, n);
+  return digits;
 }
+
+std::string BoardName(int board) { return "board_" + Numbered(board, 2, "BB"); }
 
 // Names shared by several folders.
 constexpr const char* kIndex = "index.json";
@@ -54,9 +56,7 @@ fs::path SynthFolder::patches() const { return root / "patches.png"; }
 fs::path SynthFolder::image() const { return root / "synth.exr"; }
 fs::path SynthFolder::ptm() const { return root / "synth.ptm"; }
 fs::path SynthFolder::preview() const { return root / "preview.png"; }
-fs::path SynthFolder::preview_light(int k) const {
-  return root / ("preview_light" + (k == kPattern ? std::string("K") : std::to_string(k)) + ".png");
-}
+fs::path SynthFolder::preview_light(int k) const { return root / ("preview_light" + Numbered(k, 1, "K") + ".png"); }
 fs::path SynthFolder::textons() const { return root / "textons.exr"; }
 fs::path SynthFolder::report() const { return root / kReport; }
 
@@ -77,12 +77,7 @@ fs::path PreviewsFolder::viewer() const { return root / "viewer.html"; }
 fs::path ExportFolder::material_ptm() const { return root / "material.ptm"; }
 fs::path ExportFolder::lp() const { return root / "lp"; }
 fs::path ExportFolder::lp_file() const { return lp() / "material.lp"; }
-fs::path ExportFolder::lp_slice(int k) const {
-  char name[32];
-  if (k == kPattern) std::snprintf(name, sizeof name, "slice_KKKK.png");
-  else std::snprintf(name, sizeof name, "slice_%04d.png", k);
-  return lp() / name;
-}
+fs::path ExportFolder::lp_slice(int k) const { return lp() / ("slice_" + Numbered(k, 4, "KKKK") + ".png"); }
 BtfFolder ExportFolder::btf() const { return {root / kBtf}; }
 fs::path ExportFolder::btf_multipart() const { return root / "btf.exr"; }
 GltfFolder ExportFolder::gltf() const { return {root / "gltf"}; }
@@ -97,12 +92,7 @@ fs::path SessionLayout::journal() const { return root_ / "journal.jsonl"; }
 fs::path SessionLayout::shots() const { return root_ / kShots; }
 fs::path SessionLayout::calib() const { return root_ / kCalib; }
 fs::path SessionLayout::shots_of_kind(const std::string& kind) const { return root_ / ShotFolder(kind); }
-std::string SessionLayout::ShotStem(const std::string& kind, int index) {
-  char digits[16];
-  if (index == kPattern) std::snprintf(digits, sizeof digits, "NNNN");
-  else std::snprintf(digits, sizeof digits, "%04d", index);
-  return kind + "_" + digits;
-}
+std::string SessionLayout::ShotStem(const std::string& kind, int index) { return kind + "_" + Numbered(index, 4, "NNNN"); }
 int SessionLayout::ShotIndexOf(const std::string& kind, const std::string& file_name) {
   const std::string prefix = kind + "_";
   if (file_name.rfind(prefix, 0) != 0) return 0;
@@ -138,9 +128,11 @@ fs::path SessionLayout::report_md() const { return root_ / ReportMarkdownName();
 fs::path SessionLayout::report_files() const { return root_ / "report_files"; }
 fs::path SessionLayout::light_coverage_plot() const { return report_files() / "light_coverage.png"; }
 
-std::string SessionLayout::Relative(const fs::path& path) const {
-  return path.lexically_relative(root_).generic_string();
+std::string RelativePath(const fs::path& path, const fs::path& base) {
+  return path.lexically_relative(base).generic_string();
 }
+
+std::string SessionLayout::Relative(const fs::path& path) const { return RelativePath(path, root_); }
 
 Json SessionLayout::ToJson() const {
   const auto rel = [&](const fs::path& p) { return Relative(p); };

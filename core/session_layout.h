@@ -166,6 +166,9 @@ class SessionLayout {
   std::filesystem::path root_;
 };
 
+// `path` relative to `base`, with '/': a link in a report beside `base`, a path in a record.
+std::string RelativePath(const std::filesystem::path& path, const std::filesystem::path& base);
+
 // For help texts and messages: the layout of a session called SESSION ("SESSION/rig_layout.json").
 inline SessionLayout HelpLayout() { return SessionLayout("SESSION"); }
 // A folder's own name with a slash ("calib/"), as help texts name one.
