@@ -20,6 +20,12 @@ class ColourChannels {
   ColourChannels() = default;  // RGB
   // The principal axes come from `top_slices` (empty images are skipped).
   static ColourChannels For(ColourSpace space, std::span<const Image> top_slices);
+  // Channels as For made them (a statistics record read back).
+  static ColourChannels WithBasis(ColourSpace space, const Eigen::Matrix3f& basis) {
+    ColourChannels c;
+    c.space_ = space, c.basis_ = basis;
+    return c;
+  }
   ColourSpace space() const { return space_; }
   const Eigen::Matrix3f& basis() const { return basis_; }
   Image Forward(const Image& rgb) const;

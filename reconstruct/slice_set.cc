@@ -186,15 +186,8 @@ bool SliceSetOptions::Check() const {
 
 namespace {
 
-// The usable views' statistics (in board order), the top view's slices and lights, and the options
-// the statistics were taken with; `top_only`: the top board's slices alone.
-struct MeasuredSlices {
-  std::vector<MeasuredView> views;
-  std::vector<Image> top_slices;
-  std::vector<Eigen::Vector3d> top_lights;
-  StatisticalBtfOptions btf_options;
-};
-StatusOr<MeasuredSlices> LoadMeasuredSlices(const std::filesystem::path& index_json, const SliceSetOptions& options,
+// `top_only`: the top board's slices alone.
+StatusOr<StatisticalBtfInputs> LoadMeasuredSlices(const std::filesystem::path& index_json, const SliceSetOptions& options,
                                             bool top_only, SliceSetReport& rep, const ProgressFn& progress) {
   if (!options.Check()) return Status::Error("invalid slice-set options (size must be a power of two)");
   auto index = ReadSliceIndex(index_json);
@@ -243,7 +236,7 @@ StatusOr<MeasuredSlices> LoadMeasuredSlices(const std::filesystem::path& index_j
     return Status::Cancelled();
 
   std::vector<MeasuredView> measured(boards_seen.ids.size());
-  MeasuredSlices out;
+  StatisticalBtfInputs out;
   out.btf_options = btf_options;
   for (size_t k = 0; k < all.size(); ++k) {
     if (!readings.errors[k].empty()) {
@@ -274,15 +267,26 @@ StatusOr<MeasuredSlices> LoadMeasuredSlices(const std::filesystem::path& index_j
 
 }  // namespace
 
+StatusOr<StatisticalBtfInputs> LoadStatisticalBtfInputs(const std::filesystem::path& index_json,
+                                                        const SliceSetOptions& options, SliceSetReport* report,
+                                                        const ProgressFn& progress) {
+  SliceSetReport local;
+  return LoadMeasuredSlices(index_json, options, /*top_only=*/false, report ? *report : local, progress);
+}
+
+StatusOr<StatisticalBtf> CreateStatisticalBtf(StatisticalBtfInputs inputs) {
+  return StatisticalBtf::Create(std::move(inputs.top_slices), std::move(inputs.top_lights), std::move(inputs.views),
+                                inputs.btf_options);
+}
+
 StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
                                             SliceSetReport* report, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   SliceSetReport local;
   SliceSetReport& rep = report ? *report : local;
-  auto loaded = LoadMeasuredSlices(index_json, options, /*top_only=*/false, rep, progress);
+  auto loaded = LoadStatisticalBtfInputs(index_json, options, &rep, progress);
   if (!loaded.ok()) return loaded.status();
-  auto btf = StatisticalBtf::Create(std::move(loaded->top_slices), std::move(loaded->top_lights),
-                                    std::move(loaded->views), loaded->btf_options);
+  auto btf = CreateStatisticalBtf(std::move(*loaded));
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!btf.ok()) return Status::Error(index_json.string() + ": " + btf.status().message());
   return btf;

@@ -63,7 +63,23 @@ struct SliceSetReport {
   double seconds = 0;
 };
 
+// What a statistical BTF is made of: the usable views' statistics (in board order), the top
+// view's slices and lights, and the options the statistics were taken with. The shards of a
+// sharded reconstruction share one (reconstruct/statistics_record.h) rather than each
+// recomputing it.
+struct StatisticalBtfInputs {
+  std::vector<MeasuredView> views;
+  std::vector<Image> top_slices;
+  std::vector<Eigen::Vector3d> top_lights;
+  StatisticalBtfOptions btf_options;
+};
+
 // Reads the index, groups slices by board, computes statistics on all cores.
+StatusOr<StatisticalBtfInputs> LoadStatisticalBtfInputs(const std::filesystem::path& index_json,
+                                                        const SliceSetOptions& options, SliceSetReport* report,
+                                                        const ProgressFn& progress = nullptr);
+StatusOr<StatisticalBtf> CreateStatisticalBtf(StatisticalBtfInputs inputs);
+// The two in one (report->seconds spans both).
 StatusOr<StatisticalBtf> LoadStatisticalBtf(const std::filesystem::path& index_json, const SliceSetOptions& options,
                                             SliceSetReport* report, const ProgressFn& progress = nullptr);
 // The top view's measured statistics alone, taken as LoadStatisticalBtf takes them (the colour
