@@ -87,6 +87,16 @@ PreviewsFolder ExportFolder::previews() const { return {root / "previews"}; }
 fs::path CoverageFolder::assessment() const { return root / "coverage.json"; }
 fs::path CoverageFolder::plot() const { return root / "coverage.png"; }
 
+fs::path ShardsFolder::shared() const { return root / "shared.bin"; }
+fs::path ShardsFolder::shared_lock() const { return root / "shared.lock"; }
+fs::path ShardsFolder::part(int index, int count) const {
+  return root / ("part_" + Numbered(index, 3, "III") + "_of_" + Numbered(count, 3, "NNN"));
+}
+fs::path ShardsFolder::part_lock(int index, int count) const {
+  return root / (part(index, count).filename().string() + ".lock");
+}
+std::string ShardsFolder::part_record_name() { return "part.json"; }
+
 fs::path SessionLayout::manifest() const { return root_ / "session.json"; }
 fs::path SessionLayout::journal() const { return root_ / "journal.jsonl"; }
 fs::path SessionLayout::shots() const { return root_ / kShots; }
@@ -120,6 +130,14 @@ BtfFolder SessionLayout::btf() const { return {root_ / kBtf}; }
 SynthFolder SessionLayout::synth() const { return {root_ / "synth"}; }
 ExportFolder SessionLayout::exports() const { return {root_ / "export"}; }
 CoverageFolder SessionLayout::coverage() const { return {root_ / "coverage"}; }
+fs::path SessionLayout::shards_root() const { return root_ / "shards"; }
+ShardsFolder SessionLayout::shards(const std::string& stage, const std::string& key) const {
+  return {shards_root() / (stage.empty() ? "STAGE" : stage) / (key.empty() ? "KEY" : key)};
+}
+fs::path SessionLayout::workflow() const { return root_ / "workflow"; }
+fs::path SessionLayout::workflow_marker(const std::string& job) const {
+  return workflow() / ((job.empty() ? "JOB" : job) + ".done");
+}
 
 std::string ReportHtmlName() { return "report.html"; }
 std::string ReportMarkdownName() { return "report.md"; }
@@ -162,7 +180,8 @@ Json SessionLayout::ToJson() const {
   j["format"] = "mesocap-session-layout";
   j["format_version"] = 1;
   j["root"] = fs::absolute(root_).lexically_normal().string();
-  j["note"] = "paths relative to root; BB is a board id (two digits), NNNN a shot index, K and KKKK a count";
+  j["note"] = "paths relative to root; BB is a board id (two digits), NNNN a shot index, K and KKKK a count, "
+              "III of NNN a shard, STAGE a stage, KEY its inputs hash, JOB a workflow job";
   j["capture"] = {{"manifest", rel(manifest())},
                   {"journal", rel(journal())},
                   {"shots", rel(shots())},
@@ -215,6 +234,13 @@ Json SessionLayout::ToJson() const {
   j["coverage"] = {{"folder", rel(coverage().root)},
                    {"assessment", rel(coverage().assessment())},
                    {"plot", rel(coverage().plot())}};
+  const ShardsFolder shards_pattern = shards("", "");
+  j["shards"] = {{"folder", rel(shards_root())},
+                 {"stage_key", rel(shards_pattern.root)},
+                 {"shared", rel(shards_pattern.shared())},
+                 {"part", rel(shards_pattern.part(kPattern, kPattern))},
+                 {"part_record", ShardsFolder::part_record_name()}};
+  j["workflow"] = {{"folder", rel(workflow())}, {"marker", rel(workflow_marker(""))}};
   j["report"] = {{"html", rel(report_html())},
                  {"markdown", rel(report_md())},
                  {"files", rel(report_files())},

@@ -116,6 +116,18 @@ struct CoverageFolder {
   std::filesystem::path plot() const;        // coverage.png
 };
 
+// A sharded stage's work before its merge, for one key (the stage's inputs hash): what every
+// shard shares and each shard's part (docs/workflow.md).
+struct ShardsFolder {
+  std::filesystem::path root;
+  std::filesystem::path shared() const;       // shared.bin: computed by the first shard, read by all
+  std::filesystem::path shared_lock() const;  // held by the shard computing shared.bin
+  // Shard `index` of `count`'s part (a folder, published whole) and its record inside it.
+  std::filesystem::path part(int index, int count) const;
+  std::filesystem::path part_lock(int index, int count) const;
+  static std::string part_record_name();      // part.json
+};
+
 class SessionLayout {
  public:
   explicit SessionLayout(std::filesystem::path root) : root_(std::move(root)) {}
@@ -150,6 +162,12 @@ class SessionLayout {
   SynthFolder synth() const;
   ExportFolder exports() const;
   CoverageFolder coverage() const;
+  // shards/: sharded stages' parts, by stage and key ("" for the pattern), removed by the merge.
+  std::filesystem::path shards_root() const;
+  ShardsFolder shards(const std::string& stage, const std::string& key) const;
+  // workflow/: the Snakemake workflow's marker per finished job (workflow/Snakefile).
+  std::filesystem::path workflow() const;
+  std::filesystem::path workflow_marker(const std::string& job) const;  // JOB.done
 
   // The session's report (Report::Write names the files in a folder) and its pictures.
   std::filesystem::path report_html() const;

@@ -52,7 +52,8 @@ bool UnderAncestorsLock(const fs::path& session) {
 }
 
 std::string Describe(const fs::path& session, const Json& holder) {
-  if (!holder.is_object()) return session.string() + " is being written by another mesocap command";
+  if (!holder.is_object())
+    return session.string() + " is in use by another mesocap command (shards of a sharded stage hold its lock shared)";
   return session.string() + " is being written by mesocap " + holder.value("command", "?") + " (pid " +
          std::to_string(holder.value("pid", 0)) + " on host " + holder.value("host", "?") + ", since " +
          holder.value("since", "?") + "); wait for it to finish, or stop it";
@@ -80,19 +81,33 @@ StatusOr<SessionLock> SessionLock::Acquire(const fs::path& session_path, const s
   SessionLock lock;
   if (UnderAncestorsLock(session)) return lock;
   const fs::path path = SessionLayout(session).lock();
-  lock.fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (lock.fd_ < 0) return Status::Error(path.string() + ": cannot create the session lock: " + std::strerror(errno));
-  // A few tries 10 ms apart: a reader's probe (Holder) holds a shared lock for an instant.
-  for (int attempt = 0; ::flock(lock.fd_, LOCK_EX | LOCK_NB) != 0; ++attempt) {
-    if (errno != EWOULDBLOCK) return Status::Error(path.string() + ": cannot lock: " + std::strerror(errno));
-    if (attempt == 10) return Status::Error(Describe(session, Holder(session)));
-    ::usleep(10000);
-  }
+  MESOCAP_RETURN_IF_ERROR(lock.Take(session, LOCK_EX));
   const std::string holder =
       Json{{"command", command}, {"pid", int(::getpid())}, {"host", HostName()}, {"since", UtcNowIso8601()}}.dump();
   if (::ftruncate(lock.fd_, 0) != 0 || ::pwrite(lock.fd_, holder.data(), holder.size(), 0) != ssize_t(holder.size()))
     return Status::Error(path.string() + ": cannot record the lock's holder: " + std::strerror(errno));
   ::setenv(kHolderVariable, (session.string() + "|" + std::to_string(::getpid())).c_str(), 1);
+  return lock;
+}
+
+Status SessionLock::Take(const fs::path& session, int operation) {
+  const fs::path path = SessionLayout(session).lock();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) return Status::Error(path.string() + ": cannot create the session lock: " + std::strerror(errno));
+  // A few tries 10 ms apart: a reader's probe (Holder) holds a shared lock for an instant.
+  for (int attempt = 0; ::flock(fd_, operation | LOCK_NB) != 0; ++attempt) {
+    if (errno != EWOULDBLOCK) return Status::Error(path.string() + ": cannot lock: " + std::strerror(errno));
+    if (attempt == 10) return Status::Error(Describe(session, Holder(session)));
+    ::usleep(10000);
+  }
+  return Status::Ok();
+}
+
+StatusOr<SessionLock> SessionLock::AcquireShared(const fs::path& session_path) {
+  const fs::path session = fs::absolute(session_path).lexically_normal();
+  SessionLock lock;
+  if (UnderAncestorsLock(session)) return lock;
+  MESOCAP_RETURN_IF_ERROR(lock.Take(session, LOCK_SH));
   return lock;
 }
 

@@ -22,6 +22,10 @@ class SessionLock {
   // Takes the lock of the session folder `session` for `command` ("process", "export", ...), or
   // fails: "SESSION is being written by mesocap process (pid 123 on host lab-1, since ...)".
   static StatusOr<SessionLock> Acquire(const std::filesystem::path& session, const std::string& command);
+  // A shard of a sharded stage (docs/workflow.md): many hold the lock shared at once, each writing
+  // only its own part; a writer's Acquire is refused while any does, and they are refused while a
+  // writer holds it.
+  static StatusOr<SessionLock> AcquireShared(const std::filesystem::path& session);
   // The holder's record (command, pid, host, since) of a locked session, or null when nobody holds it.
   static Json Holder(const std::filesystem::path& session);
 
@@ -33,6 +37,7 @@ class SessionLock {
 
  private:
   SessionLock() = default;
+  Status Take(const std::filesystem::path& session, int flock_operation);  // LOCK_EX or LOCK_SH
   int fd_ = -1;
 };
 

@@ -35,6 +35,26 @@ TEST(SessionLock, ASecondWriterIsRefusedWithTheHolderNamed) {
   EXPECT_TRUE(again.ok()) << again.status().message();
 }
 
+TEST(SessionLock, ShardsShareTheLockAndExcludeWriters) {
+  const std::filesystem::path session = testing::MakeTempDir();
+  {
+    auto shard1 = SessionLock::AcquireShared(session);
+    auto shard2 = SessionLock::AcquireShared(session);
+    ASSERT_TRUE(shard1.ok()) << shard1.status().message();
+    ASSERT_TRUE(shard2.ok()) << shard2.status().message();
+    auto writer = SessionLock::Acquire(session, "process");
+    ASSERT_FALSE(writer.ok());
+    EXPECT_NE(writer.status().message().find("shards of a sharded stage"), std::string::npos) << writer.status().message();
+  }
+  {
+    auto writer = SessionLock::Acquire(session, "process");
+    ASSERT_TRUE(writer.ok()) << writer.status().message();
+    auto shard = SessionLock::AcquireShared(session);
+    ASSERT_FALSE(shard.ok());
+    EXPECT_NE(shard.status().message().find("mesocap process"), std::string::npos) << shard.status().message();
+  }
+}
+
 // Runs `SessionLock::Acquire` in a forked child; its exit code: 0 taken as a guest (no lock of its
 // own), 1 refused, 2 taken with a lock of its own.
 int AcquireInChild(const std::filesystem::path& session, bool keep_environment) {
