@@ -54,14 +54,14 @@ std::string BtfSliceName(const DirectionPair& p) {
   return BtfFolder::SliceEntry(Format("ti%04.1f_pi%05.1f_to%04.1f_po%05.1f.exr", p[0], p[1], p[2], p[3]));
 }
 
-StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const SliceSetReport& loaded,
-                                                const std::vector<DirectionPair>& pairs, bool pixel_only,
-                                                int num_threads, const fs::path& folder,
-                                                const Json& provenance_options, const ProgressFn& progress) {
+StatusOr<ReconstructedPairs> ReconstructPairs(const StatisticalBtf& btf, const std::vector<DirectionPair>& pairs,
+                                              bool pixel_only, int num_threads, const fs::path& folder,
+                                              const ProgressFn& progress) {
   std::error_code ec;
   fs::create_directories(BtfFolder{folder}.slices(), ec);
   if (ec) return Status::Error(folder.string() + ": cannot create: " + ec.message());
-  std::vector<Json> entries(pairs.size());
+  ReconstructedPairs out;
+  out.entries.resize(pairs.size());
   std::vector<std::string> errors(pairs.size());
   const auto start = std::chrono::steady_clock::now();
   std::atomic<int> done = 0;
@@ -77,26 +77,46 @@ StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const
     w.attributes["mesocap:quantity"] = kBtfSliceQuantity;
     w.attributes["mesocap:method"] = std::string(pixel_only ? "statistical (pixel histogram)" : "statistical (Ngan & Durand 2006)");
     if (Status st = WriteImage(folder / name, slice, w); !st.ok()) errors[k] = st.message();
-    entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
+    out.entries[k] = {{"file", name}, {"theta_i_deg", p[0]}, {"phi_i_deg", p[1]}, {"theta_o_deg", p[2]}, {"phi_o_deg", p[3]}};
     if (!ReportProgress(progress, ++done, int(pairs.size()), name)) cancelled = true;
   }, num_threads);
-  BtfFolderReport report;
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const std::string& e : errors)
     if (!e.empty()) return Status::Error(e);
   if (cancelled) return Status::Cancelled();
-  report.slices = int(pairs.size());
-  report.ms_per_slice = pairs.empty() ? 0 : 1000 * report.seconds / pairs.size();
-  Json j = {{"format", "mesocap-btf"}, {"width", btf.width()}, {"height", btf.height()},
-            {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
-            {"slices_used", loaded.slices_used}, {"chroma_from_top", loaded.chroma_from_top},
-            {"white_lobe", btf.white_lobe().ToJson()}, {"mean_model", btf.mean_model_check().ToJson()},
-            {"mirror_symmetry", btf.symmetry_check().ToJson()}, {"skipped", loaded.skipped}, {"warnings", loaded.warnings},
-            {"seconds_statistics", loaded.seconds}, {"seconds_reconstruct", report.seconds},
-            {"ms_per_slice", report.ms_per_slice}, {"slices", entries}};
-  j["provenance"] = MakeProvenance(provenance_options);
-  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(BtfFolder{folder}.index(), j));
+  return out;
+}
+
+Json BtfIndexHeader(const StatisticalBtf& btf, const SliceSetReport& loaded) {
+  return {{"format", "mesocap-btf"}, {"width", btf.width()}, {"height", btf.height()},
+          {"views_measured", loaded.views}, {"top_board", loaded.top_board}, {"top_lights", loaded.top_lights},
+          {"slices_used", loaded.slices_used}, {"chroma_from_top", loaded.chroma_from_top},
+          {"white_lobe", btf.white_lobe().ToJson()}, {"mean_model", btf.mean_model_check().ToJson()},
+          {"mirror_symmetry", btf.symmetry_check().ToJson()}, {"skipped", loaded.skipped}, {"warnings", loaded.warnings},
+          {"seconds_statistics", loaded.seconds}};
+}
+
+StatusOr<BtfFolderReport> WriteBtfIndex(const fs::path& folder, Json header, const ReconstructedPairs& pairs,
+                                        const Json& provenance_options) {
+  BtfFolderReport report;
+  report.seconds = pairs.seconds;
+  report.slices = int(pairs.entries.size());
+  report.ms_per_slice = pairs.entries.empty() ? 0 : 1000 * report.seconds / pairs.entries.size();
+  header["seconds_reconstruct"] = report.seconds;
+  header["ms_per_slice"] = report.ms_per_slice;
+  header["slices"] = pairs.entries;
+  header["provenance"] = MakeProvenance(provenance_options);
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(BtfFolder{folder}.index(), header));
   return report;
+}
+
+StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const SliceSetReport& loaded,
+                                                const std::vector<DirectionPair>& pairs, bool pixel_only,
+                                                int num_threads, const fs::path& folder,
+                                                const Json& provenance_options, const ProgressFn& progress) {
+  auto reconstructed = ReconstructPairs(btf, pairs, pixel_only, num_threads, folder, progress);
+  if (!reconstructed.ok()) return reconstructed.status();
+  return WriteBtfIndex(folder, BtfIndexHeader(btf, loaded), *reconstructed, provenance_options);
 }
 
 }  // namespace mesocap::app

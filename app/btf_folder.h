@@ -43,9 +43,25 @@ struct BtfFolderReport {
 
 // Reconstructs every pair on all cores into `folder` (existing, empty: a staging folder) and
 // writes its index.json with `provenance_options`. Cancelled through `progress`: an error.
+// The three steps below in one.
 StatusOr<BtfFolderReport> WriteReconstructedBtf(const StatisticalBtf& btf, const SliceSetReport& loaded,
                                                 const std::vector<DirectionPair>& pairs, bool pixel_only,
                                                 int num_threads, const std::filesystem::path& folder,
                                                 const Json& provenance_options, const ProgressFn& progress);
+
+// The slices of `pairs` in `folder`'s slices/, and their index entries in order (a shard of a
+// sharded reconstruction writes its share so).
+struct ReconstructedPairs {
+  std::vector<Json> entries;
+  double seconds = 0;
+};
+StatusOr<ReconstructedPairs> ReconstructPairs(const StatisticalBtf& btf, const std::vector<DirectionPair>& pairs,
+                                              bool pixel_only, int num_threads, const std::filesystem::path& folder,
+                                              const ProgressFn& progress);
+// index.json's fields that describe the BTF rather than its slices.
+Json BtfIndexHeader(const StatisticalBtf& btf, const SliceSetReport& loaded);
+// index.json: `header`, the slices' entries and timing, and the provenance.
+StatusOr<BtfFolderReport> WriteBtfIndex(const std::filesystem::path& folder, Json header, const ReconstructedPairs& pairs,
+                                        const Json& provenance_options);
 
 }  // namespace mesocap::app

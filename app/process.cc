@@ -9,6 +9,7 @@
 #include <set>
 
 #include "app/btf_folder.h"
+#include "app/reconstruct_shards.h"
 #include "app/session_export.h"
 #include "app/synth_run.h"
 #include "core/atomic_file.h"
@@ -42,6 +43,10 @@ struct Stage {
   Json options;
   std::vector<std::string> outputs;   // relative to the session
   std::function<StatusOr<StageSummary>()> run;
+  // A shardable stage's shard (`key` its inputs hash; sets *done_before when its part was there)
+  // and merge; null for the others.
+  std::function<StatusOr<StageSummary>(const Shard&, const std::string& key, bool* done_before)> run_shard = nullptr;
+  std::function<StatusOr<StageSummary>(int count, const std::string& key)> merge = nullptr;
 };
 
 // Pictures for the report: the top board's PTM relit under three lights, the glTF material of
@@ -167,7 +172,15 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                     {s.Relative(s.ptm().root)},
                     [&a, progress] { return RunPtmStage(a.session, a.calibrate.layout_file, a.ptm, progress); }});
   stages.push_back({"reconstruct", {"resample"}, {}, a.reconstruct.ToJson(), {s.Relative(s.btf().root)},
-                    [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); }});
+                    [&a, progress] { return RunReconstructStage(a.session, a.reconstruct, progress); },
+                    [&a, progress](const Shard& shard, const std::string& key, bool* done_before) {
+                      return RunReconstructShard(a.session, a.reconstruct, shard, key, progress, done_before);
+                    },
+                    [&a](int count, const std::string& key) {
+                      return MergeReconstructShards(a.session, a.reconstruct, count, key,
+                                                    "mesocap process " + a.session.string() +
+                                                        " --stage reconstruct (with this run's options)");
+                    }});
   if (!a.synth.method.empty())
     stages.push_back({"synth", {"reconstruct"}, {},
                       {{"method", a.synth.method}, {"width", a.synth.width}, {"height", a.synth.height},
@@ -219,6 +232,11 @@ const std::vector<std::string>& ProcessStageNames() {
   return names;
 }
 
+const std::vector<std::string>& ShardableStageNames() {
+  static const std::vector<std::string> names = {"reconstruct"};
+  return names;
+}
+
 std::string ProcessOptions::Check() const {
   for (const std::string& f : force)
     if (f != "all" && std::count(ProcessStageNames().begin(), ProcessStageNames().end(), f) == 0)
@@ -227,10 +245,74 @@ std::string ProcessOptions::Check() const {
     return "--synth must be roller, quilt, ptm-block or texton, not '" + synth.method + "'";
   if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
   if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";
+  const auto is_one_of = [](const std::string& name, const std::vector<std::string>& names) {
+    return std::count(names.begin(), names.end(), name) > 0;
+  };
+  if (!only_stage.empty() && !is_one_of(only_stage, ProcessStageNames()))
+    return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export)";
+  if (only_stage == "synth" && synth.method.empty()) return "--stage synth needs --synth METHOD";
+  if ((shard || merge_shards != 0) && !is_one_of(only_stage, ShardableStageNames()))
+    return "--shard and --merge need --stage naming a shardable stage (reconstruct)";
+  if (shard && merge_shards != 0) return "give --shard or --merge, not both";
+  if (merge_shards < 0 || merge_shards > Shard::kMaxCount) return "--merge must be a shard count from 1 to 999";
   if (std::string why = resample.Check(); !why.empty()) return why;
   if (!reconstruct.slices.Check()) return "--btf-size must be a power of two";
   return calibrate.calibrate.pose_shots < 1 ? "--pose-shots must be at least 1" : "";
 }
+
+namespace {
+
+// The cache's record of a stage that ran.
+StageRecord RecordOf(const Stage& stage, const StageCache& cache, const std::string& inputs, const StageOutcome& outcome) {
+  StageRecord record;
+  record.inputs_hash = inputs;
+  record.version = StageVersion(stage.name);
+  for (const std::string& before : stage.after)
+    if (auto hash = cache.OutputsHash(before); hash.ok()) record.read[before] = *hash;
+  record.outputs = stage.outputs;
+  record.seconds = outcome.seconds;
+  record.finished_utc = UtcNowIso8601();
+  record.summary = {{"brief", outcome.summary.brief}, {"warnings", outcome.summary.warnings}, {"report", outcome.summary.report}};
+  return record;
+}
+
+StageOutcome SkippedOutcome(const Stage& stage, const StageCache& cache) {
+  StageOutcome outcome{stage.name, "skipped (unchanged)", 0, {}};
+  const StageRecord* record = cache.Find(stage.name);
+  const Json brief = record->summary.value("brief", Json(""));
+  if (brief.is_string()) outcome.summary.brief = brief.get<std::string>();
+  for (const Json& w : record->summary.value("warnings", Json::array()))
+    if (w.is_string()) outcome.summary.warnings.push_back(w.get<std::string>());
+  return outcome;
+}
+
+// Runs the stage (or its shard or merge, as `a` asks); a shard's outcome is not recorded: its
+// stage is done only once merged.
+StatusOr<StageOutcome> RunStage(const Stage& stage, const ProcessOptions& a, const std::string& inputs,
+                                StageCache* cache) {
+  StageOutcome outcome{stage.name, "ran", 0, {}};
+  const std::string key = inputs.substr(0, 16);
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<StageSummary> summary = StageSummary{};
+  bool done_before = false;
+  if (a.shard)
+    summary = stage.run_shard(*a.shard, key, &done_before);
+  else if (a.merge_shards > 0)
+    summary = stage.merge(a.merge_shards, key);
+  else
+    summary = stage.run();
+  if (!summary.ok()) return summary.status().WithContext("stage " + stage.name + ": ");
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  outcome.summary = *summary;
+  if (a.shard) {
+    outcome.status = "shard " + a.shard->Name() + (done_before ? " done before" : " ran");
+    return outcome;
+  }
+  MESOCAP_RETURN_IF_ERROR(cache->Record(stage.name, RecordOf(stage, *cache, inputs, outcome)));
+  return outcome;
+}
+
+}  // namespace
 
 StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
   ProcessOptions a = given;
@@ -241,8 +323,9 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
   a.reconstruct.slices.btf.num_threads = a.threads;
   if (std::string why = a.Check(); !why.empty()) return Status::Error(why);
   if (auto session = Session::Open(a.session); !session.ok()) return session.status();
-  // One writer at a time: stages.json is rewritten from memory after each stage.
-  auto lock = SessionLock::Acquire(a.session, "process");
+  // One writer at a time: stages.json is rewritten from memory after each stage. Shards write
+  // only their own parts and record nothing: they share the lock.
+  auto lock = a.shard ? SessionLock::AcquireShared(a.session) : SessionLock::Acquire(a.session, "process");
   if (!lock.ok()) return lock.status();
   a.reconstruct.method.TakeSessionMirrorImages(a.session);  // in the stage's key: a change reruns it
   const std::set<std::string> force(a.force.begin(), a.force.end());
@@ -253,39 +336,20 @@ StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& given) {
   std::vector<StageOutcome> outcomes;
   for (size_t k = 0; k < stages.size(); ++k) {
     const Stage& stage = stages[k];
+    if (!a.only_stage.empty() && stage.name != a.only_stage) continue;
     auto inputs = InputsHash(stage, *cache, &file_hashes);
     if (!inputs.ok()) return Status::Error("stage " + stage.name + ": " + inputs.status().message());
     std::string why = force.count(stage.name) || force.count("all") ? "forced" : cache->WhyRun(stage.name, *inputs, StageVersion(stage.name));
-    StageOutcome outcome{stage.name, "", 0, {}};
     if (why.empty()) {
-      const StageRecord* record = cache->Find(stage.name);
-      outcome.status = "skipped (unchanged)";
-      const Json brief = record->summary.value("brief", Json(""));
-      if (brief.is_string()) outcome.summary.brief = brief.get<std::string>();
-      for (const Json& w : record->summary.value("warnings", Json::array()))
-        if (w.is_string()) outcome.summary.warnings.push_back(w.get<std::string>());
       std::fprintf(stderr, "[%zu/%zu] %s: unchanged, skipped\n", k + 1, stages.size(), stage.name.c_str());
-      outcomes.push_back(outcome);
+      outcomes.push_back(SkippedOutcome(stage, *cache));
       continue;
     }
-    std::fprintf(stderr, "[%zu/%zu] %s: running (%s)\n", k + 1, stages.size(), stage.name.c_str(), why.c_str());
-    const auto start = std::chrono::steady_clock::now();
-    auto summary = stage.run();
-    if (!summary.ok()) return summary.status().WithContext("stage " + stage.name + ": ");
-    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    outcome.status = "ran";
-    outcome.summary = *summary;
-    StageRecord record;
-    record.inputs_hash = *inputs;
-    record.version = StageVersion(stage.name);
-    for (const std::string& before : stage.after)
-      if (auto hash = cache->OutputsHash(before); hash.ok()) record.read[before] = *hash;
-    record.outputs = stage.outputs;
-    record.seconds = outcome.seconds;
-    record.finished_utc = UtcNowIso8601();
-    record.summary = {{"brief", summary->brief}, {"warnings", summary->warnings}, {"report", summary->report}};
-    MESOCAP_RETURN_IF_ERROR(cache->Record(stage.name, record));
-    outcomes.push_back(outcome);
+    const std::string part = a.shard ? " shard " + a.shard->Name() : a.merge_shards ? " merge" : "";
+    std::fprintf(stderr, "[%zu/%zu] %s%s: running (%s)\n", k + 1, stages.size(), stage.name.c_str(), part.c_str(), why.c_str());
+    auto outcome = RunStage(stage, a, *inputs, &*cache);
+    if (!outcome.ok()) return outcome.status();
+    outcomes.push_back(std::move(*outcome));
   }
   return outcomes;
 }

@@ -5,10 +5,12 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/session_stages.h"
+#include "core/shard.h"
 #include "core/status.h"
 
 namespace mesocap::app {
@@ -21,6 +23,12 @@ struct ProcessOptions {
   ReconstructStageOptions reconstruct;
   SynthStageOptions synth;  // synth.method empty: no synth stage
   std::vector<std::string> force;  // stages to rerun even if unchanged; "all" for every one
+  // One stage alone (its earlier stages must have run), as the workflow runs it; empty: all.
+  std::string only_stage;
+  // With only_stage, a shardable stage (ShardableStageNames): run this shard of it, or merge
+  // this many shards (docs/workflow.md).
+  std::optional<Shard> shard;
+  int merge_shards = 0;
   int threads = -1;
   bool progress = true;
   ProcessOptions() {
@@ -32,15 +40,18 @@ struct ProcessOptions {
 };
 
 struct StageOutcome {
-  std::string name, status;  // status: "ran" or "skipped (unchanged)"
+  std::string name, status;  // status: "ran", "skipped (unchanged)", "shard I/N ran", "shard I/N done before"
   double seconds = 0;
   StageSummary summary;
 };
 
 // calibrate, resample, fit-ptm, reconstruct, synth (only when asked), export.
 const std::vector<std::string>& ProcessStageNames();
+// The stages that run as shards: reconstruct.
+const std::vector<std::string>& ShardableStageNames();
 
-// Runs or skips every stage; stops at the first stage that fails (its error names the stage).
+// Runs or skips every stage (or the one asked, or its shard or merge); stops at the first stage
+// that fails (its error names the stage).
 StatusOr<std::vector<StageOutcome>> RunProcess(const ProcessOptions& options);
 
 // The table on stdout, and SESSION/report.html (+ report.md).

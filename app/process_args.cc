@@ -32,6 +32,13 @@ CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
                       "/; export adds " + FolderName(S.exports().gltf_synth().root) + ")");
   sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();
   sub->add_option("--synth-seed", args->options.synth.seed, "Random seed of the synthesis")->capture_default_str();
+  sub->add_option("--stage", args->options.only_stage,
+                  "Run this one stage only, as the workflow does (its earlier stages must have run; docs/workflow.md)");
+  sub->add_option("--shard", args->shard,
+                  "With --stage reconstruct: run shard I/N of it into " + S.shards_root().string() +
+                      "/ (shards share the statistics; merge with --merge N)");
+  sub->add_option("--merge", args->options.merge_shards,
+                  "With --stage reconstruct: merge its N shards into the stage's folder, as one run would write it");
   sub->add_option("--force", args->options.force, "Rerun this stage even if unchanged (repeatable; 'all' for every stage)");
   sub->add_option("--threads", args->options.threads, "Threads (-1: all cores)")->capture_default_str();
   sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");

@@ -17,6 +17,7 @@ struct ProcessArgs {
   std::string synth_size = "512x512";
   bool no_brdf_smoothing = false, no_chroma_detail = false;
   std::string ptm_format = "rgb";
+  std::string shard;  // "I/N"
   bool no_progress = false;
 };
 

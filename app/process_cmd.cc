@@ -26,10 +26,17 @@ int RunProcess(ProcessArgs& a) {
   a.options.progress = !a.no_progress;
   if (!ParseSize(a.synth_size, &a.options.synth.width, &a.options.synth.height))
     return Fail(verb, "--synth-size '" + a.synth_size + "' is not WxH (1..32768 each)", kExitUsage);
+  if (!a.shard.empty()) {
+    a.options.shard = Shard::Parse(a.shard);
+    if (!a.options.shard) return Fail(verb, "--shard '" + a.shard + "' is not I/N (1 <= I <= N <= 999)", kExitUsage);
+  }
   if (std::string why = a.options.Check(); !why.empty()) return Fail(verb, why, kExitUsage);
   auto outcomes = RunProcess(a.options);
   if (!outcomes.ok()) return Fail(verb, outcomes.status());
   PrintProcessSummary(*outcomes);
+  // One stage is a part of the whole: the session's report is written by a whole run (which,
+  // after the workflow's stages, skips every one).
+  if (!a.options.only_stage.empty()) return kExitOk;
   if (Status st = WriteProcessReport(a.options.session, *outcomes); !st.ok()) return Fail(verb, st);
   std::printf("process: done -> %s\n", SessionLayout(a.options.session).report_html().string().c_str());
   return kExitOk;

@@ -280,39 +280,62 @@ Json ReconstructStageOptions::ToJson() const {
   return settings;
 }
 
-StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const ReconstructStageOptions& options, bool progress) {
-  const std::vector<DirectionPair> pairs = GridPairs(options.grid);
-  if (pairs.empty()) return Status::Error("the BTF grid must be bonn or coarse, not '" + options.grid + "'");
-  SliceSetOptions slice_options = options.slices;
-  slice_options.btf.match_subbands = !options.pixel_only;
-  if (!options.method.ApplyTo(&slice_options))
-    return Status::Error("unknown BTF colour space '" + options.method.colour_space + "'");
+StatusOr<SliceSetOptions> ReconstructStageOptions::SliceOptions() const {
+  if (GridPairs(grid).empty()) return Status::Error("the BTF grid must be bonn or coarse, not '" + grid + "'");
+  SliceSetOptions slice_options = slices;
+  slice_options.btf.match_subbands = !pixel_only;
+  if (!method.ApplyTo(&slice_options)) return Status::Error("unknown BTF colour space '" + method.colour_space + "'");
   if (!slice_options.Check()) return Status::Error("the BTF size must be a power of two");
+  return slice_options;
+}
+
+Json ReconstructStageOptions::Provenance(const fs::path& session) const {
+  Json provenance = ToJson();
+  provenance["index"] = SessionLayout(session).slices().index().string();
+  return provenance;
+}
+
+StatusOr<fs::path> ReconstructStageIndex(const fs::path& session) {
   const fs::path index = SessionLayout(session).slices().index();
   if (!fs::exists(index))
     return Status::Error(index.string() + " not found: run `mesocap calibrate " + session.string() + "` first");
+  return index;
+}
+
+StageSummary ReconstructStageSummary(const BtfFolderReport& written, const Json& header, const std::string& grid) {
+  StageSummary summary;
+  const int size = header.value("width", 0), views = header.value("views_measured", 0);
+  const bool chroma_from_top = header.value("chroma_from_top", false);
+  summary.brief = Format("%d slices (%dx%d, grid %s) from %d measured slices in %d views, %.1f ms per slice%s",
+                         written.slices, size, header.value("height", 0), grid.c_str(), header.value("slices_used", 0),
+                         views, written.ms_per_slice, chroma_from_top ? ", colour from the top view" : "");
+  for (const Json& s : header.value("skipped", Json::array())) summary.warnings.push_back("skipped " + s.get<std::string>());
+  for (const Json& w : header.value("warnings", Json::array())) summary.warnings.push_back(w.get<std::string>());
+  summary.report = {{"slices", written.slices}, {"size", size}, {"views", views},
+                    {"ms_per_slice", written.ms_per_slice}, {"chroma_from_top", chroma_from_top}};
+  return summary;
+}
+
+StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const ReconstructStageOptions& options, bool progress) {
+  auto slice_options = options.SliceOptions();
+  if (!slice_options.ok()) return slice_options.status();
+  auto index = ReconstructStageIndex(session);
+  if (!index.ok()) return index.status();
   SliceSetReport loaded;
   ProgressBar load_bar("statistics", progress);
-  auto btf = LoadStatisticalBtf(index, slice_options, &loaded, load_bar.AsCallback());
+  auto btf = LoadStatisticalBtf(*index, *slice_options, &loaded, load_bar.AsCallback());
   if (!btf.ok()) return btf.status();
   auto staging = StagingFolder::Begin(SessionLayout(session).btf().root);
   if (!staging.ok()) return staging.status();
   ProgressBar bar("reconstruct", progress);
-  Json provenance = options.ToJson();
-  provenance["index"] = index.string();
-  auto written = WriteReconstructedBtf(*btf, loaded, pairs, options.pixel_only, slice_options.btf.num_threads,
-                                       staging->path(), provenance, bar.AsCallback());
+  auto reconstructed = ReconstructPairs(*btf, GridPairs(options.grid), options.pixel_only, slice_options->btf.num_threads,
+                                        staging->path(), bar.AsCallback());
+  if (!reconstructed.ok()) return reconstructed.status();
+  const Json header = BtfIndexHeader(*btf, loaded);
+  auto written = WriteBtfIndex(staging->path(), header, *reconstructed, options.Provenance(session));
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  StageSummary summary;
-  summary.brief = Format("%d slices (%dx%d, grid %s) from %d measured slices in %d views, %.1f ms per slice%s",
-                         written->slices, btf->width(), btf->height(), options.grid.c_str(), loaded.slices_used,
-                         loaded.views, written->ms_per_slice, loaded.chroma_from_top ? ", colour from the top view" : "");
-  for (const std::string& s : loaded.skipped) summary.warnings.push_back("skipped " + s);
-  summary.warnings.insert(summary.warnings.end(), loaded.warnings.begin(), loaded.warnings.end());
-  summary.report = {{"slices", written->slices}, {"size", btf->width()}, {"views", loaded.views},
-                    {"ms_per_slice", written->ms_per_slice}, {"chroma_from_top", loaded.chroma_from_top}};
-  return summary;
+  return ReconstructStageSummary(*written, header, options.grid);
 }
 
 StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOptions& options, int num_threads,

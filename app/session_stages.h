@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/btf_folder.h"
 #include "app/btf_method_args.h"
 #include "calib/calibrate.h"
 #include "calib/resample.h"
@@ -69,7 +70,15 @@ struct ReconstructStageOptions {
   BtfMethodArgs method;
   // The settings the stage's outputs depend on: its cache key and its provenance.
   Json ToJson() const;
+  // The slice set's options these ask for, or why they are invalid.
+  StatusOr<SliceSetOptions> SliceOptions() const;
+  // The BTF index's provenance options for `session`.
+  Json Provenance(const std::filesystem::path& session) const;
 };
+// The slice index the stage reads, or an error saying to calibrate first.
+StatusOr<std::filesystem::path> ReconstructStageIndex(const std::filesystem::path& session);
+// The stage's summary from what it wrote and the BTF index's header (BtfIndexHeader).
+StageSummary ReconstructStageSummary(const BtfFolderReport& written, const Json& header, const std::string& grid);
 // The statistical BTF (Ngan & Durand) over a grid of direction pairs -> SESSION/btf/.
 StatusOr<StageSummary> RunReconstructStage(const std::filesystem::path& session, const ReconstructStageOptions& options,
                                            bool progress);

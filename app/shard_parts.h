@@ -1,0 +1,44 @@
+// The parts of a sharded stage (docs/workflow.md). Each shard publishes its part whole (a staging
+// folder renamed into place) with a record of its key, its shard and what the merge needs; a part
+// whose record is there is done. What every shard needs but no shard should compute alone (the
+// reconstruction's statistics) is computed once, by whichever shard comes first, while the others
+// wait for it, and read by all.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/json.h"
+#include "core/session_layout.h"
+#include "core/shard.h"
+#include "core/status.h"
+
+namespace mesocap::app {
+
+// What a shard job writes: the part's folder to fill (a staging folder) and, once filled, its
+// record; Publish makes the part appear whole.
+class PartWriter {
+ public:
+  virtual ~PartWriter() = default;
+  virtual const std::filesystem::path& folder() const = 0;
+  virtual Status Publish(Json record) = 0;
+};
+
+// Runs shard `shard` of `stage` unless its part is there already (then `*done_before` is set and
+// nothing runs): takes the part's own lock (the same shard running twice at once is refused),
+// stages the part and calls `fill`, which writes into the folder and publishes the record.
+Status RunShardPart(const ShardsFolder& folder, const std::string& stage, const std::string& key, const Shard& shard,
+                    const std::function<Status(PartWriter&)>& fill, bool* done_before);
+
+// The records of every part 1..count of `stage` under `key`, in order; a missing or foreign part
+// is an error naming each missing shard and the command that makes it.
+StatusOr<std::vector<Json>> ReadShardParts(const ShardsFolder& folder, const std::string& stage, const std::string& key,
+                                           int count, const std::string& make_command);
+
+// The shared file: read by `read` if there; else, under its lock, computed by `compute`, which
+// writes it (a second shard waiting on the lock then reads it).
+Status WithSharedFile(const ShardsFolder& folder, const std::function<Status()>& compute, const std::function<Status()>& read);
+
+}  // namespace mesocap::app

@@ -1,0 +1,170 @@
+// The reconstruct stage run as shards through the real CLI (docs/workflow.md): stage by stage
+// (`process --stage`), shards merged for N = 1, 3 and 7 equal one unsharded run (every slice's
+// pixels, the index's entries and figures, timings and provenance aside); the statistics are
+// computed once; a missing shard stops the merge with a message naming it and nothing published;
+// a shard whose part is done is not redone; a changed option gives the parts a new key.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+
+#include "core/atomic_file.h"
+#include "core/image_io.h"
+#include "core/json.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Options(const fs::path& session) {
+  return " --camera " + (session / "truth.json").string() +
+         " --slice-size 32 --btf-grid coarse --btf-size 32 --no-progress";
+}
+
+class ShardsTest : public ::testing::Test {
+ protected:
+  // One rendered session, processed whole once: the reference every sharded run must equal.
+  static void SetUpTestSuite() {
+    const fs::path root = testing::MakeTempDir();
+    rendered_ = new fs::path(root / "rendered");
+    whole_ = new fs::path(root / "whole");
+    std::string out;
+    ASSERT_EQ(testing::RunMesocap("simulate --out " + rendered_->string() +
+                                      " --shots 10 --calib-shots 0 --width 1500 --height 1000 --no-progress", &out), 0) << out;
+    fs::copy(*rendered_, *whole_, fs::copy_options::recursive);
+    ASSERT_EQ(testing::RunMesocap("process " + whole_->string() + Options(*whole_), &out), 0) << out;
+  }
+  static void TearDownTestSuite() { delete rendered_, delete whole_; }
+
+  // A copy of the rendered session with the stages before reconstruct run one by one.
+  static fs::path SessionBeforeReconstruct(const std::string& name) {
+    const fs::path session = testing::MakeTempDir() / name;
+    fs::copy(*rendered_, session, fs::copy_options::recursive);
+    for (const char* stage : {"calibrate", "resample", "fit-ptm"}) {
+      std::string out;
+      EXPECT_EQ(testing::RunMesocap("process " + session.string() + " --stage " + stage + Options(session), &out), 0) << out;
+      EXPECT_NE(out.find(std::string(stage) + " "), std::string::npos) << out;
+    }
+    return session;
+  }
+
+  static int Stage(const fs::path& session, const std::string& args, std::string* out) {
+    return testing::RunMesocap("process " + session.string() + " --stage reconstruct " + args + Options(session), out);
+  }
+
+  static fs::path* rendered_;
+  static fs::path* whole_;
+};
+fs::path* ShardsTest::rendered_ = nullptr;
+fs::path* ShardsTest::whole_ = nullptr;
+
+// index.json without what differs between two runs of the same stage.
+Json WithoutTimings(Json index) {
+  for (const char* field : {"seconds_statistics", "seconds_reconstruct", "ms_per_slice", "provenance"}) index.erase(field);
+  return index;
+}
+
+void ExpectSameBtf(const fs::path& expected, const fs::path& actual) {
+  auto a = ReadJsonFile(expected / "index.json"), b = ReadJsonFile(actual / "index.json");
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(WithoutTimings(*a), WithoutTimings(*b));
+  int compared = 0;
+  for (const Json& entry : (*a)["slices"]) {
+    const std::string file = entry["file"].get<std::string>();
+    auto x = ReadImage(expected / file), y = ReadImage(actual / file);
+    ASSERT_TRUE(x.ok() && y.ok()) << file;
+    ASSERT_EQ(x->size(), y->size()) << file;
+    EXPECT_EQ(std::memcmp(x->data(), y->data(), x->size() * sizeof(float)), 0) << file;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 289);
+}
+
+TEST_F(ShardsTest, ShardsMergedEqualOneUnshardedRunForOneThreeAndSevenShards) {
+  for (const int count : {1, 3, 7}) {
+    const fs::path session = SessionBeforeReconstruct("shards" + std::to_string(count));
+    std::string out;
+    for (int index = 1; index <= count; ++index) {
+      const std::string shard = std::to_string(index) + "/" + std::to_string(count);
+      ASSERT_EQ(Stage(session, "--shard " + shard, &out), 0) << out;
+      EXPECT_NE(out.find("shard " + shard + " ran"), std::string::npos) << out;
+      // The statistics are computed once, by the first shard, and shared.
+      EXPECT_NE(out.find(index == 1 ? "statistics computed" : "statistics shared by the first shard"), std::string::npos)
+          << out;
+      // Shards record nothing: the stage is done only once merged.
+      EXPECT_FALSE(fs::exists(session / "btf")) << shard;
+    }
+    ASSERT_EQ(Stage(session, "--merge " + std::to_string(count), &out), 0) << out;
+    EXPECT_NE(out.find("reconstruct  ran"), std::string::npos) << out;
+    ExpectSameBtf(*whole_ / "btf", session / "btf");
+    EXPECT_FALSE(fs::exists(session / "shards" / "reconstruct")) << "the merge removes the parts";
+    // Recorded as the stage: the next whole run skips it and runs only the export.
+    ASSERT_EQ(testing::RunMesocap("process " + session.string() + Options(session), &out), 0) << out;
+    EXPECT_NE(out.find("reconstruct  skipped"), std::string::npos) << out;
+    EXPECT_NE(out.find("export       ran"), std::string::npos) << out;
+    for (const char* texture : {"base_color.png", "metallic_roughness.png", "normal.png"}) {
+      auto a = ReadTextFile(*whole_ / "export" / "gltf" / texture), b = ReadTextFile(session / "export" / "gltf" / texture);
+      ASSERT_TRUE(a.ok() && b.ok()) << texture;
+      EXPECT_TRUE(*a == *b) << texture;
+    }
+  }
+}
+
+TEST_F(ShardsTest, AMissingShardStopsTheMergeWithItsNameAndNothingPublished) {
+  const fs::path session = SessionBeforeReconstruct("missing");
+  std::string out;
+  ASSERT_EQ(Stage(session, "--shard 1/3", &out), 0) << out;
+  ASSERT_EQ(Stage(session, "--shard 3/3", &out), 0) << out;
+  EXPECT_EQ(Stage(session, "--merge 3", &out), 1);
+  EXPECT_NE(out.find("shard 2/3"), std::string::npos) << out;
+  EXPECT_NE(out.find("--shard 2/3"), std::string::npos) << "says how to make it: " << out;
+  EXPECT_EQ(out.find("shard 1/3 ("), std::string::npos) << "names only the missing one: " << out;
+  EXPECT_FALSE(fs::exists(session / "btf"));
+  // A shard already done is not redone; the missing one then completes the merge.
+  ASSERT_EQ(Stage(session, "--shard 1/3", &out), 0) << out;
+  EXPECT_NE(out.find("shard 1/3 done before"), std::string::npos) << out;
+  ASSERT_EQ(Stage(session, "--shard 2/3", &out), 0) << out;
+  ASSERT_EQ(Stage(session, "--merge 3", &out), 0) << out;
+  ExpectSameBtf(*whole_ / "btf", session / "btf");
+  // Merged and current: another shard run or merge finishes at once.
+  ASSERT_EQ(Stage(session, "--shard 2/3", &out), 0) << out;
+  EXPECT_NE(out.find("unchanged, skipped"), std::string::npos) << out;
+}
+
+TEST_F(ShardsTest, AChangedOptionGivesThePartsANewKey) {
+  const fs::path session = SessionBeforeReconstruct("key");
+  std::string out;
+  ASSERT_EQ(Stage(session, "--shard 1/2", &out), 0) << out;
+  ASSERT_EQ(testing::RunMesocap("process " + session.string() + " --stage reconstruct --shard 2/2" + Options(session) +
+                                    " --btf-pixel-only", &out), 0) << out;
+  // Shard 2 of the first options is missing: the parts made with other options do not count.
+  EXPECT_EQ(Stage(session, "--merge 2", &out), 1);
+  EXPECT_NE(out.find("shard 2/2"), std::string::npos) << out;
+  int keys = 0;
+  for (const auto& entry : fs::directory_iterator(session / "shards" / "reconstruct")) keys += entry.is_directory();
+  EXPECT_EQ(keys, 2);
+}
+
+TEST_F(ShardsTest, ShardOptionsAreCheckedBeforeAnythingRuns) {
+  const fs::path session = testing::MakeTempDir() / "usage";
+  fs::copy(*rendered_, session, fs::copy_options::recursive);
+  const std::string s = session.string();
+  for (const auto& [args, says] : std::map<std::string, std::string>{
+           {" --stage reconstruct --shard 0/3", "is not I/N"},
+           {" --stage reconstruct --shard 4/3", "is not I/N"},
+           {" --stage reconstruct --shard 1/3 --merge 3", "not both"},
+           {" --stage fit-ptm --shard 1/3", "shardable"},
+           {" --shard 1/3", "shardable"},
+           {" --stage tidy", "no such stage"},
+           {" --stage synth", "--synth METHOD"}}) {
+    std::string out;
+    EXPECT_EQ(testing::RunMesocap("process " + s + args, &out), 2) << args << ": " << out;
+    EXPECT_NE(out.find(says), std::string::npos) << args << ": " << out;
+  }
+  EXPECT_FALSE(fs::exists(session / "stages.json"));
+}
+
+}  // namespace
+}  // namespace mesocap
