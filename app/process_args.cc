@@ -39,6 +39,9 @@ CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
                       "/ (shards share the statistics; merge with --merge N)");
   sub->add_option("--merge", args->options.merge_shards,
                   "With --stage reconstruct: merge its N shards into the stage's folder, as one run would write it");
+  sub->add_option("--outcome", args->outcome,
+                  "On success, write what each stage did (JSON: stage, status, seconds, outputs) to this file, atomically "
+                  "(the workflow's marker of a finished job)");
   sub->add_option("--force", args->options.force, "Rerun this stage even if unchanged (repeatable; 'all' for every stage)");
   sub->add_option("--threads", args->options.threads, "Threads (-1: all cores)")->capture_default_str();
   sub->add_flag("--no-progress", args->no_progress, "Do not draw progress bars");

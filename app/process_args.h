@@ -2,6 +2,7 @@
 // (app/process_cmd.cc), which the front reaches through the commands module once it is chosen.
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 #include "app/process.h"
@@ -18,6 +19,7 @@ struct ProcessArgs {
   bool no_brdf_smoothing = false, no_chroma_detail = false;
   std::string ptm_format = "rgb";
   std::string shard;  // "I/N"
+  std::filesystem::path outcome;  // --outcome FILE
   bool no_progress = false;
 };
 

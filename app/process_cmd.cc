@@ -8,12 +8,22 @@
 #include "app/commands.h"
 #include "app/process.h"
 #include "app/synth_output.h"
+#include "core/json.h"
 #include "core/session_layout.h"
 
 namespace mesocap::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+Json OutcomesToJson(const fs::path& session, const std::vector<StageOutcome>& outcomes) {
+  Json stages = Json::array();
+  for (const StageOutcome& o : outcomes)
+    stages.push_back({{"stage", o.name}, {"status", o.status}, {"seconds", o.seconds}, {"brief", o.summary.brief},
+                      {"warnings", o.summary.warnings}});
+  return {{"format", "mesocap-process-outcome"}, {"session", fs::absolute(session).lexically_normal().string()},
+          {"stages", stages}};
+}
 
 }  // namespace
 
@@ -34,6 +44,8 @@ int RunProcess(ProcessArgs& a) {
   auto outcomes = RunProcess(a.options);
   if (!outcomes.ok()) return Fail(verb, outcomes.status());
   PrintProcessSummary(*outcomes);
+  if (!a.outcome.empty())
+    if (Status st = WriteJsonFile(a.outcome, OutcomesToJson(a.options.session, *outcomes)); !st.ok()) return Fail(verb, st);
   // One stage is a part of the whole: the session's report is written by a whole run (which,
   // after the workflow's stages, skips every one).
   if (!a.options.only_stage.empty()) return kExitOk;

@@ -45,8 +45,7 @@ Json ResampleOptions::ToJson() const {
           {"keep_mean_power_shots", keep_mean_power_shots},
           {"saturation_level", saturation_level},
           {"max_saturated_fraction", max_saturated_fraction},
-          {"visibility_grid", visibility_grid},
-          {"num_threads", num_threads}};
+          {"visibility_grid", visibility_grid}};  // not num_threads: it changes no output, and this is a cache key
 }
 
 Json SliceRecord::ToJson() const {

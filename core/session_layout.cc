@@ -138,6 +138,9 @@ fs::path SessionLayout::workflow() const { return root_ / "workflow"; }
 fs::path SessionLayout::workflow_marker(const std::string& job) const {
   return workflow() / ((job.empty() ? "JOB" : job) + ".done");
 }
+fs::path SessionLayout::workflow_log(const std::string& job) const {
+  return workflow() / ((job.empty() ? "JOB" : job) + ".log");
+}
 
 std::string ReportHtmlName() { return "report.html"; }
 std::string ReportMarkdownName() { return "report.md"; }
@@ -240,7 +243,7 @@ Json SessionLayout::ToJson() const {
                  {"shared", rel(shards_pattern.shared())},
                  {"part", rel(shards_pattern.part(kPattern, kPattern))},
                  {"part_record", ShardsFolder::part_record_name()}};
-  j["workflow"] = {{"folder", rel(workflow())}, {"marker", rel(workflow_marker(""))}};
+  j["workflow"] = {{"folder", rel(workflow())}, {"marker", rel(workflow_marker(""))}, {"log", rel(workflow_log(""))}};
   j["report"] = {{"html", rel(report_html())},
                  {"markdown", rel(report_md())},
                  {"files", rel(report_files())},

@@ -168,6 +168,7 @@ class SessionLayout {
   // workflow/: the Snakemake workflow's marker per finished job (workflow/Snakefile).
   std::filesystem::path workflow() const;
   std::filesystem::path workflow_marker(const std::string& job) const;  // JOB.done
+  std::filesystem::path workflow_log(const std::string& job) const;     // JOB.log
 
   // The session's report (Report::Write names the files in a folder) and its pictures.
   std::filesystem::path report_html() const;
