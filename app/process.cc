@@ -10,6 +10,7 @@
 
 #include "app/btf_folder.h"
 #include "app/reconstruct_shards.h"
+#include "app/synth_stage.h"
 #include "app/session_export.h"
 #include "app/synth_run.h"
 #include "core/atomic_file.h"
@@ -186,7 +187,15 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                       {{"method", a.synth.method}, {"width", a.synth.width}, {"height", a.synth.height},
                        {"seed", a.synth.seed}, {"max_slices", a.synth.max_slices}},
                       {s.Relative(s.synth().root)},
-                      [&a, progress] { return RunSynthStage(a.session, a.synth, a.threads, progress); }});
+                      [&a, progress] { return RunSynthStage(a.session, a.synth, a.threads, progress); },
+                      [&a, progress](const Shard& shard, const std::string& key, bool* done_before) {
+                        return RunSynthShard(a.session, a.synth, a.threads, shard, key, progress, done_before);
+                      },
+                      [&a](int count, const std::string& key) {
+                        return MergeSynthShards(a.session, a.synth, a.threads, count, key,
+                                                "mesocap process " + a.session.string() +
+                                                    " --stage synth (with this run's options)");
+                      }});
   std::vector<std::string> export_after = {"resample", "fit-ptm", "reconstruct"};
   if (!a.synth.method.empty()) export_after.push_back("synth");
   stages.push_back({"export", export_after, {}, {{"formats", "ptm lp exr gltf previews"}}, {s.Relative(s.exports().root)},
@@ -233,7 +242,7 @@ const std::vector<std::string>& ProcessStageNames() {
 }
 
 const std::vector<std::string>& ShardableStageNames() {
-  static const std::vector<std::string> names = {"reconstruct"};
+  static const std::vector<std::string> names = {"reconstruct", "synth"};
   return names;
 }
 
@@ -252,7 +261,7 @@ std::string ProcessOptions::Check() const {
     return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export)";
   if (only_stage == "synth" && synth.method.empty()) return "--stage synth needs --synth METHOD";
   if ((shard || merge_shards != 0) && !is_one_of(only_stage, ShardableStageNames()))
-    return "--shard and --merge need --stage naming a shardable stage (reconstruct)";
+    return "--shard and --merge need --stage naming a shardable stage (reconstruct, synth)";
   if (shard && merge_shards != 0) return "give --shard or --merge, not both";
   if (merge_shards < 0 || merge_shards > Shard::kMaxCount) return "--merge must be a shard count from 1 to 999";
   if (std::string why = resample.Check(); !why.empty()) return why;

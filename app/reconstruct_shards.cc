@@ -24,7 +24,7 @@ StatusOr<StatisticsRecord> SharedStatistics(const fs::path& session, const Slice
   if (!index.ok()) return index.status();
   StatisticsRecord record;
   *computed = false;
-  const auto compute = [&]() -> Status {
+  const auto compute = [&](const fs::path& staging) -> Status {
     *computed = true;
     const auto start = std::chrono::steady_clock::now();
     ProgressBar bar("statistics", progress);
@@ -32,15 +32,15 @@ StatusOr<StatisticsRecord> SharedStatistics(const fs::path& session, const Slice
     if (!inputs.ok()) return inputs.status();
     record.inputs = std::move(*inputs);
     record.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return WriteStatisticsRecord(folder.shared(), record);
+    return WriteStatisticsRecord(staging / ShardsFolder::statistics_name(), record);
   };
   const auto read = [&]() -> Status {
-    auto read = ReadStatisticsRecord(folder.shared(), options.btf);
+    auto read = ReadStatisticsRecord(folder.shared() / ShardsFolder::statistics_name(), options.btf);
     if (!read.ok()) return read.status();
     record = std::move(*read);
     return Status::Ok();
   };
-  MESOCAP_RETURN_IF_ERROR(WithSharedFile(folder, compute, read));
+  MESOCAP_RETURN_IF_ERROR(WithSharedFolder(folder, compute, read));
   return record;
 }
 
@@ -86,9 +86,6 @@ StatusOr<StageSummary> MergeReconstructShards(const fs::path& session, const Rec
   if (!parts.ok()) return parts.status();
   auto staging = StagingFolder::Begin(layout.btf().root);
   if (!staging.ok()) return staging.status();
-  std::error_code ec;
-  fs::create_directories(BtfFolder{staging->path()}.slices(), ec);
-  if (ec) return Status::Error(staging->path().string() + ": cannot create: " + ec.message());
   ReconstructedPairs merged;
   for (int k = 0; k < count; ++k) {
     const Json& part = (*parts)[size_t(k)];
@@ -96,15 +93,7 @@ StatusOr<StageSummary> MergeReconstructShards(const fs::path& session, const Rec
       return Status::Error(folder.part(k + 1, count).string() + ": made from other statistics than shard 1's");
     merged.seconds += part.value("seconds", 0.0);
     for (const Json& entry : part.value("entries", Json::array())) {
-      // Linked, not copied (the parts are on the session's file system), and not moved: a merge
-      // that stops half way leaves every part whole for the next.
-      const std::string file = entry.value("file", "");
-      const fs::path from = folder.part(k + 1, count) / file, to = staging->path() / file;
-      if (file.empty() || fs::exists(to))
-        return Status::Error(folder.part(k + 1, count).string() + ": slice '" + file + "' is empty or named twice");
-      fs::create_hard_link(from, to, ec);
-      if (ec) fs::copy_file(from, to, ec);
-      if (ec) return Status::Error(from.string() + ": cannot take into the BTF: " + ec.message());
+      MESOCAP_RETURN_IF_ERROR(LinkPartFile(folder.part(k + 1, count), staging->path(), entry.value("file", "")));
       merged.entries.push_back(entry);
     }
   }
@@ -116,6 +105,7 @@ StatusOr<StageSummary> MergeReconstructShards(const fs::path& session, const Rec
   auto written = WriteBtfIndex(staging->path(), header, merged, options.Provenance(session));
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
+  std::error_code ec;
   fs::remove_all(layout.shards_root() / kStage, ec);  // every key's parts: the BTF is whole now
   return ReconstructStageSummary(*written, header, options.grid);
 }

@@ -7,8 +7,6 @@
 #include "app/board_lights.h"
 #include "app/btf_folder.h"
 #include "app/rig_plot.h"
-#include "app/synth_output.h"
-#include "app/synth_run.h"
 #include "calib/intrinsics.h"
 #include "calib/intrinsics_plot.h"
 #include "core/atomic_file.h"
@@ -336,51 +334,6 @@ StatusOr<StageSummary> RunReconstructStage(const fs::path& session, const Recons
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   return ReconstructStageSummary(*written, header, options.grid);
-}
-
-StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOptions& options, int num_threads,
-                                     bool progress) {
-  const fs::path index = SessionLayout(session).btf().index();
-  if (!fs::exists(index))
-    return Status::Error(index.string() + " not found: synthesis enlarges the reconstructed BTF (run the reconstruct stage)");
-  ExemplarOptions exemplar_options;
-  exemplar_options.num_threads = num_threads;
-  ProgressBar features_bar("features", progress);
-  auto exemplar = LoadExemplar(index, exemplar_options, features_bar.AsCallback());
-  if (!exemplar.ok()) return exemplar.status();
-  SynthMethodOptions method;
-  method.method = options.method;
-  method.width = options.width, method.height = options.height, method.seed = options.seed;
-  method.num_threads = num_threads;
-  method.svd_components = exemplar_options.svd_components;
-  Json report;
-  std::string note;
-  ProgressBar bar(options.method, progress);
-  TextonAnalysis textons;
-  auto map = RunSynthesisMethod(*exemplar, method, &report, &note, bar.AsCallback(), &textons);
-  if (!map.ok()) return map.status().WithContext(index.string() + ": ");
-  // Which slices to synthesize: those whose light and view lie on the coarse grid, then the rest,
-  // up to max_slices (a 6561-slice BTF at 512 x 512 would be gigabytes).
-  SynthOutputRequest request;
-  request.out = SessionLayout(session).synth().root;
-  request.replace = true;
-  request.num_threads = num_threads;
-  for (int pass = 0; pass < 2; ++pass)
-    for (size_t k = 0; k < exemplar->slices.size() && int(request.slices.size()) < options.max_slices; ++k)
-      if (OnCoarseGrid(exemplar->slices[k].light) && OnCoarseGrid(exemplar->slices[k].view) ? pass == 0 : pass == 1)
-        request.slices.push_back(int(k));
-  std::sort(request.slices.begin(), request.slices.end());
-  request.report = std::move(report);
-  request.write_extra = TextonAnalysisWriter(textons);
-  ProgressBar write_bar("synth slices", progress);
-  MESOCAP_RETURN_IF_ERROR(WriteSynthesisOutputs(*map, *exemplar, request, write_bar.AsCallback()));
-  StageSummary summary;
-  summary.brief = Format("%s %dx%d from the %dx%d reconstructed BTF, %zu slices synthesized", options.method.c_str(),
-                         map->width, map->height, exemplar->width, exemplar->height, request.slices.size());
-  if (!note.empty()) summary.warnings.push_back(note);
-  summary.report = {{"method", options.method}, {"width", map->width}, {"height", map->height},
-                    {"slices", request.slices.size()}};
-  return summary;
 }
 
 }  // namespace mesocap::app

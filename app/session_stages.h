@@ -89,10 +89,7 @@ struct SynthStageOptions {
   uint32_t seed = 1;
   int max_slices = 289;  // slices of the BTF synthesized (those on the coarse grid first)
 };
-// Enlarges the reconstructed BTF (SESSION/btf/) with `method` -> SESSION/synth/ (the map, the
-// synthesized slices, previews, report.json: app/synth_output.h).
-StatusOr<StageSummary> RunSynthStage(const std::filesystem::path& session, const SynthStageOptions& options,
-                                     int num_threads, bool progress);
+// The synth stage itself: app/synth_stage.h.
 
 // The board whose view is closest to head-on in the slice index (the top of the pyramid).
 StatusOr<int> TopBoardOfSession(const std::filesystem::path& session);

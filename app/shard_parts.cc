@@ -81,7 +81,19 @@ StatusOr<std::vector<Json>> ReadShardParts(const ShardsFolder& folder, const std
   return parts;
 }
 
-Status WithSharedFile(const ShardsFolder& folder, const std::function<Status()>& compute, const std::function<Status()>& read) {
+Status LinkPartFile(const fs::path& part, const fs::path& folder, const std::string& file) {
+  const fs::path from = part / file, to = folder / file;
+  if (file.empty() || fs::exists(to)) return Status::Error(part.string() + ": file '" + file + "' is empty or named twice");
+  std::error_code ec;
+  fs::create_directories(to.parent_path(), ec);
+  fs::create_hard_link(from, to, ec);
+  if (ec) fs::copy_file(from, to, ec);
+  if (ec) return Status::Error(from.string() + ": cannot take from the shard's part: " + ec.message());
+  return Status::Ok();
+}
+
+Status WithSharedFolder(const ShardsFolder& folder, const std::function<Status(const fs::path& staging)>& compute,
+                        const std::function<Status()>& read) {
   std::error_code ec;
   fs::create_directories(folder.root, ec);
   if (ec) return Status::Error(folder.root.string() + ": cannot create: " + ec.message());
@@ -89,7 +101,10 @@ Status WithSharedFile(const ShardsFolder& folder, const std::function<Status()>&
   auto lock = FileLock::Exclusive(folder.shared_lock(), /*wait=*/true);
   if (!lock.ok()) return lock.status();
   if (fs::exists(folder.shared())) return read();  // made while this shard waited
-  return compute();
+  auto staging = StagingFolder::Begin(folder.shared());
+  if (!staging.ok()) return staging.status();
+  MESOCAP_RETURN_IF_ERROR(compute(staging->path()));
+  return staging->Publish();
 }
 
 }  // namespace mesocap::app

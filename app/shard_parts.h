@@ -37,8 +37,14 @@ Status RunShardPart(const ShardsFolder& folder, const std::string& stage, const 
 StatusOr<std::vector<Json>> ReadShardParts(const ShardsFolder& folder, const std::string& stage, const std::string& key,
                                            int count, const std::string& make_command);
 
-// The shared file: read by `read` if there; else, under its lock, computed by `compute`, which
-// writes it (a second shard waiting on the lock then reads it).
-Status WithSharedFile(const ShardsFolder& folder, const std::function<Status()>& compute, const std::function<Status()>& read);
+// `file` (relative to the part) taken into `folder` at the same relative path: hard-linked (the
+// parts are on the session's file system; a merge that stops half way leaves every part whole),
+// else copied. An empty name, or one already taken, is an error naming the part.
+Status LinkPartFile(const std::filesystem::path& part, const std::filesystem::path& folder, const std::string& file);
+
+// The shared folder: read by `read` if there; else, under its lock, made by `compute` in a staging
+// folder it is given, then published whole (a second shard waiting on the lock then reads it).
+Status WithSharedFolder(const ShardsFolder& folder, const std::function<Status(const std::filesystem::path& staging)>& compute,
+                        const std::function<Status()>& read);
 
 }  // namespace mesocap::app

@@ -85,13 +85,47 @@ Json SeamJson(const SynthMap& map, const Image& output, const Image& sample, con
 
 }  // namespace
 
+Json ExemplarReport(const Exemplar& e) {
+  return {{"path", e.path.string()}, {"kind", ExemplarKindToString(e.kind)}, {"width", e.width}, {"height", e.height},
+          {"slices", e.slices.size()}, {"features", e.features.channels()}, {"svd_energy_kept", e.svd_energy_kept}};
+}
+
+StatusOr<std::vector<Json>> WriteSynthesizedSlices(const SynthMap& map, const Exemplar& e, const std::vector<int>& slices,
+                                                   const fs::path& folder, int num_threads, const ProgressFn& progress,
+                                                   const std::function<void(int k, const Image& slice)>& on_slice) {
+  std::error_code ec;
+  fs::create_directories(BtfFolder{folder}.slices(), ec);
+  if (ec) return Status::Error(folder.string() + ": cannot create: " + ec.message());
+  std::vector<Json> entries(e.slices.size());
+  std::mutex mutex;
+  ApplyOptions apply;
+  apply.num_threads = num_threads;
+  Status st = ApplyMapToBtf(map, e, slices, [&](int k, const Image& slice) -> Status {
+    const ExemplarSlice& s = e.slices[k];
+    const std::string name = BtfFolder::SliceEntry(s.file.filename().string());
+    ImageWriteOptions w;
+    w.format = PixelFormat::kHalf;
+    SetSliceAngles(&w.attributes, s.theta_i_deg, s.phi_i_deg, s.theta_o_deg, s.phi_o_deg);
+    w.attributes["mesocap:method"] = "synthesized (" + map.method + ")";
+    MESOCAP_RETURN_IF_ERROR(WriteImage(folder / name, slice, w));
+    if (on_slice) on_slice(k, slice);
+    std::lock_guard<std::mutex> lock(mutex);
+    entries[k] = {{"file", name}, {"theta_i_deg", s.theta_i_deg}, {"phi_i_deg", s.phi_i_deg},
+                  {"theta_o_deg", s.theta_o_deg}, {"phi_o_deg", s.phi_o_deg}};
+    return Status::Ok();
+  }, apply, progress);
+  if (!st.ok()) return st;
+  std::vector<Json> list;
+  for (int k : slices) list.push_back(entries[k]);
+  return list;
+}
+
 Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutputRequest request, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   auto staged = StagingFolder::Begin(request.out);
   if (!staged.ok()) return staged.status();
   const fs::path staging = staged->path();
   const SynthFolder out{staging};
-  std::error_code ec;
   // On any failure below, `staged` removes the staging folder as it goes out of scope.
   if (Status st = WriteSynthMap(out.map(), map); !st.ok()) return st;
   if (Status st = WriteImage(out.patches(), PatchPicture(map)); !st.ok()) return st;
@@ -123,32 +157,19 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
     if (slices.empty())
       for (int k = 0; k < int(e.slices.size()); ++k) slices.push_back(k);
     const std::vector<int> shown = PreviewSlices(e);
-    fs::create_directories(out.btf().slices(), ec);
-    std::vector<Json> entries(e.slices.size());
     std::vector<Image> shown_images(shown.size());
     std::mutex mutex;
-    ApplyOptions apply;
-    apply.num_threads = request.num_threads;
-    Status st = ApplyMapToBtf(map, e, slices, [&](int k, const Image& slice) -> Status {
-      const ExemplarSlice& s = e.slices[k];
-      const std::string name = BtfFolder::SliceEntry(s.file.filename().string());
-      ImageWriteOptions w;
-      w.format = PixelFormat::kHalf;
-      SetSliceAngles(&w.attributes, s.theta_i_deg, s.phi_i_deg, s.theta_o_deg, s.phi_o_deg);
-      w.attributes["mesocap:method"] = "synthesized (" + map.method + ")";
-      MESOCAP_RETURN_IF_ERROR(WriteImage(staging / name, slice, w));
+    const auto keep_shown = [&](int k, const Image& slice) {
       std::lock_guard<std::mutex> lock(mutex);
-      entries[k] = {{"file", name}, {"theta_i_deg", s.theta_i_deg}, {"phi_i_deg", s.phi_i_deg},
-                    {"theta_o_deg", s.theta_o_deg}, {"phi_o_deg", s.phi_o_deg}};
       for (size_t i = 0; i < shown.size(); ++i)
         if (shown[i] == k) shown_images[i] = slice;
-      return Status::Ok();
-    }, apply, progress);
-    if (!st.ok()) return st;
-    Json list = Json::array();
-    for (int k : slices) list.push_back(entries[k]);
+    };
+    auto list = request.take_slices
+                    ? request.take_slices(staging)
+                    : WriteSynthesizedSlices(map, e, slices, staging, request.num_threads, progress, keep_shown);
+    if (!list.ok()) return list.status();
     Json index = {{"format", "mesocap-btf"}, {"width", map.width}, {"height", map.height}, {"method", map.method},
-                  {"exemplar", e.path.string()}, {"slices", list}};
+                  {"exemplar", e.path.string()}, {"slices", *list}};
     if (Status s2 = WriteJsonFile(out.btf().index(), index); !s2.ok()) return s2;
     auto lookup = SliceDirectionLookup::Create(e.slices);
     if (!lookup.ok()) return lookup.status();
@@ -172,9 +193,7 @@ Status WriteSynthesisOutputs(const SynthMap& map, const Exemplar& e, SynthOutput
     if (Status st = WriteImage(preview_files[i], exposed[i]); !st.ok()) return st;
 
   Json& report = request.report;
-  report["exemplar"] = {{"path", e.path.string()}, {"kind", ExemplarKindToString(e.kind)}, {"width", e.width},
-                        {"height", e.height}, {"slices", e.slices.size()}, {"features", e.features.channels()},
-                        {"svd_energy_kept", e.svd_energy_kept}};
+  report["exemplar"] = request.exemplar_report.is_null() ? ExemplarReport(e) : request.exemplar_report;
   report["output"] = {{"width", map.width}, {"height", map.height}};
   report["seams"] = seams;
   report["seconds_writing"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -25,7 +25,23 @@ struct SynthOutputRequest {
   bool replace = false;     // an existing `out` is swapped out whole (a re-run); else it must be empty
   // Files a method keeps beside its map (the texton analysis), written into the staging folder.
   std::function<Status(const std::filesystem::path& folder)> write_extra;
+  // BTF: puts the requested slices into the staging folder and returns their index entries, in
+  // order (a sharded stage's merge takes its shards' slices so); null: applies the map here.
+  std::function<StatusOr<std::vector<Json>>(const std::filesystem::path& folder)> take_slices;
+  // The report's "exemplar" figures (ExemplarReport); null: of the exemplar given.
+  Json exemplar_report;
 };
+
+// The report's figures of an exemplar (its kind, size, slices, features).
+Json ExemplarReport(const Exemplar& exemplar);
+
+// Applies `map` to the BTF exemplar's `slices` on all cores, each written as a half-float slice
+// into `folder` (its BtfFolder layout); their index entries in the order of `slices`.
+// `on_slice` (may be null) sees each slice as made.
+StatusOr<std::vector<Json>> WriteSynthesizedSlices(const SynthMap& map, const Exemplar& exemplar,
+                                                   const std::vector<int>& slices, const std::filesystem::path& folder,
+                                                   int num_threads, const ProgressFn& progress,
+                                                   const std::function<void(int k, const Image& slice)>& on_slice = nullptr);
 
 // Parses WxH ("512x512" or "512").
 bool ParseSize(const std::string& text, int* width, int* height);

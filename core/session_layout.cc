@@ -87,7 +87,8 @@ PreviewsFolder ExportFolder::previews() const { return {root / "previews"}; }
 fs::path CoverageFolder::assessment() const { return root / "coverage.json"; }
 fs::path CoverageFolder::plot() const { return root / "coverage.png"; }
 
-fs::path ShardsFolder::shared() const { return root / "shared.bin"; }
+fs::path ShardsFolder::shared() const { return root / "shared"; }
+std::string ShardsFolder::statistics_name() { return "statistics.bin"; }
 fs::path ShardsFolder::shared_lock() const { return root / "shared.lock"; }
 fs::path ShardsFolder::part(int index, int count) const {
   return root / ("part_" + Numbered(index, 3, "III") + "_of_" + Numbered(count, 3, "NNN"));
@@ -241,6 +242,7 @@ Json SessionLayout::ToJson() const {
   j["shards"] = {{"folder", rel(shards_root())},
                  {"stage_key", rel(shards_pattern.root)},
                  {"shared", rel(shards_pattern.shared())},
+                 {"statistics", rel(shards_pattern.shared() / ShardsFolder::statistics_name())},
                  {"part", rel(shards_pattern.part(kPattern, kPattern))},
                  {"part_record", ShardsFolder::part_record_name()}};
   j["workflow"] = {{"folder", rel(workflow())}, {"marker", rel(workflow_marker(""))}, {"log", rel(workflow_log(""))}};

@@ -120,8 +120,10 @@ struct CoverageFolder {
 // shard shares and each shard's part (docs/workflow.md).
 struct ShardsFolder {
   std::filesystem::path root;
-  std::filesystem::path shared() const;       // shared.bin: computed by the first shard, read by all
-  std::filesystem::path shared_lock() const;  // held by the shard computing shared.bin
+  // shared/: what every shard reads, made by the first shard (published whole).
+  std::filesystem::path shared() const;
+  std::filesystem::path shared_lock() const;  // held by the shard making shared/
+  static std::string statistics_name();       // in shared/: the reconstruction's statistics.bin
   // Shard `index` of `count`'s part (a folder, published whole) and its record inside it.
   std::filesystem::path part(int index, int count) const;
   std::filesystem::path part_lock(int index, int count) const;

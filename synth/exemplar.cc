@@ -221,6 +221,7 @@ StatusOr<Exemplar> BtfExemplar(std::vector<ExemplarSlice> slices, const Exemplar
   auto preview = e.ReadSlice(best);
   if (!preview.ok()) return preview.status();
   e.preview = std::move(*preview);
+  if (!options.features) return e;
   auto features = GeometryMapsOfSlices(int(e.slices.size()), [&](int k) { return e.ReadSlice(k); },
                                        options.svd_components, options.svd_power_iterations, options.normalize_slices,
                                        options.num_threads, progress);

@@ -36,6 +36,9 @@ struct ExemplarOptions {
   // matching and cutting (false: the plain sum of squared errors over slices).
   bool normalize_slices = true;
   int board = -1;           // session slices: which board (-1: the most head-on one)
+  // A BTF's geometry maps (the SVD over every slice); false: the slices and preview alone, all
+  // that applying a map needs.
+  bool features = true;
   int num_threads = -1;
   bool Check() const { return svd_components >= 1 && svd_power_iterations >= 0; }
 };

@@ -60,26 +60,33 @@ class ShardsTest : public ::testing::Test {
 fs::path* ShardsTest::rendered_ = nullptr;
 fs::path* ShardsTest::whole_ = nullptr;
 
-// index.json without what differs between two runs of the same stage.
+// index.json without what differs between two runs of the same stage (in two session folders).
 Json WithoutTimings(Json index) {
-  for (const char* field : {"seconds_statistics", "seconds_reconstruct", "ms_per_slice", "provenance"}) index.erase(field);
+  for (const char* field : {"seconds_statistics", "seconds_reconstruct", "ms_per_slice", "provenance", "exemplar"})
+    index.erase(field);
   return index;
 }
 
-void ExpectSameBtf(const fs::path& expected, const fs::path& actual) {
+void ExpectSamePixels(const fs::path& expected, const fs::path& actual) {
+  auto x = ReadImage(expected), y = ReadImage(actual);
+  ASSERT_TRUE(x.ok() && y.ok()) << actual;
+  ASSERT_EQ(x->size(), y->size()) << actual;
+  EXPECT_EQ(std::memcmp(x->data(), y->data(), x->size() * sizeof(float)), 0) << actual;
+}
+
+// The BTF folders' indexes (timings and provenance aside) and every slice's pixels.
+void ExpectSameSlices(const fs::path& expected, const fs::path& actual) {
   auto a = ReadJsonFile(expected / "index.json"), b = ReadJsonFile(actual / "index.json");
   ASSERT_TRUE(a.ok() && b.ok());
-  EXPECT_EQ(WithoutTimings(*a), WithoutTimings(*b));
-  int compared = 0;
-  for (const Json& entry : (*a)["slices"]) {
-    const std::string file = entry["file"].get<std::string>();
-    auto x = ReadImage(expected / file), y = ReadImage(actual / file);
-    ASSERT_TRUE(x.ok() && y.ok()) << file;
-    ASSERT_EQ(x->size(), y->size()) << file;
-    EXPECT_EQ(std::memcmp(x->data(), y->data(), x->size() * sizeof(float)), 0) << file;
-    ++compared;
-  }
-  EXPECT_EQ(compared, 289);
+  EXPECT_TRUE(WithoutTimings(*a) == WithoutTimings(*b)) << actual;
+  for (const Json& entry : (*a)["slices"]) ExpectSamePixels(expected / entry["file"].get<std::string>(), actual / entry["file"].get<std::string>());
+}
+
+void ExpectSameBtf(const fs::path& expected, const fs::path& actual) {
+  ExpectSameSlices(expected, actual);
+  auto a = ReadJsonFile(expected / "index.json");
+  ASSERT_TRUE(a.ok());
+  EXPECT_EQ((*a)["slices"].size(), 289u);
 }
 
 TEST_F(ShardsTest, ShardsMergedEqualOneUnshardedRunForOneThreeAndSevenShards) {
@@ -113,6 +120,38 @@ TEST_F(ShardsTest, ShardsMergedEqualOneUnshardedRunForOneThreeAndSevenShards) {
       EXPECT_TRUE(*a == *b) << texture;
     }
   }
+}
+
+// The synth stage's map applied in 3 shards equals one run's folder: the map, every slice's pixels,
+// the index, the previews and the report's figures.
+TEST_F(ShardsTest, SynthShardsMergedEqualOneUnshardedRun) {
+  const std::string synth = " --synth quilt --synth-size 64x64";
+  const fs::path whole = testing::MakeTempDir() / "synth_whole", sharded = whole.parent_path() / "synth_sharded";
+  fs::copy(*whole_, whole, fs::copy_options::recursive);
+  fs::copy(*whole_, sharded, fs::copy_options::recursive);
+  std::string out;
+  ASSERT_EQ(testing::RunMesocap("process " + whole.string() + " --stage synth" + Options(whole) + synth, &out), 0) << out;
+  for (int index = 1; index <= 3; ++index) {
+    const std::string shard = std::to_string(index) + "/3";
+    ASSERT_EQ(testing::RunMesocap("process " + sharded.string() + " --stage synth --shard " + shard + Options(sharded) + synth,
+                                  &out), 0) << out;
+    EXPECT_NE(out.find(index == 1 ? "the map made (shared" : "the map made by the first shard"), std::string::npos) << out;
+  }
+  ASSERT_EQ(testing::RunMesocap("process " + sharded.string() + " --stage synth --merge 3" + Options(sharded) + synth, &out), 0)
+      << out;
+  const fs::path a = whole / "synth", b = sharded / "synth";
+  auto index_a = ReadJsonFile(a / "index.json"), index_b = ReadJsonFile(b / "index.json");
+  ASSERT_TRUE(index_a.ok() && index_b.ok());
+  EXPECT_EQ((*index_a)["slices"].size(), 289u);
+  ExpectSameSlices(a, b);
+  for (const char* picture : {"map.exr", "patches.png", "preview_light1.png", "preview_light2.png", "preview_light3.png"})
+    ExpectSamePixels(a / picture, b / picture);
+  auto report_a = ReadJsonFile(a / "report.json"), report_b = ReadJsonFile(b / "report.json");
+  ASSERT_TRUE(report_a.ok() && report_b.ok());
+  (*report_a)["exemplar"].erase("path"), (*report_b)["exemplar"].erase("path");  // the sessions' folders differ
+  for (const char* field : {"seams", "output", "exemplar", "method", "parameters"})
+    EXPECT_EQ((*report_a)[field], (*report_b)[field]) << field;
+  EXPECT_FALSE(fs::exists(sharded / "shards" / "synth"));
 }
 
 TEST_F(ShardsTest, AMissingShardStopsTheMergeWithItsNameAndNothingPublished) {
@@ -159,6 +198,7 @@ TEST_F(ShardsTest, ShardOptionsAreCheckedBeforeAnythingRuns) {
            {" --stage reconstruct --shard 4/3", "is not I/N"},
            {" --stage reconstruct --shard 1/3 --merge 3", "not both"},
            {" --stage fit-ptm --shard 1/3", "shardable"},
+           {" --stage export --merge 2", "shardable"},
            {" --shard 1/3", "shardable"},
            {" --stage tidy", "no such stage"},
            {" --stage synth", "--synth METHOD"}}) {

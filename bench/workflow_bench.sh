@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# Benchmarks of issue 52 (figures in docs/benchmarks.md, "Workflow"):
+#  1. sharding's extra work: the reconstruct stage of one virtual session (40 flash shots at
+#     3000 x 2000, the Bonn grid at 128 texels) run whole and as 8 shards + merge; summed CPU
+#     time (user + sys) of the shard jobs and the merge against the whole stage's (target < 5%);
+#  2. the workflow on three small sessions (10 shots, Bonn grid at 64 texels) locally with 1 and
+#     2 cores, and through a one-node Slurm (scripts/slurm-local.sh): wall time;
+#  3. the per-stage CPU times of run 1, for the projection to 100 materials at 81x81x512^2.
+# Usage: bench/workflow_bench.sh [BUILD_DIR] [WORK_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+REPO=$PWD
+build=$(realpath "${1:-build}")
+work="${2:-${TMPDIR:-/tmp}/mesocap-workflow-bench}"
+bin="$build/app/mesocap"
+mkdir -p "$work"
+cpu() {  # CPU seconds (user + sys) of a command, its output to $work/last.log
+  /usr/bin/time -f "%U %S" -o "$work/time.txt" "$@" > "$work/last.log" 2>&1 || { cat "$work/last.log" >&2; return 1; }
+  awk '{ printf "%.2f", $1 + $2 }' "$work/time.txt"
+}
+
+# 1. Sharding's extra work.
+if [ ! -f "$work/big/journal.jsonl" ]; then
+  rm -rf "$work/big"
+  "$bin" simulate --out "$work/big" --shots 40 --no-progress > /dev/null
+fi
+OPT="--camera $work/big/truth.json --no-progress"
+rm -rf "$work/whole" "$work/sharded"
+cp -r "$work/big" "$work/whole"
+declare -A stage_cpu
+for stage in calibrate resample fit-ptm; do stage_cpu[$stage]=$(cpu "$bin" process "$work/whole" --stage $stage $OPT); done
+cp -r "$work/whole" "$work/sharded"
+whole=$(cpu "$bin" process "$work/whole" --stage reconstruct $OPT)
+stage_cpu[reconstruct]=$whole
+stage_cpu[export]=$(cpu "$bin" process "$work/whole" --stage export $OPT)
+shards=0
+for i in 1 2 3 4 5 6 7 8; do
+  t=$(cpu "$bin" process "$work/sharded" --stage reconstruct --shard $i/8 $OPT)
+  echo "workflow bench: shard $i/8: $t CPU s" >&2
+  shards=$(echo "$shards + $t" | bc)
+done
+merge=$(cpu "$bin" process "$work/sharded" --stage reconstruct --merge 8 $OPT)
+python3 - "$whole" "$shards" "$merge" <<'PY'
+import sys
+whole, shards, merge = map(float, sys.argv[1:])
+print(f"workflow bench: reconstruct (6561 slices of 128x128) whole {whole:.1f} CPU s; 8 shards {shards:.1f} + merge "
+      f"{merge:.1f} = {shards + merge:.1f} CPU s: {100 * (shards + merge - whole) / whole:+.1f}% (target < 5%)")
+PY
+for stage in calibrate resample fit-ptm reconstruct export; do
+  echo "workflow bench: stage $stage of the 40-shot session (Bonn grid, 128 texels): ${stage_cpu[$stage]} CPU s"
+done
+
+# 2. Three small sessions locally with 1 and 2 cores, and through Slurm.
+if [ ! -d "$work/small3" ]; then
+  for m in weave stones corduroy; do
+    "$bin" simulate --out "$work/small3/$m" --material $m --shots 10 --calib-shots 0 --width 1500 --height 1000 \
+      --no-progress > /dev/null
+  done
+fi
+SMALL_OPT='--camera {session}/truth.json --slice-size 64 --btf-grid bonn --btf-size 64'
+run_workflow() {  # label, then snakemake arguments
+  local label=$1; shift
+  rm -rf "$work/wf" "$work/wf_run" && cp -r "$work/small3" "$work/wf" && mkdir -p "$work/wf_run"
+  local start=$(date +%s.%N)
+  (cd "$work/wf_run" && CI=true snakemake -s "$REPO/workflow/Snakefile" --keep-going \
+    --config sessions="$work/wf" mesocap="$bin" shards=2 "process_options=$SMALL_OPT" "$@" > "$work/wf.log" 2>&1) ||
+    { tail -30 "$work/wf.log" >&2; return 1; }
+  echo "workflow bench: 3 sessions (10 shots, Bonn grid at 64 texels, 2 shards), $label: $(echo "$(date +%s.%N) - $start" | bc | xargs printf %.1f) s wall"
+}
+run_workflow "local, --cores 1" --cores 1
+run_workflow "local, --cores 2" --cores 2
+cat > "$work/slurm-config.yaml" <<YAML
+resources:
+  default: {threads: 1, mem_mb: 2000, runtime: 30}
+  reconstruct: {threads: 1, mem_mb: 2000, runtime: 30}
+  export: {threads: 1, mem_mb: 2000, runtime: 30}
+YAML
+# shellcheck source=scripts/slurm-local.sh
+source scripts/slurm-local.sh
+trap 'slurm_local_stop "$work/slurm"' EXIT
+rm -rf "$work/slurm"
+slurm_local_start "$work/slurm"
+run_workflow "one-node Slurm (2 cores, a job per core)" --profile "$REPO/workflow/slurm" \
+  --configfile "$REPO/workflow/config.yaml" "$work/slurm-config.yaml"
