@@ -9,7 +9,9 @@
 #include <set>
 
 #include "app/btf_folder.h"
+#include "app/ggx_shards.h"
 #include "app/reconstruct_shards.h"
+#include "app/shard_parts.h"
 #include "app/synth_stage.h"
 #include "app/session_export.h"
 #include "app/synth_run.h"
@@ -131,13 +133,13 @@ Status WriteViewer(const fs::path& session, const PreviewsFolder& previews) {
 }
 
 // SESSION/export/: every format of `mesocap export` plus previews, swapped in whole.
-StatusOr<StageSummary> RunExportStage(const fs::path& session) {
+StatusOr<StageSummary> RunExportStage(const fs::path& session, const GgxMaterialMaps* fitted = nullptr) {
   auto staging = StagingFolder::Begin(SessionLayout(session).exports().root);
   if (!staging.ok()) return staging.status();
   const ExportFolder staged{staging->path()};
   StageSummary summary;
   for (ExportFormat format : AllExportFormats()) {
-    auto written = ExportSession(session, format, staging->path());
+    auto written = ExportSession(session, format, staging->path(), {.fitted = fitted});
     if (!written.ok()) return written.status();
   }
   std::vector<std::string> previews;
@@ -199,7 +201,19 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
   std::vector<std::string> export_after = {"resample", "fit-ptm", "reconstruct"};
   if (!a.synth.method.empty()) export_after.push_back("synth");
   stages.push_back({"export", export_after, {}, {{"formats", "ptm lp exr gltf previews"}}, {s.Relative(s.exports().root)},
-                    [&a] { return RunExportStage(a.session); }});
+                    [&a] { return RunExportStage(a.session); },
+                    [&a, progress](const Shard& shard, const std::string& key, bool* done_before) {
+                      return RunGgxShard(a.session, shard, key, a.threads, progress, done_before);
+                    },
+                    [&a](int count, const std::string& key) -> StatusOr<StageSummary> {
+                      auto maps = MergeGgxShards(a.session, count, key,
+                                                 "mesocap process " + a.session.string() +
+                                                     " --stage export (with this run's options)");
+                      if (!maps.ok()) return maps.status();
+                      auto summary = RunExportStage(a.session, &*maps);
+                      if (summary.ok()) RemoveShardParts(SessionLayout(a.session), "export");
+                      return summary;
+                    }});
   return stages;
 }
 
@@ -242,7 +256,7 @@ const std::vector<std::string>& ProcessStageNames() {
 }
 
 const std::vector<std::string>& ShardableStageNames() {
-  static const std::vector<std::string> names = {"reconstruct", "synth"};
+  static const std::vector<std::string> names = {"reconstruct", "synth", "export"};
   return names;
 }
 
@@ -261,7 +275,7 @@ std::string ProcessOptions::Check() const {
     return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export)";
   if (only_stage == "synth" && synth.method.empty()) return "--stage synth needs --synth METHOD";
   if ((shard || merge_shards != 0) && !is_one_of(only_stage, ShardableStageNames()))
-    return "--shard and --merge need --stage naming a shardable stage (reconstruct, synth)";
+    return "--shard and --merge need --stage naming a shardable stage (reconstruct, synth, export)";
   if (shard && merge_shards != 0) return "give --shard or --merge, not both";
   if (merge_shards < 0 || merge_shards > Shard::kMaxCount) return "--merge must be a shard count from 1 to 999";
   if (std::string why = resample.Check(); !why.empty()) return why;

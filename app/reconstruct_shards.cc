@@ -105,8 +105,7 @@ StatusOr<StageSummary> MergeReconstructShards(const fs::path& session, const Rec
   auto written = WriteBtfIndex(staging->path(), header, merged, options.Provenance(session));
   if (!written.ok()) return written.status();
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
-  std::error_code ec;
-  fs::remove_all(layout.shards_root() / kStage, ec);  // every key's parts: the BTF is whole now
+  RemoveShardParts(layout, kStage);  // every key's parts: the folder is whole now
   return ReconstructStageSummary(*written, header, options.grid);
 }
 

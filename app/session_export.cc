@@ -216,14 +216,14 @@ StatusOr<std::string> ExportSynthesizedGltf(const fs::path& session, const GgxMa
                                           : "tileable: whole roller tiles");
 }
 
-StatusOr<std::string> ExportGltf(const fs::path& session, const ExportFolder& exports) {
+StatusOr<std::string> ExportGltf(const fs::path& session, const ExportFolder& exports, const GgxMaterialMaps* fitted) {
   const fs::path index = SessionLayout(session).btf().index();
   if (!fs::exists(index))
     return Status::Error(index.string() + " not found (a glTF material is fitted to the reconstructed BTF): " + MakeItWith(session));
   auto layout = LoadSessionLayout(session, "");
   const double patch_m = layout.ok() && !layout->boards.empty() ? layout->boards.front().patch_m : 0.064;
   GgxFitOptions options;
-  auto maps = FitGgxMaterial(index, options);
+  auto maps = fitted ? StatusOr<GgxMaterialMaps>(*fitted) : FitGgxMaterial(index, options);
   if (!maps.ok()) return maps.status();
   auto staging = StagingFolder::Begin(exports.gltf().root);
   if (!staging.ok()) return staging.status();
@@ -275,7 +275,7 @@ StatusOr<std::string> ExportSession(const fs::path& session, ExportFormat format
     case ExportFormat::kPtm: return ExportPtm(session, {out_dir});
     case ExportFormat::kLp: return ExportLp(session, {out_dir});
     case ExportFormat::kExr: return ExportExr(session, {out_dir}, options);
-    case ExportFormat::kGltf: return ExportGltf(session, {out_dir});
+    case ExportFormat::kGltf: return ExportGltf(session, {out_dir}, options.fitted);
   }
   return Status::Error("unknown export format");
 }

@@ -16,6 +16,10 @@
 
 #include "core/status.h"
 
+namespace mesocap {
+struct GgxMaterialMaps;
+}
+
 namespace mesocap::app {
 
 enum class ExportFormat { kPtm, kLp, kExr, kGltf };
@@ -25,6 +29,8 @@ std::vector<ExportFormat> AllExportFormats();
 
 struct ExportOptions {
   bool exr_multipart = false;  // exr: also btf.exr
+  // gltf: the GGX fit already made (the merge of a sharded fit); null: fitted here.
+  const GgxMaterialMaps* fitted = nullptr;
 };
 
 // Writes `format` from `session` into `out_dir` (created if missing); returns what it wrote.

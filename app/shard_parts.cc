@@ -81,6 +81,11 @@ StatusOr<std::vector<Json>> ReadShardParts(const ShardsFolder& folder, const std
   return parts;
 }
 
+void RemoveShardParts(const SessionLayout& layout, const std::string& stage) {
+  std::error_code ec;
+  fs::remove_all(layout.shards_root() / stage, ec);  // best effort: a leftover is ignored and replaced
+}
+
 Status LinkPartFile(const fs::path& part, const fs::path& folder, const std::string& file) {
   const fs::path from = part / file, to = folder / file;
   if (file.empty() || fs::exists(to)) return Status::Error(part.string() + ": file '" + file + "' is empty or named twice");

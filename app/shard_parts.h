@@ -37,6 +37,9 @@ Status RunShardPart(const ShardsFolder& folder, const std::string& stage, const 
 StatusOr<std::vector<Json>> ReadShardParts(const ShardsFolder& folder, const std::string& stage, const std::string& key,
                                            int count, const std::string& make_command);
 
+// Removes every part of `stage` (all keys): its merge is done.
+void RemoveShardParts(const SessionLayout& layout, const std::string& stage);
+
 // `file` (relative to the part) taken into `folder` at the same relative path: hard-linked (the
 // parts are on the session's file system; a merge that stops half way leaves every part whole),
 // else copied. An empty name, or one already taken, is an error naming the part.

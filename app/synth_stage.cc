@@ -202,8 +202,7 @@ StatusOr<StageSummary> MergeSynthShards(const fs::path& session, const SynthStag
     return entries;
   };
   MESOCAP_RETURN_IF_ERROR(WriteSynthesisOutputs(*map, *exemplar, request, nullptr));
-  std::error_code ec;
-  fs::remove_all(layout.shards_root() / kStage, ec);  // every key's parts: the folder is whole now
+  RemoveShardParts(layout, kStage);  // every key's parts: the folder is whole now
   return Summary(options, *map, *exemplar, request.slices.size(), method->value("note", ""));
 }
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Benchmarks of issue 52 (figures in docs/benchmarks.md, "Workflow"):
-#  1. sharding's extra work: the reconstruct stage of one virtual session (40 flash shots at
-#     3000 x 2000, the Bonn grid at 128 texels) run whole and as 8 shards + merge; summed CPU
-#     time (user + sys) of the shard jobs and the merge against the whole stage's (target < 5%);
+#  1. sharding's extra work: the reconstruct, synth (roller, 256 x 256) and export (GGX fit)
+#     stages of one virtual session (40 flash shots at 3000 x 2000, the Bonn grid at 128 texels)
+#     run whole and as 8 shards + merge; summed CPU time (user + sys) of the shard jobs and the
+#     merge against the whole stage's (target < 5%);
 #  2. the workflow on three small sessions (10 shots, Bonn grid at 64 texels) locally with 1 and
 #     2 cores, and through a one-node Slurm (scripts/slurm-local.sh): wall time;
 #  3. the per-stage CPU times of run 1, for the projection to 100 materials at 81x81x512^2.
@@ -19,35 +20,37 @@ cpu() {  # CPU seconds (user + sys) of a command, its output to $work/last.log
   awk '{ printf "%.2f", $1 + $2 }' "$work/time.txt"
 }
 
-# 1. Sharding's extra work.
+# 1. Sharding's extra work, stage by stage.
 if [ ! -f "$work/big/journal.jsonl" ]; then
   rm -rf "$work/big"
   "$bin" simulate --out "$work/big" --shots 40 --no-progress > /dev/null
 fi
-OPT="--camera $work/big/truth.json --no-progress"
+OPT="--camera $work/big/truth.json --synth roller --synth-size 256x256 --no-progress"
 rm -rf "$work/whole" "$work/sharded"
 cp -r "$work/big" "$work/whole"
 declare -A stage_cpu
 for stage in calibrate resample fit-ptm; do stage_cpu[$stage]=$(cpu "$bin" process "$work/whole" --stage $stage $OPT); done
 cp -r "$work/whole" "$work/sharded"
-whole=$(cpu "$bin" process "$work/whole" --stage reconstruct $OPT)
-stage_cpu[reconstruct]=$whole
-stage_cpu[export]=$(cpu "$bin" process "$work/whole" --stage export $OPT)
-shards=0
-for i in 1 2 3 4 5 6 7 8; do
-  t=$(cpu "$bin" process "$work/sharded" --stage reconstruct --shard $i/8 $OPT)
-  echo "workflow bench: shard $i/8: $t CPU s" >&2
-  shards=$(echo "$shards + $t" | bc)
-done
-merge=$(cpu "$bin" process "$work/sharded" --stage reconstruct --merge 8 $OPT)
-python3 - "$whole" "$shards" "$merge" <<'PY'
+for stage in reconstruct synth export; do
+  whole=$(cpu "$bin" process "$work/whole" --stage $stage $OPT)
+  stage_cpu[$stage]=$whole
+  shards=0
+  for i in 1 2 3 4 5 6 7 8; do
+    t=$(cpu "$bin" process "$work/sharded" --stage $stage --shard $i/8 $OPT)
+    echo "workflow bench: $stage shard $i/8: $t CPU s" >&2
+    shards=$(echo "$shards + $t" | bc)
+  done
+  merge=$(cpu "$bin" process "$work/sharded" --stage $stage --merge 8 $OPT)
+  python3 - "$stage" "$whole" "$shards" "$merge" <<'PY'
 import sys
-whole, shards, merge = map(float, sys.argv[1:])
-print(f"workflow bench: reconstruct (6561 slices of 128x128) whole {whole:.1f} CPU s; 8 shards {shards:.1f} + merge "
-      f"{merge:.1f} = {shards + merge:.1f} CPU s: {100 * (shards + merge - whole) / whole:+.1f}% (target < 5%)")
+stage = sys.argv[1]
+whole, shards, merge = map(float, sys.argv[2:])
+print(f"workflow bench: {stage} whole {whole:.1f} CPU s; 8 shards {shards:.1f} + merge {merge:.1f} = "
+      f"{shards + merge:.1f} CPU s: {100 * (shards + merge - whole) / whole:+.1f}% (target < 5%)")
 PY
-for stage in calibrate resample fit-ptm reconstruct export; do
-  echo "workflow bench: stage $stage of the 40-shot session (Bonn grid, 128 texels): ${stage_cpu[$stage]} CPU s"
+done
+for stage in calibrate resample fit-ptm reconstruct synth export; do
+  echo "workflow bench: stage $stage of the 40-shot session (Bonn grid, 128 texels, roller 256x256): ${stage_cpu[$stage]} CPU s"
 done
 
 # 2. Three small sessions locally with 1 and 2 cores, and through Slurm.

@@ -228,6 +228,11 @@ Image RelightPbrMaterial(const GgxMaterialMaps& maps, const Eigen::Vector3d& lig
 
 StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFitOptions& options, int board,
                                          const ProgressFn& progress) {
+  return FitGgxMaterialRows(index_json, options, RowBand{}, board, progress);
+}
+
+StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const GgxFitOptions& options, RowBand rows,
+                                             int board, const ProgressFn& progress) {
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
   const auto start = std::chrono::steady_clock::now();
   auto index = ReadSliceIndex(index_json);
@@ -248,8 +253,14 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   // Texel-major table: for each texel its n observations, RGB.
   auto first = ReadImageInfo(chosen.front()->file);  // the size; the slices are read below
   if (!first.ok()) return first.status();
-  const int width = first->width, height = first->height;
+  const int width = first->width;
+  if (rows.last < 0) rows.last = first->height;
+  if (rows.first < 0 || rows.first > rows.last || rows.last > first->height)
+    return Status::Error(Format("%s: rows %d..%d are not within its %d rows", index_json.string().c_str(), rows.first,
+                                rows.last, first->height));
+  const int height = rows.last - rows.first;  // the band's rows: y below counts from its first
   const size_t texels = size_t(width) * height;
+  const size_t skipped_texels = size_t(width) * rows.first;
   std::vector<float> table(texels * n * 3);
   std::vector<Observation> dirs;
   for (const SliceIndexEntry* e : chosen) dirs.emplace_back(e->light, e->view);
@@ -260,10 +271,11 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
     if (cancelled) return;
     auto slice = ReadImage(chosen[k]->file);
     if (!slice.ok()) return void(errors[k] = slice.status().message());
-    if (slice->width() != width || slice->height() != height || slice->channels() < 3)
+    if (slice->width() != width || slice->height() != first->height || slice->channels() < 3)
       return void(errors[k] = chosen[k]->file.string() + ": not the size or channels of the other slices");
+    const float* band = slice->data() + skipped_texels * slice->channels();
     for (size_t t = 0; t < texels; ++t)
-      for (int c = 0; c < 3; ++c) table[(t * n + k) * 3 + c] = slice->data()[t * slice->channels() + c];
+      for (int c = 0; c < 3; ++c) table[(t * n + k) * 3 + c] = band[t * slice->channels() + c];
     if (!ReportProgress(progress, ++read, int(n) + height, "reading slices")) cancelled = true;
   }, options.num_threads);
   if (cancelled) return Status::Cancelled();
@@ -298,11 +310,13 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
     if (!ReportProgress(progress, int(n) + ++rows_done, int(n) + height, "fitting")) cancelled = true;
   }, options.num_threads);
   if (cancelled) return Status::Cancelled();
-  maps.median_relative_error =
-      UpperMedian(std::vector<float>(maps.relative_error.data(), maps.relative_error.data() + texels));
   maps.slices_used = int(n);
-  maps.mean_iterations = double(iterations) / texels;
-  maps.mean_evaluations = double(evaluations) / texels;
+  if (texels > 0) {  // a band may hold no rows (more shards than rows)
+    maps.median_relative_error =
+        UpperMedian(std::vector<float>(maps.relative_error.data(), maps.relative_error.data() + texels));
+    maps.mean_iterations = double(iterations) / texels;
+    maps.mean_evaluations = double(evaluations) / texels;
+  }
   maps.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return maps;
 }

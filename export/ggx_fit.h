@@ -50,4 +50,14 @@ Image RelightPbrMaterial(const GgxMaterialMaps& maps, const Eigen::Vector3d& lig
 StatusOr<GgxMaterialMaps> FitGgxMaterial(const std::filesystem::path& index_json, const GgxFitOptions& options,
                                          int board = -1, const ProgressFn& progress = nullptr);
 
+// Rows [first, last) of the BTF's texels (last -1: to the end).
+struct RowBand {
+  int first = 0, last = -1;
+};
+// The same for a band of whole rows (a shard of the fit: each row's fit runs along it from its
+// first texel, so a band's texels come out as the whole fit's): maps of the band's height, their
+// figures over its texels.
+StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const std::filesystem::path& index_json, const GgxFitOptions& options,
+                                             RowBand rows, int board = -1, const ProgressFn& progress = nullptr);
+
 }  // namespace mesocap

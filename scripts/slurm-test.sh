@@ -56,7 +56,7 @@ mkdir -p "$WORK/run"
 echo "slurm-test: [4/4] Slurm's job-completion log, then the outputs"
 JOBCOMP=$(slurm_local_jobcomp)
 JOBS=(calibrate resample fit_ptm reconstruct export report)
-for ((i = 1; i <= SHARDS; i++)); do JOBS+=("reconstruct_shard"); done
+for ((i = 1; i <= SHARDS; i++)); do JOBS+=("reconstruct_shard" "export_shard"); done
 expected=$((${#SESSIONS[@]} * ${#JOBS[@]}))
 completed=$(grep -c 'JobState=COMPLETED' "$JOBCOMP" || true)
 failed=$(grep -v -c 'JobState=COMPLETED' "$JOBCOMP" || true)
@@ -68,8 +68,10 @@ for material in "${SESSIONS[@]}"; do
     grep -q "Name=smk-$rule-session=$material JobState=COMPLETED" "$JOBCOMP" ||
       fail "no completed Slurm job of $rule for $material in $JOBCOMP"
   done
-  shards=$(grep -c "Name=smk-reconstruct_shard-index=[0-9]*,session=$material JobState=COMPLETED" "$JOBCOMP" || true)
-  ((shards == SHARDS)) || fail "$shards completed shard jobs for $material, not $SHARDS"
+  for rule in reconstruct_shard export_shard; do
+    shards=$(grep -c "Name=smk-$rule-index=[0-9]*,session=$material JobState=COMPLETED" "$JOBCOMP" || true)
+    ((shards == SHARDS)) || fail "$shards completed $rule jobs for $material, not $SHARDS"
+  done
 done
 
 # The same outputs as `mesocap process` on each session alone: the .ptm and glTF texture bytes

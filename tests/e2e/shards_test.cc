@@ -1,7 +1,7 @@
-// The reconstruct stage run as shards through the real CLI (docs/workflow.md): stage by stage
-// (`process --stage`), shards merged for N = 1, 3 and 7 equal one unsharded run (every slice's
-// pixels, the index's entries and figures, timings and provenance aside); the statistics are
-// computed once; a missing shard stops the merge with a message naming it and nothing published;
+// Sharded stages through the real CLI (docs/workflow.md): stage by stage (`process --stage`),
+// reconstruct shards merged for N = 1, 3 and 7 equal one unsharded run (every slice's pixels, the
+// index's entries and figures, timings and provenance aside), the statistics computed once; the
+// synth stage's map application and the export's GGX fit in 3 shards equal theirs; a missing shard stops the merge with a message naming it and nothing published;
 // a shard whose part is done is not redone; a changed option gives the parts a new key.
 #include <gtest/gtest.h>
 
@@ -154,6 +154,37 @@ TEST_F(ShardsTest, SynthShardsMergedEqualOneUnshardedRun) {
   EXPECT_FALSE(fs::exists(sharded / "shards" / "synth"));
 }
 
+// The export's GGX fit in 3 bands of rows, merged: the glTF textures are the unsharded export's
+// bytes, the fit's error map its pixels, the fit's figures its own.
+TEST_F(ShardsTest, GgxFitShardsMergedEqualOneUnshardedExport) {
+  const fs::path session = SessionBeforeReconstruct("ggx");
+  std::string out;
+  ASSERT_EQ(Stage(session, "", &out), 0) << out;
+  for (int index = 1; index <= 3; ++index) {
+    const std::string shard = std::to_string(index) + "/3";
+    ASSERT_EQ(testing::RunMesocap("process " + session.string() + " --stage export --shard " + shard + Options(session), &out), 0)
+        << out;
+    EXPECT_NE(out.find("GGX fit of rows"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(session / "export")) << shard;
+  }
+  ASSERT_EQ(testing::RunMesocap("process " + session.string() + " --stage export --merge 3" + Options(session), &out), 0) << out;
+  const fs::path a = *whole_ / "export" / "gltf", b = session / "export" / "gltf";
+  for (const char* texture : {"base_color.png", "metallic_roughness.png", "normal.png", "fit_error.png"}) {
+    auto x = ReadTextFile(a / texture), y = ReadTextFile(b / texture);
+    ASSERT_TRUE(x.ok() && y.ok()) << texture;
+    EXPECT_TRUE(*x == *y) << texture;
+  }
+  ExpectSamePixels(a / "fit_error.exr", b / "fit_error.exr");
+  auto fit_a = ReadJsonFile(a / "fit.json"), fit_b = ReadJsonFile(b / "fit.json");
+  ASSERT_TRUE(fit_a.ok() && fit_b.ok());
+  fit_a->erase("seconds"), fit_b->erase("seconds");
+  EXPECT_EQ(*fit_a, *fit_b);
+  EXPECT_FALSE(fs::exists(session / "shards" / "export"));
+  // Recorded as the stage: a whole run finds everything current.
+  ASSERT_EQ(testing::RunMesocap("process " + session.string() + Options(session), &out), 0) << out;
+  EXPECT_NE(out.find("export       skipped"), std::string::npos) << out;
+}
+
 TEST_F(ShardsTest, AMissingShardStopsTheMergeWithItsNameAndNothingPublished) {
   const fs::path session = SessionBeforeReconstruct("missing");
   std::string out;
@@ -198,7 +229,7 @@ TEST_F(ShardsTest, ShardOptionsAreCheckedBeforeAnythingRuns) {
            {" --stage reconstruct --shard 4/3", "is not I/N"},
            {" --stage reconstruct --shard 1/3 --merge 3", "not both"},
            {" --stage fit-ptm --shard 1/3", "shardable"},
-           {" --stage export --merge 2", "shardable"},
+           {" --stage calibrate --merge 2", "shardable"},
            {" --shard 1/3", "shardable"},
            {" --stage tidy", "no such stage"},
            {" --stage synth", "--synth METHOD"}}) {
