@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include "app/shard_parts.h"
 #include "core/image_io.h"
@@ -38,6 +39,85 @@ StatusOr<int> BtfRows(const fs::path& session) {
   return rows.get<int>();
 }
 
+// The fit's observations of every texel, read from the slices once (by the first shard) and kept
+// in shared/: their directions in a JSON record, the texel-major table as raw floats, so each
+// shard reads only its band's bytes and no shard decodes a slice again.
+constexpr const char* kObservationsRecord = "ggx_observations.json";
+constexpr const char* kObservationsTable = "ggx_observations.f32";
+
+Json DirectionsJson(const std::vector<Eigen::Vector3d>& directions) {
+  Json list = Json::array();
+  for (const Eigen::Vector3d& d : directions) list.push_back({d.x(), d.y(), d.z()});
+  return list;
+}
+
+Status WriteObservations(const fs::path& folder, const GgxObservations& all) {
+  MESOCAP_RETURN_IF_ERROR(WriteJsonFile(folder / kObservationsRecord, {{"width", all.width}, {"height", all.height},
+                                                                       {"lights", DirectionsJson(all.lights)},
+                                                                       {"views", DirectionsJson(all.views)}}));
+  std::ofstream table(folder / kObservationsTable, std::ios::binary);
+  table.write(reinterpret_cast<const char*>(all.table.data()), std::streamsize(all.table.size() * sizeof(float)));
+  if (!table.flush()) return Status::Error((folder / kObservationsTable).string() + ": cannot write");
+  return Status::Ok();
+}
+
+// Rows [first, last) of the shared observations.
+StatusOr<GgxObservations> ReadObservationRows(const fs::path& folder, size_t first, size_t last) {
+  auto record = ReadJsonRecord(folder / kObservationsRecord, [](const Json& j) {
+    GgxObservations o;
+    o.width = JsonInteger(JsonField(j, "", "width"), "width", 1, 1 << 16);
+    o.height = JsonInteger(JsonField(j, "", "height"), "height", 1, 1 << 16);
+    for (const char* field : {"lights", "views"})
+      for (const Json& d : JsonField(j, "", field)) {
+        if (!d.is_array() || d.size() != 3) throw JsonFieldError(std::string(field) + ": not a direction");
+        (field[0] == 'l' ? o.lights : o.views).emplace_back(d[0].get<double>(), d[1].get<double>(), d[2].get<double>());
+      }
+    return o;
+  });
+  if (!record.ok()) return record.status();
+  GgxObservations band = std::move(*record);
+  const size_t row_floats = size_t(band.width) * band.lights.size() * 3;
+  const fs::path table = folder / kObservationsTable;
+  std::error_code ec;
+  if (band.lights.size() != band.views.size() || last > size_t(band.height) ||
+      fs::file_size(table, ec) != row_floats * band.height * sizeof(float))
+    return Status::Error(table.string() + ": not the size its record gives");
+  band.height = int(last - first);
+  band.table.resize(row_floats * band.height);
+  std::ifstream in(table, std::ios::binary);
+  in.seekg(std::streamoff(row_floats * first * sizeof(float)));
+  in.read(reinterpret_cast<char*>(band.table.data()), std::streamsize(band.table.size() * sizeof(float)));
+  if (!in) return Status::Error(table.string() + ": cannot read rows " + std::to_string(first) + ".." + std::to_string(last));
+  return band;
+}
+
+// The shard's band of the shared observations; `*computed`: this shard read the slices.
+StatusOr<GgxObservations> BandObservations(const fs::path& session, const ShardsFolder& folder, const GgxFitOptions& options,
+                                           size_t first, size_t last, bool progress, bool* computed) {
+  GgxObservations band;
+  *computed = false;
+  const auto compute = [&](const fs::path& staging) -> Status {
+    *computed = true;
+    ProgressBar bar("GGX observations", progress);
+    auto all = ReadGgxObservations(SessionLayout(session).btf().index(), options, {}, -1, bar.AsCallback());
+    if (!all.ok()) return all.status();
+    MESOCAP_RETURN_IF_ERROR(WriteObservations(staging, *all));
+    const size_t row_floats = size_t(all->width) * all->lights.size() * 3;
+    band = *all;
+    band.height = int(last - first);
+    band.table.assign(all->table.begin() + long(row_floats * first), all->table.begin() + long(row_floats * last));
+    return Status::Ok();
+  };
+  const auto read = [&]() -> Status {
+    auto read = ReadObservationRows(folder.shared(), first, last);
+    if (!read.ok()) return read.status();
+    band = std::move(*read);
+    return Status::Ok();
+  };
+  MESOCAP_RETURN_IF_ERROR(WithSharedFolder(folder, compute, read));
+  return band;
+}
+
 }  // namespace
 
 StatusOr<StageSummary> RunGgxShard(const fs::path& session, const Shard& shard, const std::string& key, int num_threads,
@@ -50,15 +130,18 @@ StatusOr<StageSummary> RunGgxShard(const fs::path& session, const Shard& shard, 
   const auto fill = [&, first = first, last = last](PartWriter& part) -> Status {
     GgxFitOptions options;
     options.num_threads = num_threads;
+    bool computed = false;
+    auto band = BandObservations(session, folder, options, first, last, progress, &computed);
+    if (!band.ok()) return band.status();
     ProgressBar bar("GGX fit " + shard.Name(), progress);
-    auto maps = FitGgxMaterialRows(SessionLayout(session).btf().index(), options, {int(first), int(last)}, -1,
-                                   bar.AsCallback());
+    auto maps = FitGgxObservations(*band, options, bar.AsCallback());
     if (!maps.ok()) return maps.status();
     const size_t texels = maps->base_color.pixel_count();
     if (texels > 0)
       for (const BandMap& m : kBandMaps)
         MESOCAP_RETURN_IF_ERROR(WriteImage(part.folder() / m.file, (*maps).*m.map, {.format = PixelFormat::kFloat}));
-    summary.brief = Format("shard %s: GGX fit of rows %zu..%zu of %d", shard.Name().c_str(), first, last, *rows);
+    summary.brief = Format("shard %s: GGX fit of rows %zu..%zu of %d, the slices %s", shard.Name().c_str(), first, last,
+                           *rows, computed ? "read (shared with the other shards)" : "read by the first shard");
     // Counts back from the means (exact: integers below 2^53), so the merge's means are the whole fit's.
     return part.Publish({{"rows", {first, last}},
                          {"slices_used", maps->slices_used},

@@ -231,10 +231,9 @@ StatusOr<GgxMaterialMaps> FitGgxMaterial(const fs::path& index_json, const GgxFi
   return FitGgxMaterialRows(index_json, options, RowBand{}, board, progress);
 }
 
-StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const GgxFitOptions& options, RowBand rows,
-                                             int board, const ProgressFn& progress) {
+StatusOr<GgxObservations> ReadGgxObservations(const fs::path& index_json, const GgxFitOptions& options, RowBand rows,
+                                              int board, const ProgressFn& progress) {
   if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
-  const auto start = std::chrono::steady_clock::now();
   auto index = ReadSliceIndex(index_json);
   if (!index.ok()) return index.status();
   std::vector<const SliceIndexEntry*> usable;
@@ -250,20 +249,18 @@ StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const G
   const size_t n = std::min(usable.size(), size_t(options.max_slices));
   for (size_t k = 0; k < n; ++k) chosen.push_back(usable[k * usable.size() / n]);
 
-  // Texel-major table: for each texel its n observations, RGB.
   auto first = ReadImageInfo(chosen.front()->file);  // the size; the slices are read below
   if (!first.ok()) return first.status();
-  const int width = first->width;
   if (rows.last < 0) rows.last = first->height;
   if (rows.first < 0 || rows.first > rows.last || rows.last > first->height)
     return Status::Error(Format("%s: rows %d..%d are not within its %d rows", index_json.string().c_str(), rows.first,
                                 rows.last, first->height));
-  const int height = rows.last - rows.first;  // the band's rows: y below counts from its first
-  const size_t texels = size_t(width) * height;
-  const size_t skipped_texels = size_t(width) * rows.first;
-  std::vector<float> table(texels * n * 3);
-  std::vector<Observation> dirs;
-  for (const SliceIndexEntry* e : chosen) dirs.emplace_back(e->light, e->view);
+  GgxObservations out;
+  out.width = first->width;
+  out.height = rows.last - rows.first;  // the band's rows
+  for (const SliceIndexEntry* e : chosen) out.lights.push_back(e->light), out.views.push_back(e->view);
+  const size_t texels = size_t(out.width) * out.height, skipped_texels = size_t(out.width) * rows.first;
+  out.table.resize(texels * n * 3);
   std::vector<std::string> errors(n);
   std::atomic<int> read = 0;
   std::atomic<bool> cancelled = false;
@@ -271,17 +268,29 @@ StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const G
     if (cancelled) return;
     auto slice = ReadImage(chosen[k]->file);
     if (!slice.ok()) return void(errors[k] = slice.status().message());
-    if (slice->width() != width || slice->height() != first->height || slice->channels() < 3)
+    if (slice->width() != out.width || slice->height() != first->height || slice->channels() < 3)
       return void(errors[k] = chosen[k]->file.string() + ": not the size or channels of the other slices");
     const float* band = slice->data() + skipped_texels * slice->channels();
     for (size_t t = 0; t < texels; ++t)
-      for (int c = 0; c < 3; ++c) table[(t * n + k) * 3 + c] = band[t * slice->channels() + c];
-    if (!ReportProgress(progress, ++read, int(n) + height, "reading slices")) cancelled = true;
+      for (int c = 0; c < 3; ++c) out.table[(t * n + k) * 3 + c] = band[t * slice->channels() + c];
+    if (!ReportProgress(progress, ++read, int(n), "reading slices")) cancelled = true;
   }, options.num_threads);
   if (cancelled) return Status::Cancelled();
   for (const std::string& e : errors)
     if (!e.empty()) return Status::Error(e);
+  return out;
+}
 
+StatusOr<GgxMaterialMaps> FitGgxObservations(const GgxObservations& observations, const GgxFitOptions& options,
+                                             const ProgressFn& progress) {
+  if (std::string why = options.Check(); !why.empty()) return Status::Error(why);
+  const auto start = std::chrono::steady_clock::now();
+  const int width = observations.width, height = observations.height;
+  const size_t n = observations.lights.size(), texels = size_t(width) * height;
+  if (observations.table.size() != texels * n * 3) return Status::Error("GGX fit: the observations do not fill their table");
+  std::vector<Observation> dirs;
+  for (size_t k = 0; k < n; ++k) dirs.emplace_back(observations.lights[k], observations.views[k]);
+  const std::vector<float>& table = observations.table;
   GgxMaterialMaps maps;
   maps.base_color = Image(width, height, 3);
   maps.roughness = Image(width, height, 1);
@@ -291,6 +300,7 @@ StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const G
   const StartGrid grid(dirs);
   std::atomic<int> rows_done = 0;
   std::atomic<long> iterations = 0, evaluations = 0;
+  std::atomic<bool> cancelled = false;
   ParallelFor(0, height, [&](int y) {
     if (cancelled) return;
     TexelFit fit;
@@ -307,7 +317,7 @@ StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const G
       iterations += fit.iterations;
       evaluations += fit.evaluations;
     }
-    if (!ReportProgress(progress, int(n) + ++rows_done, int(n) + height, "fitting")) cancelled = true;
+    if (!ReportProgress(progress, ++rows_done, height, "fitting")) cancelled = true;
   }, options.num_threads);
   if (cancelled) return Status::Cancelled();
   maps.slices_used = int(n);
@@ -318,6 +328,16 @@ StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const G
     maps.mean_evaluations = double(evaluations) / texels;
   }
   maps.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return maps;
+}
+
+StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const fs::path& index_json, const GgxFitOptions& options, RowBand rows,
+                                             int board, const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  auto observations = ReadGgxObservations(index_json, options, rows, board, progress);
+  if (!observations.ok()) return observations.status();
+  auto maps = FitGgxObservations(*observations, options, progress);
+  if (maps.ok()) maps->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return maps;
 }
 

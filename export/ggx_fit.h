@@ -8,6 +8,9 @@
 #pragma once
 
 #include <filesystem>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "core/image.h"
 #include "core/json.h"
@@ -59,5 +62,18 @@ struct RowBand {
 // figures over its texels.
 StatusOr<GgxMaterialMaps> FitGgxMaterialRows(const std::filesystem::path& index_json, const GgxFitOptions& options,
                                              RowBand rows, int board = -1, const ProgressFn& progress = nullptr);
+
+// What the fit reads, decoded: the slices it uses (their directions) and, texel-major, every
+// texel's observations of them (RGB), for a band of rows. FitGgxMaterialRows is the two steps
+// below; a sharded fit reads the whole table once and each shard fits its band of it.
+struct GgxObservations {
+  int width = 0, height = 0;                    // the band's texels
+  std::vector<Eigen::Vector3d> lights, views;   // per slice used, unit, patch frame
+  std::vector<float> table;                     // [texel][slice][rgb]
+};
+StatusOr<GgxObservations> ReadGgxObservations(const std::filesystem::path& index_json, const GgxFitOptions& options,
+                                              RowBand rows, int board = -1, const ProgressFn& progress = nullptr);
+StatusOr<GgxMaterialMaps> FitGgxObservations(const GgxObservations& observations, const GgxFitOptions& options,
+                                             const ProgressFn& progress = nullptr);
 
 }  // namespace mesocap

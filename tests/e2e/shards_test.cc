@@ -165,6 +165,9 @@ TEST_F(ShardsTest, GgxFitShardsMergedEqualOneUnshardedExport) {
     ASSERT_EQ(testing::RunMesocap("process " + session.string() + " --stage export --shard " + shard + Options(session), &out), 0)
         << out;
     EXPECT_NE(out.find("GGX fit of rows"), std::string::npos) << out;
+    // The slices are decoded once, by the first shard; the others read their band of its table.
+    EXPECT_NE(out.find(index == 1 ? "the slices read (shared" : "the slices read by the first shard"), std::string::npos)
+        << out;
     EXPECT_FALSE(fs::exists(session / "export")) << shard;
   }
   ASSERT_EQ(testing::RunMesocap("process " + session.string() + " --stage export --merge 3" + Options(session), &out), 0) << out;
