@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "app/shard_parts.h"
-#include "core/image_io.h"
+#include "core/binary_record.h"
 #include "core/median.h"
 #include "core/progress.h"
 #include "core/session_layout.h"
@@ -19,16 +19,42 @@ namespace {
 
 constexpr const char* kStage = "export";
 
-// The band's maps in its part, as float OpenEXR (exact).
-struct BandMap {
-  const char* file;
-  Image GgxMaterialMaps::*map;
-};
-constexpr BandMap kBandMaps[] = {{"base_color.exr", &GgxMaterialMaps::base_color},
-                                 {"roughness.exr", &GgxMaterialMaps::roughness},
-                                 {"metallic.exr", &GgxMaterialMaps::metallic},
-                                 {"normal.exr", &GgxMaterialMaps::normal},
-                                 {"relative_error.exr", &GgxMaterialMaps::relative_error}};
+// The band's maps in its part as one binary record of floats (exact; and no image codec to load,
+// which would cost a small shard more than its fit).
+constexpr const char* kBandRecord = "band.bin";
+constexpr const char* kBandFormat = "mesocap-ggx-band 1";
+constexpr Image GgxMaterialMaps::*kBandMaps[] = {&GgxMaterialMaps::base_color, &GgxMaterialMaps::roughness,
+                                                 &GgxMaterialMaps::metallic, &GgxMaterialMaps::normal,
+                                                 &GgxMaterialMaps::relative_error};
+
+Status WriteBand(const fs::path& file, const GgxMaterialMaps& maps) {
+  BinaryRecordWriter w(kBandFormat);
+  for (const auto map : kBandMaps) {
+    const Image& image = maps.*map;
+    w.I32(image.width()), w.I32(image.height()), w.I32(image.channels());
+    w.Floats({image.data(), image.size()});
+  }
+  return w.WriteTo(file);
+}
+
+StatusOr<GgxMaterialMaps> ReadBand(const fs::path& file) {
+  auto reader = BinaryRecordReader::Open(file, kBandFormat);
+  if (!reader.ok()) return reader.status();
+  GgxMaterialMaps maps;
+  for (const auto map : kBandMaps) {
+    const int width = reader->I32(), height = reader->I32(), channels = reader->I32();
+    const std::vector<float> pixels = reader->Floats();
+    if (width < 0 || height < 0 || channels < 1 || channels > 4 ||
+        pixels.size() != size_t(width) * size_t(height) * size_t(channels)) {
+      reader->MarkBroken("a map's size does not match its pixels");
+      break;
+    }
+    maps.*map = Image(width, height, channels);
+    std::copy(pixels.begin(), pixels.end(), (maps.*map).data());
+  }
+  MESOCAP_RETURN_IF_ERROR(reader->Finish());
+  return maps;
+}
 
 StatusOr<int> BtfRows(const fs::path& session) {
   const fs::path index = SessionLayout(session).btf().index();
@@ -137,9 +163,7 @@ StatusOr<StageSummary> RunGgxShard(const fs::path& session, const Shard& shard, 
     auto maps = FitGgxObservations(*band, options, bar.AsCallback());
     if (!maps.ok()) return maps.status();
     const size_t texels = maps->base_color.pixel_count();
-    if (texels > 0)
-      for (const BandMap& m : kBandMaps)
-        MESOCAP_RETURN_IF_ERROR(WriteImage(part.folder() / m.file, (*maps).*m.map, {.format = PixelFormat::kFloat}));
+    MESOCAP_RETURN_IF_ERROR(WriteBand(part.folder() / kBandRecord, *maps));
     summary.brief = Format("shard %s: GGX fit of rows %zu..%zu of %d, the slices %s", shard.Name().c_str(), first, last,
                            *rows, computed ? "read (shared with the other shards)" : "read by the first shard");
     // Counts back from the means (exact: integers below 2^53), so the merge's means are the whole fit's.
@@ -174,15 +198,16 @@ StatusOr<GgxMaterialMaps> MergeGgxShards(const fs::path& session, int count, con
     iterations += part.value("iterations", 0LL), evaluations += part.value("evaluations", 0LL);
     maps.seconds += part.value("seconds", 0.0);
     if (first == last) continue;
-    for (const BandMap& m : kBandMaps) {
-      auto image = ReadImage(folder.part(k + 1, count) / m.file, {.linearize = false});
-      if (!image.ok()) return image.status();
-      Image& whole = maps.*m.map;
-      if (whole.empty()) whole = Image(image->width(), *rows, image->channels());
-      if (image->width() != whole.width() || image->channels() != whole.channels() ||
-          image->height() != int(last - first))
-        return Status::Error(folder.part(k + 1, count).string() + "/" + m.file + ": not the size of its band");
-      std::copy(image->data(), image->data() + image->size(), whole.row(int(first)));
+    const fs::path file = folder.part(k + 1, count) / kBandRecord;
+    auto band_maps = ReadBand(file);
+    if (!band_maps.ok()) return band_maps.status();
+    for (const auto map : kBandMaps) {
+      const Image& image = (*band_maps).*map;
+      Image& whole = maps.*map;
+      if (whole.empty()) whole = Image(image.width(), *rows, image.channels());
+      if (image.width() != whole.width() || image.channels() != whole.channels() || image.height() != int(last - first))
+        return Status::Error(file.string() + ": not the size of its band");
+      std::copy(image.data(), image.data() + image.size(), whole.row(int(first)));
     }
   }
   const size_t texels = maps.relative_error.pixel_count();
