@@ -120,28 +120,20 @@ StatusOr<GgxObservations> ReadObservationRows(const fs::path& folder, size_t fir
 // The shard's band of the shared observations; `*computed`: this shard read the slices.
 StatusOr<GgxObservations> BandObservations(const fs::path& session, const ShardsFolder& folder, const GgxFitOptions& options,
                                            size_t first, size_t last, bool progress, bool* computed) {
-  GgxObservations band;
   *computed = false;
-  const auto compute = [&](const fs::path& staging) -> Status {
+  const auto compute = [&](const fs::path& staging) -> StatusOr<GgxObservations> {
     *computed = true;
     ProgressBar bar("GGX observations", progress);
     auto all = ReadGgxObservations(SessionLayout(session).btf().index(), options, {}, -1, bar.AsCallback());
     if (!all.ok()) return all.status();
     MESOCAP_RETURN_IF_ERROR(WriteObservations(staging, *all));
     const size_t row_floats = size_t(all->width) * all->lights.size() * 3;
-    band = *all;
-    band.height = int(last - first);
+    GgxObservations band{all->width, int(last - first), std::move(all->lights), std::move(all->views), {}};
     band.table.assign(all->table.begin() + long(row_floats * first), all->table.begin() + long(row_floats * last));
-    return Status::Ok();
+    return band;
   };
-  const auto read = [&]() -> Status {
-    auto read = ReadObservationRows(folder.shared(), first, last);
-    if (!read.ok()) return read.status();
-    band = std::move(*read);
-    return Status::Ok();
-  };
-  MESOCAP_RETURN_IF_ERROR(WithSharedFolder(folder, compute, read));
-  return band;
+  return WithSharedFolder<GgxObservations>(folder, compute,
+                                           [&] { return ReadObservationRows(folder.shared(), first, last); });
 }
 
 }  // namespace

@@ -49,7 +49,8 @@ struct Stage {
   // A shardable stage's shard (`key` its inputs hash; sets *done_before when its part was there)
   // and merge; null for the others.
   std::function<StatusOr<StageSummary>(const Shard&, const std::string& key, bool* done_before)> run_shard = nullptr;
-  std::function<StatusOr<StageSummary>(int count, const std::string& key)> merge = nullptr;
+  // `make_command`: the command that makes a shard, for the message naming a missing one.
+  std::function<StatusOr<StageSummary>(int count, const std::string& key, const std::string& make_command)> merge = nullptr;
 };
 
 // Pictures for the report: the top board's PTM relit under three lights, the glTF material of
@@ -179,10 +180,8 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                     [&a, progress](const Shard& shard, const std::string& key, bool* done_before) {
                       return RunReconstructShard(a.session, a.reconstruct, shard, key, progress, done_before);
                     },
-                    [&a](int count, const std::string& key) {
-                      return MergeReconstructShards(a.session, a.reconstruct, count, key,
-                                                    "mesocap process " + a.session.string() +
-                                                        " --stage reconstruct (with this run's options)");
+                    [&a](int count, const std::string& key, const std::string& make_command) {
+                      return MergeReconstructShards(a.session, a.reconstruct, count, key, make_command);
                     }});
   if (!a.synth.method.empty())
     stages.push_back({"synth", {"reconstruct"}, {},
@@ -193,10 +192,8 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                       [&a, progress](const Shard& shard, const std::string& key, bool* done_before) {
                         return RunSynthShard(a.session, a.synth, a.threads, shard, key, progress, done_before);
                       },
-                      [&a](int count, const std::string& key) {
-                        return MergeSynthShards(a.session, a.synth, a.threads, count, key,
-                                                "mesocap process " + a.session.string() +
-                                                    " --stage synth (with this run's options)");
+                      [&a](int count, const std::string& key, const std::string& make_command) {
+                        return MergeSynthShards(a.session, a.synth, a.threads, count, key, make_command);
                       }});
   std::vector<std::string> export_after = {"resample", "fit-ptm", "reconstruct"};
   if (!a.synth.method.empty()) export_after.push_back("synth");
@@ -205,10 +202,8 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                     [&a, progress](const Shard& shard, const std::string& key, bool* done_before) {
                       return RunGgxShard(a.session, shard, key, a.threads, progress, done_before);
                     },
-                    [&a](int count, const std::string& key) -> StatusOr<StageSummary> {
-                      auto maps = MergeGgxShards(a.session, count, key,
-                                                 "mesocap process " + a.session.string() +
-                                                     " --stage export (with this run's options)");
+                    [&a](int count, const std::string& key, const std::string& make_command) -> StatusOr<StageSummary> {
+                      auto maps = MergeGgxShards(a.session, count, key, make_command);
                       if (!maps.ok()) return maps.status();
                       auto summary = RunExportStage(a.session, &*maps);
                       if (summary.ok()) RemoveShardParts(SessionLayout(a.session), "export");
@@ -261,16 +256,16 @@ const std::vector<std::string>& ShardableStageNames() {
 }
 
 std::string ProcessOptions::Check() const {
+  const auto is_one_of = [](const std::string& name, const std::vector<std::string>& names) {
+    return std::count(names.begin(), names.end(), name) > 0;
+  };
   for (const std::string& f : force)
-    if (f != "all" && std::count(ProcessStageNames().begin(), ProcessStageNames().end(), f) == 0)
+    if (f != "all" && !is_one_of(f, ProcessStageNames()))
       return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, all)";
   if (!synth.method.empty() && !IsSynthMethod(synth.method))
     return "--synth must be roller, quilt, ptm-block or texton, not '" + synth.method + "'";
   if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
   if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";
-  const auto is_one_of = [](const std::string& name, const std::vector<std::string>& names) {
-    return std::count(names.begin(), names.end(), name) > 0;
-  };
   if (!only_stage.empty() && !is_one_of(only_stage, ProcessStageNames()))
     return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export)";
   if (only_stage == "synth" && synth.method.empty()) return "--stage synth needs --synth METHOD";
@@ -321,7 +316,8 @@ StatusOr<StageOutcome> RunStage(const Stage& stage, const ProcessOptions& a, con
   if (a.shard)
     summary = stage.run_shard(*a.shard, key, &done_before);
   else if (a.merge_shards > 0)
-    summary = stage.merge(a.merge_shards, key);
+    summary = stage.merge(a.merge_shards, key,
+                          "mesocap process " + a.session.string() + " --stage " + stage.name + " (with this run's options)");
   else
     summary = stage.run();
   if (!summary.ok()) return summary.status().WithContext("stage " + stage.name + ": ");

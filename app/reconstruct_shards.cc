@@ -22,26 +22,21 @@ StatusOr<StatisticsRecord> SharedStatistics(const fs::path& session, const Slice
                                             const ShardsFolder& folder, bool progress, bool* computed) {
   auto index = ReconstructStageIndex(session);
   if (!index.ok()) return index.status();
-  StatisticsRecord record;
   *computed = false;
-  const auto compute = [&](const fs::path& staging) -> Status {
+  const auto compute = [&](const fs::path& staging) -> StatusOr<StatisticsRecord> {
     *computed = true;
     const auto start = std::chrono::steady_clock::now();
     ProgressBar bar("statistics", progress);
+    StatisticsRecord record;
     auto inputs = LoadStatisticalBtfInputs(*index, options, &record.report, bar.AsCallback());
     if (!inputs.ok()) return inputs.status();
     record.inputs = std::move(*inputs);
     record.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return WriteStatisticsRecord(staging / ShardsFolder::statistics_name(), record);
+    MESOCAP_RETURN_IF_ERROR(WriteStatisticsRecord(staging / ShardsFolder::statistics_name(), record));
+    return record;
   };
-  const auto read = [&]() -> Status {
-    auto read = ReadStatisticsRecord(folder.shared() / ShardsFolder::statistics_name(), options.btf);
-    if (!read.ok()) return read.status();
-    record = std::move(*read);
-    return Status::Ok();
-  };
-  MESOCAP_RETURN_IF_ERROR(WithSharedFolder(folder, compute, read));
-  return record;
+  const auto read = [&] { return ReadStatisticsRecord(folder.shared() / ShardsFolder::statistics_name(), options.btf); };
+  return WithSharedFolder<StatisticsRecord>(folder, compute, read);
 }
 
 }  // namespace

@@ -97,19 +97,20 @@ Status LinkPartFile(const fs::path& part, const fs::path& folder, const std::str
   return Status::Ok();
 }
 
-Status WithSharedFolder(const ShardsFolder& folder, const std::function<Status(const fs::path& staging)>& compute,
-                        const std::function<Status()>& read) {
+StatusOr<SharedFolderClaim> ClaimSharedFolder(const ShardsFolder& folder) {
   std::error_code ec;
   fs::create_directories(folder.root, ec);
   if (ec) return Status::Error(folder.root.string() + ": cannot create: " + ec.message());
-  if (fs::exists(folder.shared())) return read();
+  SharedFolderClaim claim;
+  if (fs::exists(folder.shared())) return claim;
   auto lock = FileLock::Exclusive(folder.shared_lock(), /*wait=*/true);
   if (!lock.ok()) return lock.status();
-  if (fs::exists(folder.shared())) return read();  // made while this shard waited
+  if (fs::exists(folder.shared())) return claim;  // made while this shard waited
   auto staging = StagingFolder::Begin(folder.shared());
   if (!staging.ok()) return staging.status();
-  MESOCAP_RETURN_IF_ERROR(compute(staging->path()));
-  return staging->Publish();
+  claim.lock.emplace(std::move(*lock));
+  claim.staging.emplace(std::move(*staging));
+  return claim;
 }
 
 }  // namespace mesocap::app

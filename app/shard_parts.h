@@ -7,9 +7,12 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
+#include "core/file_lock.h"
 #include "core/json.h"
 #include "core/session_layout.h"
 #include "core/shard.h"
@@ -45,9 +48,26 @@ void RemoveShardParts(const SessionLayout& layout, const std::string& stage);
 // else copied. An empty name, or one already taken, is an error naming the part.
 Status LinkPartFile(const std::filesystem::path& part, const std::filesystem::path& folder, const std::string& file);
 
-// The shared folder: read by `read` if there; else, under its lock, made by `compute` in a staging
-// folder it is given, then published whole (a second shard waiting on the lock then reads it).
-Status WithSharedFolder(const ShardsFolder& folder, const std::function<Status(const std::filesystem::path& staging)>& compute,
-                        const std::function<Status()>& read);
+// shared/ when this shard must make it: the lock held while it does and the staging folder to
+// make it in; both empty when shared/ is there (made before, or while this shard waited).
+struct SharedFolderClaim {
+  std::optional<FileLock> lock;
+  std::optional<StagingFolder> staging;
+};
+StatusOr<SharedFolderClaim> ClaimSharedFolder(const ShardsFolder& folder);
+
+// What the shards share: `read()` from shared/ if it is there; else, under its lock, `compute(staging)`
+// makes it (writing its files into the staging folder, which is then published whole) and
+// returns it, so a second shard waiting on the lock then reads it.
+template <class T, class Compute, class Read>
+StatusOr<T> WithSharedFolder(const ShardsFolder& folder, Compute&& compute, Read&& read) {
+  auto claim = ClaimSharedFolder(folder);
+  if (!claim.ok()) return claim.status();
+  if (!claim->staging) return read();
+  StatusOr<T> made = compute(claim->staging->path());
+  if (!made.ok()) return made;
+  if (Status st = claim->staging->Publish(); !st.ok()) return st;
+  return made;
+}
 
 }  // namespace mesocap::app

@@ -84,11 +84,18 @@ struct SharedMap {
 };
 constexpr const char* kMethodRecord = "method.json";
 
+StatusOr<SharedMap> ReadSharedMap(const ShardsFolder& folder) {
+  auto map = ReadSynthMap(SynthFolder{folder.shared()}.map());
+  if (!map.ok()) return map.status();
+  auto method = ReadJsonFile(folder.shared() / kMethodRecord);
+  if (!method.ok()) return method.status();
+  return SharedMap{std::move(*map), std::move(*method)};
+}
+
 StatusOr<SharedMap> SharedSynthesis(const fs::path& session, const SynthStageOptions& options, int num_threads,
                                     const ShardsFolder& folder, bool progress, bool* computed) {
-  SharedMap shared;
   *computed = false;
-  const auto compute = [&](const fs::path& staging) -> Status {
+  const auto compute = [&](const fs::path& staging) -> StatusOr<SharedMap> {
     *computed = true;
     auto exemplar = StageExemplar(session, num_threads, /*features=*/true, progress);
     if (!exemplar.ok()) return exemplar.status();
@@ -96,21 +103,12 @@ StatusOr<SharedMap> SharedSynthesis(const fs::path& session, const SynthStageOpt
     if (!made.ok()) return made.status();
     MESOCAP_RETURN_IF_ERROR(WriteSynthMap(SynthFolder{staging}.map(), made->map));
     if (auto extra = TextonAnalysisWriter(made->textons)) MESOCAP_RETURN_IF_ERROR(extra(staging));
-    shared.map = std::move(made->map);
-    shared.method = {{"report", made->report}, {"note", made->note}, {"exemplar", ExemplarReport(*exemplar)}};
-    return WriteJsonFile(staging / kMethodRecord, shared.method);
+    SharedMap shared{std::move(made->map),
+                     {{"report", made->report}, {"note", made->note}, {"exemplar", ExemplarReport(*exemplar)}}};
+    MESOCAP_RETURN_IF_ERROR(WriteJsonFile(staging / kMethodRecord, shared.method));
+    return shared;
   };
-  const auto read = [&]() -> Status {
-    auto map = ReadSynthMap(SynthFolder{folder.shared()}.map());
-    if (!map.ok()) return map.status();
-    auto method = ReadJsonFile(folder.shared() / kMethodRecord);
-    if (!method.ok()) return method.status();
-    shared.map = std::move(*map);
-    shared.method = std::move(*method);
-    return Status::Ok();
-  };
-  MESOCAP_RETURN_IF_ERROR(WithSharedFolder(folder, compute, read));
-  return shared;
+  return WithSharedFolder<SharedMap>(folder, compute, [&] { return ReadSharedMap(folder); });
 }
 
 }  // namespace
@@ -164,10 +162,10 @@ StatusOr<StageSummary> MergeSynthShards(const fs::path& session, const SynthStag
   const ShardsFolder folder = layout.shards(kStage, key);
   auto parts = ReadShardParts(folder, kStage, key, count, make_command);
   if (!parts.ok()) return parts.status();
-  auto map = ReadSynthMap(SynthFolder{folder.shared()}.map());
-  if (!map.ok()) return map.status();
-  auto method = ReadJsonFile(folder.shared() / kMethodRecord);
-  if (!method.ok()) return method.status();
+  auto shared = ReadSharedMap(folder);
+  if (!shared.ok()) return shared.status();
+  const SynthMap& map = shared->map;
+  const Json& method = shared->method;
   auto exemplar = StageExemplar(session, num_threads, /*features=*/false, /*progress=*/false);
   if (!exemplar.ok()) return exemplar.status();
   SynthOutputRequest request;
@@ -175,8 +173,8 @@ StatusOr<StageSummary> MergeSynthShards(const fs::path& session, const SynthStag
   request.replace = true;
   request.num_threads = num_threads;
   request.slices = StageSlices(*exemplar, options.max_slices);
-  request.report = method->value("report", Json::object());
-  request.exemplar_report = method->value("exemplar", Json::object());
+  request.report = method.value("report", Json::object());
+  request.exemplar_report = method.value("exemplar", Json::object());
   // The method's own files (textons.exr) as the first shard wrote them.
   request.write_extra = [&](const fs::path& staging) -> Status {
     for (const auto& entry : fs::directory_iterator(folder.shared())) {
@@ -201,9 +199,9 @@ StatusOr<StageSummary> MergeSynthShards(const fs::path& session, const SynthStag
       return Status::Error(Format("the shards hold %zu slices, the stage %zu", entries.size(), request.slices.size()));
     return entries;
   };
-  MESOCAP_RETURN_IF_ERROR(WriteSynthesisOutputs(*map, *exemplar, request, nullptr));
+  MESOCAP_RETURN_IF_ERROR(WriteSynthesisOutputs(map, *exemplar, request, nullptr));
   RemoveShardParts(layout, kStage);  // every key's parts: the folder is whole now
-  return Summary(options, *map, *exemplar, request.slices.size(), method->value("note", ""));
+  return Summary(options, map, *exemplar, request.slices.size(), method.value("note", ""));
 }
 
 }  // namespace mesocap::app

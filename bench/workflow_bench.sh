@@ -72,16 +72,10 @@ run_workflow() {  # label, then snakemake arguments
 }
 run_workflow "local, --cores 1" --cores 1
 run_workflow "local, --cores 2" --cores 2
-cat > "$work/slurm-config.yaml" <<YAML
-resources:
-  default: {threads: 1, mem_mb: 2000, runtime: 30}
-  reconstruct: {threads: 1, mem_mb: 2000, runtime: 30}
-  export: {threads: 1, mem_mb: 2000, runtime: 30}
-YAML
 # shellcheck source=scripts/slurm-local.sh
 source scripts/slurm-local.sh
 trap 'slurm_local_stop "$work/slurm"' EXIT
 rm -rf "$work/slurm"
 slurm_local_start "$work/slurm"
 run_workflow "one-node Slurm (2 cores, a job per core)" --profile "$REPO/workflow/slurm" \
-  --configfile "$REPO/workflow/config.yaml" "$work/slurm-config.yaml"
+  --configfile "$REPO/workflow/config.yaml" "$REPO/workflow/slurm/one-core-jobs.yaml"

@@ -39,17 +39,10 @@ slurm_local_start "$WORK/slurm"
 sinfo
 
 echo "slurm-test: [3/4] the workflow through Slurm (shards=$SHARDS)"
-# One core per job, so the node's two cores run two jobs at once.
-cat > "$WORK/test-config.yaml" <<YAML
-resources:
-  default: {threads: 1, mem_mb: 2000, runtime: 30}
-  reconstruct: {threads: 1, mem_mb: 2000, runtime: 30}
-  export: {threads: 1, mem_mb: 2000, runtime: 30}
-YAML
 mkdir -p "$WORK/run"
 # CI=true: Snakemake 7.21 polls cluster jobs every second instead of every ten.
 (cd "$WORK/run" && CI=true snakemake -s "$REPO/workflow/Snakefile" --profile "$REPO/workflow/slurm" \
-  --configfile "$REPO/workflow/config.yaml" "$WORK/test-config.yaml" --keep-going \
+  --configfile "$REPO/workflow/config.yaml" "$REPO/workflow/slurm/one-core-jobs.yaml" --keep-going \
   --config sessions="$WORK/sessions" mesocap="$MESOCAP" shards=$SHARDS "process_options=$OPTIONS") ||
   fail "the workflow failed (its log: $WORK/run/.snakemake/log/)"
 
