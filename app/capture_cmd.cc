@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/capture_guide.h"
+#include "app/guided_capture.h"
 #include "app/commands.h"
 #include "capture/camera.h"
 #include "capture/tethered_capture.h"
@@ -55,12 +56,7 @@ AfterShotFn GuidanceAfterEachShot(CaptureArgs& args, Camera& camera) {
     if (!*guide) {
       CaptureGuideOptions options = args.guidance;
       options.session = args.options.out;
-      // The virtual rig knows its layout, as a lab keeps its pyramid's on file.
-      if (auto* virtual_camera = dynamic_cast<VirtualCamera*>(&camera);
-          virtual_camera && options.layout_file.empty() && !std::filesystem::exists(SessionLayout(options.session).rig_layout()))
-        if (Status st = WriteJsonFile(SessionLayout(options.session).rig_layout(), LayoutOf(virtual_camera->scene()).ToJson()); !st.ok())
-          std::fprintf(stderr, "capture: %s\n", st.message().c_str());
-      auto started = CaptureGuide::Start(options);
+      auto started = StartGuide(camera, options);
       if (!started.ok()) {
         *failed = true;
         std::fprintf(stderr, "capture: no guidance: %s\n", started.status().message().c_str());
@@ -74,35 +70,10 @@ AfterShotFn GuidanceAfterEachShot(CaptureArgs& args, Camera& camera) {
     std::fflush(stdout);
     if (!args.follow_guide) return;
     // The virtual photographer moves the flash where the guidance says, or holds it by hand.
-    const bool suggested = guidance.coverage && !guidance.coverage->report.next.empty();
-    const std::string where =
-        suggested ? FlashPositionValue(guidance.coverage->report.next.front().position_cam) : kFlashHandHeld;
-    if (CameraStatus st = camera.SetConfig(kFlashPositionSetting, where); !st.ok())
-      std::fprintf(stderr, "capture: %s\n", st.message.c_str());
+    std::optional<Eigen::Vector3d> next;
+    if (guidance.coverage && !guidance.coverage->report.next.empty()) next = guidance.coverage->report.next.front().position_cam;
+    if (CameraStatus st = HoldFlashAt(camera, next); !st.ok()) std::fprintf(stderr, "capture: %s\n", st.message.c_str());
   };
-}
-
-// A virtual capture knows its ground truth: SESSION/truth.json as `mesocap simulate` writes it,
-// with every shot as taken (the flash where the guidance or the hand put it, at its power) under
-// its name in the session. A resumed session's earlier shots are kept.
-Status WriteVirtualTruth(const VirtualCamera& camera, const CaptureReport& report, const fs::path& session) {
-  std::map<std::string, std::string> session_files;
-  for (const CapturedShot& shot : report.shots) session_files[fs::path(shot.on_card).filename().string()] = shot.file;
-  Json truth = camera.TruthOfShotsTaken(session_files);
-  // An earlier truth.json that cannot be read is left as it is, and said so.
-  const fs::path truth_file = SessionLayout(session).truth();
-  if (fs::exists(truth_file)) {
-    auto earlier = ReadJsonFile(truth_file);
-    if (!earlier.ok()) return Status::Error(earlier.status().message() + " (not rewritten with this run's shots)");
-    if (!earlier->is_object())
-      return Status::Error(truth_file.string() + ": not a JSON object (not rewritten with this run's shots)");
-    for (const char* list : {"shots", "calib_shots"}) {
-      Json merged = earlier->value(list, Json::array());
-      for (const Json& shot : truth[list]) merged.push_back(shot);
-      truth[list] = merged;
-    }
-  }
-  return WriteJsonFile(truth_file, truth);
 }
 
 }  // namespace
@@ -167,9 +138,8 @@ int RunCapture(CaptureArgs& a) {
   };
   auto report = mesocap::RunCapture(**camera, o, progress, ready, a.guide ? GuidanceAfterEachShot(a, **camera) : nullptr);
   ::sigaction(SIGINT, &previous, nullptr);
-  if (auto* virtual_camera = dynamic_cast<VirtualCamera*>(camera->get()); virtual_camera && report.ok())
-    if (Status st = WriteVirtualTruth(*virtual_camera, *report, o.out); !st.ok())
-      std::fprintf(stderr, "capture: %s\n", st.message().c_str());
+  if (report.ok())
+    if (Status st = WriteVirtualTruth(**camera, *report, o.out); !st.ok()) std::fprintf(stderr, "capture: %s\n", st.message().c_str());
   (*camera)->Close();
   if (!report.ok()) return Fail("capture", report.status().message(), kExitFailure);
   std::printf("%s\n", report->Brief().c_str());

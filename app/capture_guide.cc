@@ -209,6 +209,29 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     if (SearchingForBalls() && image.ok()) shots_seen_.Add(*image);
   }
   if (SearchingForBalls()) SearchForBalls(shots, &g);
+  Conclude(&g);
+  g.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return g;
+}
+
+ShotGuidance CaptureGuide::AfterUndo(const std::string& shot) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ShotGuidance g;
+  g.shot = shot;
+  flashes_.erase(shot);
+  if (!located_) g.missing.push_back(shot + ": left out");
+  Conclude(&g);
+  g.flash_cam.reset();
+  g.flash_words.clear();
+  g.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return g;
+}
+
+// Once the rig is located: where the shot's flash was, the coverage of every flash so far and the
+// next suggestions, also written to SESSION/coverage/.
+void CaptureGuide::Conclude(ShotGuidance* guidance) {
+  ShotGuidance& g = *guidance;
+  const std::string& shot = g.shot;
   if (located_) {
     if (auto it = flashes_.find(shot); it != flashes_.end()) {
       g.flash_cam = it->second;
@@ -232,8 +255,6 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
         !st.ok())
       g.missing.push_back(st.message());
   }
-  g.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return g;
 }
 
 std::string ShotGuidance::Text() const {

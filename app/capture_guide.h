@@ -49,6 +49,8 @@ class CaptureGuide {
 
   // Guidance after `shot` (relative to the session) was added. Also writes SESSION/coverage/.
   ShotGuidance AfterShot(const std::string& shot);
+  // Guidance after `shot` was rejected (the operator's undo): its flash no longer counts.
+  ShotGuidance AfterUndo(const std::string& shot);
 
   bool rig_located() const { return located_; }
   const CalibrationResult& rig() const { return rig_; }
@@ -70,6 +72,7 @@ class CaptureGuide {
   void AdoptBalls(SphereReport balls);
   std::optional<Eigen::Vector3d> QuickFlash(const Image& image, std::string* why_not) const;
   CoverageAssessment Assess() const;
+  void Conclude(ShotGuidance* g);
 
   CaptureGuideOptions options_;
   RigLayout layout_;

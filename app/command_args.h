@@ -6,6 +6,7 @@
 #include "app/calibrate_camera_args.h"
 #include "app/cameras_args.h"
 #include "app/capture_args.h"
+#include "app/console_args.h"
 #include "app/coverage_args.h"
 #include "app/demo_args.h"
 #include "app/evaluate_args.h"

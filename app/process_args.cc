@@ -35,10 +35,11 @@ CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
   sub->add_option("--stage", args->options.only_stage,
                   "Run this one stage only, as the workflow does (its earlier stages must have run; docs/workflow.md)");
   sub->add_option("--shard", args->shard,
-                  "With --stage reconstruct or synth: run shard I/N of it into " + S.shards_root().string() +
-                      "/ (the first shard makes what all share: the statistics, the map; merge with --merge N)");
+                  "With --stage reconstruct, synth or export: run shard I/N of it into " + S.shards_root().string() +
+                      "/ (the first shard makes what all share: the statistics, the map, the GGX fit's observations; "
+                      "merge with --merge N)");
   sub->add_option("--merge", args->options.merge_shards,
-                  "With --stage reconstruct or synth: merge its N shards into the stage's folder, as one run would write it");
+                  "With --stage reconstruct, synth or export: merge its N shards into the stage's folder, as one run would write it");
   sub->add_option("--outcome", args->outcome,
                   "On success, write what each stage did (JSON: stage, status, seconds, outputs) to this file, atomically "
                   "(the workflow's marker of a finished job)");

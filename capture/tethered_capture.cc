@@ -276,6 +276,12 @@ std::string CaptureReport::Brief() const {
   return text;  // `error` is the caller's to print (one line on stderr)
 }
 
+Json CaptureManifest(const CameraInfo& camera, const CaptureOptions& options) {
+  return {{"source", camera.port.rfind("fake:", 0) == 0 ? "fake" : "gphoto2"},
+          {"camera", {{"model", camera.model}, {"port", camera.port}}},
+          {"provenance", MakeProvenance(options.ToJson())}};
+}
+
 CameraStatus ValidateSettings(Camera& camera, const std::vector<std::string>& settings) {
   for (const auto& s : settings) {
     std::string key, value;
@@ -337,7 +343,8 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
   // One writer per session (core/session_lock.h): a second capture into it would pick the same
   // indices. Taken before a resumed session's journal is read; released when the run ends.
   std::optional<SessionLock> lock;
-  const auto acquire = [&lock, &root]() -> Status {
+  const auto acquire = [&lock, &root, &options]() -> Status {
+    if (options.locked_by_caller) return Status::Ok();
     auto taken = SessionLock::Acquire(root, "capture");
     if (!taken.ok()) return taken.status();
     lock.emplace(std::move(*taken));
@@ -356,11 +363,7 @@ StatusOr<CaptureReport> RunCapture(Camera& camera, const CaptureOptions& options
       report.warnings.push_back("the session was started with camera '" + cam.value("model", "") + "', now '" +
                                 report.camera.model + "'");
   } else {
-    const std::string port = report.camera.port;
-    Json manifest = {{"source", port.rfind("fake:", 0) == 0 ? "fake" : "gphoto2"},
-                     {"camera", {{"model", report.camera.model}, {"port", port}}},
-                     {"provenance", MakeProvenance(options.ToJson())}};
-    auto created = Session::Create(root, manifest);
+    auto created = Session::Create(root, CaptureManifest(report.camera, options));
     if (!created.ok()) return created.status();
     session.emplace(std::move(*created));
     MESOCAP_RETURN_IF_ERROR(acquire());

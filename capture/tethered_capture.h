@@ -46,6 +46,8 @@ struct CaptureOptions {
   bool delete_from_camera = false;    // delete each file from the card once it is safely in the
                                       // session (keeps a RAM-buffer capture target from filling)
   RetryOptions retry;
+  bool locked_by_caller = false;      // the caller holds the session's lock (the console, which
+                                      // captures and processes under one lock for its whole run)
 
   std::string Check() const;  // empty when valid, else a message for the user
   Json ToJson() const;
@@ -94,6 +96,9 @@ using ReadyFn = std::function<bool(int number, int total)>;
 // Called after each shot is safely in the session and journaled (capture guidance looks at it);
 // the next shot is taken when it returns.
 using AfterShotFn = std::function<void(const CapturedShot& shot)>;
+
+// The manifest of a new session captured from `camera` with `options` (source, camera, provenance).
+Json CaptureManifest(const CameraInfo& camera, const CaptureOptions& options);
 
 // Checks every "key=value" of `settings` against the camera without changing anything; a wrong
 // key or value is kBadSetting and the message lists the valid keys or values.

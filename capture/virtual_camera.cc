@@ -61,9 +61,10 @@ StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& 
         else if (key == "shots") o.shots = std::stoi(value);
         else if (key == "calib-shots") o.calib_shots = std::stoi(value);
         else if (key == "format") cam->format_ = value;
+        else if (key == "follow-error") cam->follow_error_m_ = std::stod(value);
         else
           return Status::Error("virtual camera port: unknown key '" + key +
-                               "' (seed, material, width, height, shots, calib-shots, format)");
+                               "' (seed, material, width, height, shots, calib-shots, format, follow-error)");
       } catch (const std::exception&) {
         return Status::Error("virtual camera port: bad value for " + key + ": '" + value + "'");
       }
@@ -72,6 +73,8 @@ StatusOr<std::unique_ptr<VirtualCamera>> VirtualCamera::Open(const std::string& 
     return Status::Error("virtual camera port must be 'virtual' or 'virtual:key=value,...', not '" + port + "'");
   }
   if (ExtensionForFormat(cam->format_).empty()) return Status::Error("virtual camera: format must be jpg, png or exr");
+  if (!(cam->follow_error_m_ >= 0 && cam->follow_error_m_ <= 1))
+    return Status::Error("virtual camera: follow-error must be 0 to 1 metre");
   cam->seed_ = o.seed;
   auto scene = MakeRigScene(o);
   if (!scene.ok()) return scene.status();
@@ -159,6 +162,9 @@ RigShot VirtualCamera::NextFlash(CameraStatus* status) {
   ParsePosition(held.value, &shot.light_m);
   std::mt19937_64 rng(seed_ * 1'000'003 + taken_.size());
   shot.power = 1.0 + 0.15 * std::uniform_real_distribution<double>(-1, 1)(rng);
+  // A person holds the flash near the asked position, not at it.
+  std::normal_distribution<double> miss(0.0, follow_error_m_);
+  if (follow_error_m_ > 0) shot.light_m += Eigen::Vector3d(miss(rng), miss(rng), miss(rng));
   return shot;
 }
 

@@ -1,10 +1,12 @@
 // The virtual rig as a third back-end of capture/camera.h: `mesocap capture --camera virtual`
 // renders each picture the moment the shutter fires, so a capture run through it yields the
 // same session (bytes included) as `mesocap simulate` with the same options.
-// Port: "virtual" or "virtual:seed=S,material=M,width=W,height=H,shots=N,calib-shots=C,format=F".
-// The setting "flashposition" stands for the photographer holding the flash: "hand-held" (the
-// rig's next position, as `simulate` renders them) or "x,y,z", metres in the camera frame, where
-// the next flash shots are taken (guided capture, `mesocap capture --follow-guide`).
+// Port: "virtual" or "virtual:seed=S,material=M,width=W,height=H,shots=N,calib-shots=C,format=F,
+// follow-error=E". The setting "flashposition" stands for the photographer holding the flash:
+// "hand-held" (the rig's next position, as `simulate` renders them) or "x,y,z", metres in the
+// camera frame, where the next flash shots are taken (guided capture, `mesocap capture
+// --follow-guide`, the console), missed by a person's error: a random offset of E metres standard
+// deviation along each axis (default 0: exactly there).
 #pragma once
 
 #include <deque>
@@ -65,6 +67,7 @@ class VirtualCamera : public Camera {
   RigShot NextFlash(CameraStatus* status);
 
   uint64_t seed_ = 1;
+  double follow_error_m_ = 0;  // a person's miss of an asked flash position, per axis (m)
   int next_flash_ = 0, next_calib_ = 0;  // the rig's hand-held flash positions, checkerboard poses
   std::vector<RigShot> taken_;
   std::vector<RigCalibShot> calib_taken_;

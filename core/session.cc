@@ -80,9 +80,16 @@ StatusOr<Session> Session::Open(const fs::path& root) {
         ++s.torn_lines_;  // a crash mid-append cuts at most the last line
         continue;
       }
-      if (!j.is_object() || j.value("event", Json()) != "shot") continue;
+      if (!j.is_object()) continue;
+      const Json event = j.value("event", Json());
       try {
-        s.shots_.push_back(ShotRecord::FromJson(j));
+        if (event == "shot") {
+          s.shots_.push_back(ShotRecord::FromJson(j));
+        } else if (event == "reject") {
+          const std::string file = JsonRelativePath(JsonField(j, "", "file"), "file").string();
+          if (!s.Journaled(file)) throw JsonFieldError("rejects " + file + ", which no earlier line records");
+          s.rejected_[file] = j.value("reason", "");
+        }
       } catch (const std::exception& e) {
         return Status::Error(journal.string() + " line " + std::to_string(number) + ": " + e.what());
       }
@@ -107,10 +114,23 @@ Status Session::RecordShot(const ShotRecord& record) {
   return Status::Ok();
 }
 
+Status Session::RejectShot(const std::string& file, const std::string& reason) {
+  if (!Journaled(file)) return Status::Error(root_.string() + ": no shot " + file + " in the journal");
+  if (IsRejected(file)) return Status::Error(root_.string() + ": " + file + " is rejected already");
+  const Json j = {{"event", "reject"}, {"file", file}, {"time_utc", UtcNowIso8601()}, {"reason", reason}};
+  MESOCAP_RETURN_IF_ERROR(AppendLineDurably(layout().journal(), j.dump()));
+  rejected_[file] = reason;
+  return Status::Ok();
+}
+
+bool Session::Journaled(const std::string& file) const {
+  return std::any_of(shots_.begin(), shots_.end(), [&](const ShotRecord& r) { return r.file == file; });
+}
+
 std::vector<ShotRecord> Session::ShotsOfKind(const std::string& kind) const {
   std::vector<ShotRecord> out;
   std::copy_if(shots_.begin(), shots_.end(), std::back_inserter(out),
-               [&](const ShotRecord& r) { return r.kind == kind; });
+               [&](const ShotRecord& r) { return r.kind == kind && !IsRejected(r.file); });
   return out;
 }
 

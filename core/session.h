@@ -1,9 +1,11 @@
 // A session folder: session.json (manifest, written atomically), journal.jsonl (one JSON object
-// per completed shot, appended and fsynced), shots/ and calib/ (originals, never modified), and
-// one folder per later stage. Layout and formats: docs/formats.md.
+// per completed shot, appended and fsynced; a later record may reject a shot), shots/ and calib/
+// (originals, never modified nor deleted), and one folder per later stage. Layout and formats:
+// docs/formats.md.
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,16 +49,26 @@ class Session {
 
   // Appends a completed shot to the journal. Call only after its file is in place.
   Status RecordShot(const ShotRecord& record);
+  // Appends a record that takes the journaled shot `file` out of the session (an operator's
+  // undo): its file stays, every stage leaves it out. An unknown or already rejected file is an error.
+  Status RejectShot(const std::string& file, const std::string& reason);
+  // Every journaled shot, rejected ones included (their files and indices stay taken).
   const std::vector<ShotRecord>& shots() const { return shots_; }
+  // The shots of a kind the stages use: rejected ones left out.
   std::vector<ShotRecord> ShotsOfKind(const std::string& kind) const;
+  bool IsRejected(const std::string& file) const { return rejected_.count(file) > 0; }
+  const std::map<std::string, std::string>& rejected() const { return rejected_; }  // file -> reason
   // Next free index of a kind: one past the highest recorded, so resuming never overwrites.
   int NextIndex(const std::string& kind) const;
   int torn_journal_lines() const { return torn_lines_; }
 
  private:
+  bool Journaled(const std::string& file) const;
+
   std::filesystem::path root_;
   Json manifest_;
   std::vector<ShotRecord> shots_;
+  std::map<std::string, std::string> rejected_;
   int torn_lines_ = 0;
 };
 

@@ -136,6 +136,11 @@ ShardsFolder SessionLayout::shards(const std::string& stage, const std::string& 
   return {shards_root() / (stage.empty() ? "STAGE" : stage) / (key.empty() ? "KEY" : key)};
 }
 fs::path SessionLayout::workflow() const { return root_ / "workflow"; }
+fs::path SessionLayout::console() const { return root_ / "console"; }
+fs::path SessionLayout::console_thumbnail(const std::string& shot_file) const {
+  return console() / "thumbs" / (fs::path(shot_file).stem().string() + ".jpg");
+}
+fs::path SessionLayout::console_process_log() const { return console() / "process.log"; }
 fs::path SessionLayout::workflow_marker(const std::string& job) const {
   return workflow() / ((job.empty() ? "JOB" : job) + ".done");
 }
@@ -246,6 +251,8 @@ Json SessionLayout::ToJson() const {
                  {"part", rel(shards_pattern.part(kPattern, kPattern))},
                  {"part_record", ShardsFolder::part_record_name()}};
   j["workflow"] = {{"folder", rel(workflow())}, {"marker", rel(workflow_marker(""))}, {"log", rel(workflow_log(""))}};
+  j["console"] = {{"folder", rel(console())}, {"thumbnail", rel(console_thumbnail("shot_0001.jpg"))},
+                  {"process_log", rel(console_process_log())}};
   j["report"] = {{"html", rel(report_html())},
                  {"markdown", rel(report_md())},
                  {"files", rel(report_files())},

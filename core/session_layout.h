@@ -171,6 +171,11 @@ class SessionLayout {
   std::filesystem::path workflow() const;
   std::filesystem::path workflow_marker(const std::string& job) const;  // JOB.done
   std::filesystem::path workflow_log(const std::string& job) const;     // JOB.log
+  // console/: the capture console's thumbnails of the shots (`mesocap console`), and its log of
+  // the finishing `process` run.
+  std::filesystem::path console() const;
+  std::filesystem::path console_thumbnail(const std::string& shot_file) const;  // console/thumbs/shot_0001.jpg
+  std::filesystem::path console_process_log() const;                            // console/process.log
 
   // The session's report (Report::Write names the files in a folder) and its pictures.
   std::filesystem::path report_html() const;

@@ -48,6 +48,36 @@ TEST(Session, NextIndexSkipsFilesThatWereNeverJournaled) {
   EXPECT_EQ(s->NextIndex("calib"), 1);
 }
 
+TEST(Session, ARejectedShotLeavesTheStagesListButKeepsItsFileAndIndex) {
+  const auto root = testing::MakeTempDir() / "s";
+  auto s = Session::Create(root, {});
+  ASSERT_TRUE(s.ok());
+  for (int i = 1; i <= 3; ++i) {
+    ShotRecord r;
+    r.index = i;
+    r.file = SessionLayout::ShotEntry("shot", i, ".jpg");
+    ASSERT_TRUE(s->RecordShot(r).ok());
+  }
+  const std::string second = SessionLayout::ShotEntry("shot", 2, ".jpg");
+  ASSERT_TRUE(s->RejectShot(second, "undone in the console").ok());
+  EXPECT_FALSE(s->RejectShot(second, "again").ok());  // once only
+  EXPECT_FALSE(s->RejectShot(SessionLayout::ShotEntry("shot", 9, ".jpg"), "never taken").ok());
+  auto reopened = Session::Open(root);
+  ASSERT_TRUE(reopened.ok()) << reopened.status().message();
+  ASSERT_EQ(reopened->ShotsOfKind("shot").size(), 2u);
+  EXPECT_EQ(reopened->ShotsOfKind("shot")[1].index, 3);
+  EXPECT_EQ(reopened->shots().size(), 3u);  // still journaled: capture's recovery must not take it again
+  EXPECT_TRUE(reopened->IsRejected(second));
+  EXPECT_EQ(reopened->rejected().at(second), "undone in the console");
+  EXPECT_EQ(reopened->NextIndex("shot"), 4);
+  // A reject record naming a shot no earlier line records is an error naming the line.
+  std::ofstream(SessionLayout(root).journal(), std::ios::app)
+      << R"({"event":"reject","file":"shots/shot_0042.jpg"})" << "\n";
+  auto bad = Session::Open(root);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("line 5"), std::string::npos) << bad.status().message();
+}
+
 TEST(Session, RefusesANonEmptyFolder) {
   const auto root = testing::MakeTempDir();
   std::ofstream(root / "x") << "x";

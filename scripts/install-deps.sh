@@ -16,6 +16,7 @@ packages=(
   ccache  # every build compiles through it (CMakeLists.txt)
   chromium  # the report page's viewer is tested in it, headless (tests/e2e/process_test)
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
+  libcpp-httplib-dev  # the capture console's web server (app/console_server.cc)
   snakemake slurm-wlm munge  # the workflow over many sessions, and its one-node Slurm test (scripts/slurm-test.sh)
 )
 
