@@ -22,7 +22,7 @@ struct ConsoleArgs {
   std::string mode = "enter";         // enter: the page's button fires the camera; remote: its own release
   std::string listen = "127.0.0.1:8765";
   std::string token;
-  int threads = 48;
+  int threads = 256;
   bool follow_guide = false;
   std::vector<std::string> guide_images;
   std::string process_args;  // for finish: `mesocap process SESSION ARGS`

@@ -77,7 +77,8 @@ int RunConsole(ConsoleArgs& a) {
   if (std::string why = work.guidance.Check(); !why.empty()) return Fail("console", why, kExitUsage);
   const bool exists = fs::exists(SessionLayout(work.session).manifest());
   if ((a.review || a.resume) && !exists)
-    return Fail("console", a.session.string() + ": not a mesocap session (no session.json)", kExitUsage);
+    return Fail("console", a.session.string() + ": not a mesocap session (no " +
+                                  SessionLayout(a.session).manifest().filename().string() + ")", kExitUsage);
   if (!a.review && !a.resume && !IsMissingOrEmptyDir(work.session))
     return Fail("console", a.session.string() + ": exists and is not empty; choose a new folder, or add --resume or --review", kExitUsage);
 
@@ -132,7 +133,9 @@ int RunConsole(ConsoleArgs& a) {
   ::sigaction(SIGINT, &previous_int, nullptr);
   ::sigaction(SIGTERM, &previous_term, nullptr);
   const Json final_state = state.Snapshot();
-  if (final_state["process"]["state"] == "failed") return Fail("console", "finish: `mesocap process` failed (see its lines in console/process.log)");
+  if (final_state["process"]["state"] == "failed")
+    return Fail("console", "finish: `mesocap process` failed (its lines: " +
+                               SessionLayout(work.session).console_process_log().string() + ")");
   return kExitOk;
 }
 

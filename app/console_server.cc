@@ -27,7 +27,7 @@ std::string ContentTypeOf(const fs::path& file) {
       {".jpg", "image/jpeg"}, {".jpeg", "image/jpeg"}, {".png", "image/png"}, {".svg", "image/svg+xml"},
       {".html", "text/html; charset=utf-8"}, {".md", "text/markdown; charset=utf-8"}, {".txt", "text/plain; charset=utf-8"},
       {".log", "text/plain; charset=utf-8"}, {".json", "application/json"}, {".jsonl", "application/json"},
-      {".gltf", "model/gltf+json"}, {".css", "text/css"}, {".js", "text/javascript"}};
+      {".css", "text/css"}, {".js", "text/javascript"}};
   const auto it = types.find(file.extension().string());
   return it == types.end() ? "application/octet-stream" : it->second;
 }
@@ -266,7 +266,7 @@ StatusOr<std::unique_ptr<ConsoleServer>> ConsoleServer::Start(const ConsoleServe
   const int threads = std::max(4, options.threads);
   impl->server.new_task_queue = [threads] { return new httplib::ThreadPool(size_t(threads)); };
   // Slow or silent clients let go of their thread soon; event streams write every second.
-  impl->server.set_read_timeout(2, 0);
+  impl->server.set_read_timeout(1, 0);
   impl->server.set_write_timeout(5, 0);
   impl->server.set_keep_alive_timeout(2);
   impl->server.set_payload_max_length(kMaxBody);

@@ -21,7 +21,7 @@ struct ConsoleServerOptions {
   int port = 8765;                // 0: any free port
   std::string token;              // needed on every request when not empty
   std::filesystem::path session;  // /files/ serves from inside it
-  int threads = 48;               // connections served at once (each event stream holds one)
+  int threads = 256;              // connections served at once (each event stream holds one)
 };
 
 // What the page's buttons do (POST /api/...). Each returns an error for the client (409), or

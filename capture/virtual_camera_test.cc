@@ -98,13 +98,13 @@ TEST(VirtualCamera, TakesFlashShotsWhereAsked) {
 // A person following the guide misses the asked position by about follow-error metres per axis:
 // the spread of many shots' offsets matches it, and none lands exactly where asked.
 TEST(VirtualCamera, APersonFollowingTheGuideMissesByTheGivenError) {
-  auto opened = VirtualCamera::Open("virtual:seed=8,width=160,height=100,shots=1,calib-shots=0,follow-error=0.05");
+  auto opened = VirtualCamera::Open("virtual:seed=8,width=640,height=400,shots=1,calib-shots=0,follow-error=0.05");
   ASSERT_TRUE(opened.ok()) << opened.status().message();
   VirtualCamera& camera = **opened;
   const Eigen::Vector3d asked(0.4, -0.2, 0.3);
   ASSERT_TRUE(camera.SetConfig("flashposition", FlashPositionValue(asked)).ok());
   CameraFilePath on_card;
-  const int shots = 40;
+  const int shots = 20;
   for (int i = 0; i < shots; ++i) ASSERT_TRUE(camera.Capture(&on_card).ok());
   double sum_sq = 0;
   for (const RigShot& shot : camera.flash_shots_taken()) {
@@ -112,8 +112,8 @@ TEST(VirtualCamera, APersonFollowingTheGuideMissesByTheGivenError) {
     EXPECT_GT(miss.norm(), 0);
     sum_sq += miss.squaredNorm();
   }
-  const double sigma = std::sqrt(sum_sq / (3.0 * shots));  // 120 samples: within about 13% of 0.05 at 2 sigma
-  EXPECT_NEAR(sigma, 0.05, 0.0085);
+  const double sigma = std::sqrt(sum_sq / (3.0 * shots));  // 60 samples: within 24% of 0.05 at 2.6 sigma
+  EXPECT_NEAR(sigma, 0.05, 0.012);
   for (const char* bad : {"follow-error=-1", "follow-error=2", "follow-error=x"})
     EXPECT_FALSE(VirtualCamera::Open(std::string("virtual:") + bad).ok()) << bad;
 }
