@@ -4,10 +4,7 @@
 // refused, no action runs, nothing in the session changes, and the real client is still served.
 #include "app/console_server.h"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
-#include <sys/time.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -18,6 +15,7 @@
 #include <thread>
 
 #include "app/console_state.h"
+#include "tests/raw_http.h"
 #include "tests/testing.h"
 
 namespace mesocap::app {
@@ -25,38 +23,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int Connect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(uint16_t(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  timeval timeout{10, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  return fd;
-}
-
-struct Reply {
-  int status = 0;
-  std::string text;  // head and body
-};
-
-// Sends `request` as is and reads the reply until the server closes (requests say Connection: close).
-Reply Raw(int port, const std::string& request) {
-  Reply reply;
-  const int fd = Connect(port);
-  if (fd < 0) return reply;
-  ::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-  char buffer[65536];
-  for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) reply.text.append(buffer, size_t(n));
-  ::close(fd);
-  if (reply.text.rfind("HTTP/1.1 ", 0) == 0) reply.status = std::atoi(reply.text.c_str() + 9);
-  return reply;
-}
+using testing::ConnectLocal;
+using Reply = testing::RawReply;
+Reply Raw(int port, const std::string& request) { return testing::RawRequest(port, request); }
 
 class ConsoleServerTest : public ::testing::Test {
  protected:
@@ -191,7 +160,7 @@ TEST_F(ConsoleServerTest, OversizedMalformedAndSlowRequestsAreRefusedAndTheRealC
   // 200 clients connect at once and send half a request each, never the rest.
   std::vector<int> slow;
   for (int i = 0; i < 200; ++i) {
-    const int fd = Connect(port_);
+    const int fd = ConnectLocal(port_);
     ASSERT_GE(fd, 0) << i;
     const std::string half = "GET /api/state HTTP/1.1\r\n" + host_;
     ::send(fd, half.data(), half.size(), MSG_NOSIGNAL);
@@ -206,7 +175,7 @@ TEST_F(ConsoleServerTest, OversizedMalformedAndSlowRequestsAreRefusedAndTheRealC
   EXPECT_LT(waited, 5.0);  // a thread each (256), and each slow client let go after the 1 s read time-out
   for (int fd : slow) ::close(fd);
   // A client that leaves an event stream midway costs nothing: the server goes on.
-  const int stream = Connect(port_);
+  const int stream = ConnectLocal(port_);
   const std::string events = "GET /api/events HTTP/1.1\r\n" + host_ + bearer_ + "\r\n";
   ::send(stream, events.data(), events.size(), MSG_NOSIGNAL);
   ::close(stream);
