@@ -13,18 +13,19 @@ body { margin: 0; background: #111; color: #eee; font: 20px/1.35 system-ui, sans
 header { display: flex; gap: 28px; align-items: baseline; padding: 8px 20px; background: #222; }
 header h1 { font-size: 26px; margin: 0; }
 #state { font-size: 24px; color: #9cf; }
-main { display: grid; grid-template-columns: 60vw 1fr; gap: 16px; padding: 12px 20px; }
-#last img { width: 100%; max-height: 66vh; object-fit: contain; background: #000; display: block; }
+main { display: grid; grid-template-columns: 60vw 1fr; gap: 16px; padding: 12px 20px 130px; }
+#last img { width: 100%; max-height: 64vh; object-fit: contain; background: #000; display: block; }
 #caption { font-size: 28px; margin-top: 6px; }
 .ok { color: #5e5; } .bad { color: #f66; } .unknown { color: #bbb; }
 #reasons { margin: 4px 0 0 0; font-size: 24px; color: #f99; }
 #nextwords { font-size: 40px; line-height: 1.2; margin: 6px 0; color: #fd6; }
 #nextbox { display: flex; gap: 16px; align-items: center; }
+#arrow { flex: none; }
 #percent { font-size: 64px; font-weight: 700; }
 #bar { height: 22px; background: #333; border-radius: 11px; overflow: hidden; }
 #bar div { height: 100%; width: 0; background: #3c6; transition: width .4s; }
-#plot { width: 100%; background: #fff; margin-top: 8px; }
-#boards { font-size: 18px; color: #ccc; }
+#plot { width: 100%; max-height: 34vh; object-fit: contain; background: #fff; margin-top: 8px; }
+#boards { font-size: 15px; color: #ccc; }
 #buttons { display: flex; flex-wrap: wrap; gap: 10px; margin: 12px 0; }
 button { font-size: 24px; padding: 10px 18px; border-radius: 8px; border: 0; background: #357; color: #fff; cursor: pointer; }
 button#finish { background: #363; } button#undo { background: #733; }
@@ -32,7 +33,7 @@ button#finish { background: #363; } button#undo { background: #733; }
 #process pre { max-height: 22vh; overflow: auto; background: #000; font-size: 15px; padding: 6px; white-space: pre-wrap; }
 #report a { font-size: 32px; color: #6cf; }
 #notes { font-size: 18px; color: #fc9; }
-footer { display: flex; gap: 8px; overflow-x: auto; padding: 8px 20px; background: #1a1a1a; }
+footer { position: fixed; bottom: 0; left: 0; right: 0; height: 120px; display: flex; gap: 8px; overflow-x: auto; padding: 8px 20px; background: #1a1a1a; }
 footer figure { margin: 0; text-align: center; font-size: 15px; flex: none; }
 footer img { height: 90px; display: block; border: 3px solid #444; }
 footer figure.usable img { border-color: #3c6; } footer figure.unusable img { border-color: #e44; }
@@ -185,10 +186,61 @@ $("shot").onclick = () => post("/api/shot");
 $("calib").onclick = () => post("/api/calibration-shot");
 $("undo").onclick = () => post("/api/undo");
 $("finish").onclick = () => post("/api/finish");
+// When each shot arrived (its event) and when the page showed it: the operator's record.
+const arrived = {}, shown = {};
+$("lastimg").addEventListener("load", () => {
+  const file = $("lastimg").dataset.file;
+  if (arrived[file] !== undefined && shown[file] === undefined) shown[file] = (performance.now() - arrived[file]) / 1000;
+});
 const events = new EventSource("/api/events");
 events.onopen = refresh;
-events.onmessage = refresh;
+events.onmessage = (message) => {
+  const event = JSON.parse(message.data);
+  if (event.type === "shot") arrived[event.file] = performance.now();
+  refresh();
+};
 refresh();
+
+// #operator=N (tests and the demo's recording): the page presses its own buttons as an operator
+// following it would: calibration shots while the guidance needs them, N flash shots each once
+// the last is read, one undo, then finish; its record goes to <body data-operator>.
+const sleep = (ms) => new Promise((done) => setTimeout(done, ms));
+async function until(test, seconds) {
+  for (const end = performance.now() + 1000 * seconds; performance.now() < end; await sleep(50))
+    if (state && test(state)) return true;
+  throw new Error("the operator waited " + seconds + " s in vain");
+}
+const count = (s, kind, read) => s.shots.filter((x) => x.kind === kind && (!read || x.analysed)).length;
+async function operate(shots, calibration) {
+  await until(() => true, 10);
+  for (let i = count(state, "calib", false); i < calibration; i++) {
+    $("calib").click();
+    await until((s) => count(s, "calib", true) === i + 1, 30);
+  }
+  const percents = [], suggestions = new Set();
+  for (let i = count(state, "shot", false); i < shots; i++) {
+    $("shot").click();
+    await until((s) => count(s, "shot", true) === i + 1 && shown[s.shots[s.shots.length - 1].file] !== undefined, 30);
+    if (state.coverage) percents.push(state.coverage.percent);
+    if (state.next.length) suggestions.add(state.next[0].words);
+  }
+  $("undo").click();
+  await until((s) => s.shots[s.shots.length - 1].rejected, 30);
+  $("finish").click();
+  await until((s) => s.process.state === "done" || s.process.state === "failed", 600);
+  await sleep(200);
+  const link = $("reportlink");
+  const report = link ? await fetch(link.href) : null;
+  document.body.dataset.operator = JSON.stringify({
+    shots: count(state, "shot", false), shown_s: Object.values(shown), percents: percents,
+    suggestions: suggestions.size, undone: state.shots.filter((x) => x.rejected).map((x) => x.file),
+    process: state.process.state, report: link ? link.getAttribute("href") : null, report_status: report ? report.status : 0,
+  });
+}
+const plan = new URLSearchParams(location.hash.slice(1));
+if (plan.has("operator"))
+  operate(Number(plan.get("operator")), Number(plan.get("calibration") || 0))
+    .catch((e) => { document.body.dataset.operator = JSON.stringify({ error: String(e) }); });
 </script>
 </body></html>
 )PAGE";

@@ -17,6 +17,7 @@ packages=(
   chromium  # the report page's viewer is tested in it, headless (tests/e2e/process_test)
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
   libcpp-httplib-dev  # the capture console's web server (app/console_server.cc)
+  python3-websocket  # drives the console's page in Chromium over DevTools (scripts/console_browser.py)
   snakemake slurm-wlm munge  # the workflow over many sessions, and its one-node Slurm test (scripts/slurm-test.sh)
 )
 

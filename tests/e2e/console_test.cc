@@ -222,6 +222,46 @@ TEST(Console, AnOperatorFollowsTheSuggestionsUndoesAndFinishes) {
   }
 }
 
+// The page itself in headless Chromium, driven over the DevTools protocol
+// (scripts/console_browser.py): its scripted operator (#operator=30) presses the buttons as a
+// person following it would. Every shot shows within 2 s of its arrival, the coverage rises, the
+// suggestion changes, undo and finish work, the report's link answers, and no script error or
+// console.error happens.
+TEST(Console, ThePageInHeadlessChromiumFollowsAThirtyShotSession) {
+  const fs::path dir = testing::MakeTempDir(), session = dir / "s";
+  RunningConsole console = StartConsole(session.string() + " " + kCamera +
+                                            " --follow-guide --guide-after 5 --process-args "
+                                            "'--slice-size 64 --btf-size 32 --btf-grid coarse'",
+                                        dir / "console.log");
+  ASSERT_GT(console.port, 0);
+  std::string out;
+  const std::string driver = std::string(std::getenv("MESOCAP_SOURCE_DIR")) + "/scripts/console_browser.py";
+  const int code = testing::RunCommand("/usr/bin/python3 " + driver + " http://127.0.0.1:" + std::to_string(console.port) +
+                                           "/ --operator 30 --calibration 10 --timeout 600 2>&1",
+                                       &out);
+  ::kill(console.pid, SIGTERM);
+  EXPECT_EQ(WaitForExit(console.pid, 60), 0);
+  ASSERT_EQ(code, 0) << out;
+  const Json result = Json::parse(out.substr(out.rfind("\n{") == std::string::npos ? 0 : out.rfind("\n{") + 1), nullptr, false);
+  ASSERT_FALSE(result.is_discarded()) << out;
+  EXPECT_EQ(result["errors"], Json::array()) << out;
+  EXPECT_EQ(result["page_errors"], "0") << out;
+  const Json& op = result["operator"];
+  ASSERT_TRUE(op.is_object()) << out;
+  ASSERT_FALSE(op.contains("error")) << out;
+  EXPECT_EQ(op["shots"], 30);
+  ASSERT_EQ(op["shown_s"].size(), 40u) << out;  // the checkerboard shots too
+  for (const Json& seconds : op["shown_s"]) EXPECT_LT(seconds.get<double>(), 2.0) << out;
+  ASSERT_GE(op["percents"].size(), 20u);
+  EXPECT_GT(op["percents"].back().get<double>(), op["percents"].front().get<double>() + 30) << out;
+  EXPECT_GE(op["suggestions"].get<int>(), 5);
+  EXPECT_EQ(op["undone"], Json::array({"shots/shot_0030.jpg"}));
+  EXPECT_EQ(op["process"], "done");
+  EXPECT_EQ(op["report_status"], 200);
+  std::printf("in Chromium: 30 shots, coverage %.1f%% -> %.1f%%, %d distinct suggestions\n",
+              op["percents"].front().get<double>(), op["percents"].back().get<double>(), op["suggestions"].get<int>());
+}
+
 TEST(Console, AKilledConsoleResumesWithEveryShotOnce) {
   const fs::path dir = testing::MakeTempDir(), session = dir / "s";
   RunningConsole console = StartConsole(session.string() + " " + kCamera, dir / "first.log");
