@@ -200,6 +200,11 @@ ShotGuidance CaptureGuide::AfterShot(const std::string& shot) {
     std::optional<Eigen::Vector3d> flash;
     if (!image.ok()) why_not = image.status().message();
     else flash = QuickFlash(*image, &why_not);
+    if (image.ok()) {
+      const double sharpness = TopBoardSharpness(*image, rig_, layout_);
+      g.warnings = CheckShot(*image, rig_, layout_, flash, sharpness_, sharpness, options_.checks);
+      if (sharpness > 0) sharpness_.push_back(sharpness);
+    }
     if (flash) {
       flashes_[shot] = *flash;
     } else {
@@ -263,6 +268,7 @@ std::string ShotGuidance::Text() const {
   text += Format(" (guidance in %.2f s)", seconds);
   if (!rig_news.empty()) text += "\n  located: " + rig_news;
   if (coverage) text += "\n" + Indented(CoverageSummary(*coverage) + "\n" + NextShotLines(*coverage));
+  for (const std::string& w : warnings) text += "\n  warning: " + w;
   for (const std::string& m : missing) text += "\n  missing: " + m;
   return text;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/coverage_output.h"
+#include "app/shot_checks.h"
 #include "calib/calibrate.h"
 #include "calib/shot_accumulator.h"
 #include "core/rig_layout.h"
@@ -27,6 +28,7 @@ struct CaptureGuideOptions {
   std::filesystem::path camera_file;  // intrinsics; empty: from the session's checkerboard shots
   int locate_after_shots = 6;         // flash shots before the boards and balls are located
   CoverageOptions coverage;
+  ShotCheckOptions checks;
   std::string Check() const;  // empty when valid
 };
 
@@ -35,6 +37,7 @@ struct ShotGuidance {
   std::optional<Eigen::Vector3d> flash_cam;  // where the flash was, when the balls showed it
   std::string flash_words;                   // ... in the operator's words
   std::vector<std::string> missing;          // what keeps the guidance from being complete
+  std::vector<std::string> warnings;         // the shot's own problems (shot_checks.h): overexposed, blurred, ...
   std::string rig_news;                      // balls found after the rig was located
   std::optional<CoverageAssessment> coverage;
   double seconds = 0;                        // this shot's guidance, reading the photo included
@@ -92,6 +95,7 @@ class CaptureGuide {
   // operator, or the virtual photographer, went there and it failed).
   std::vector<Eigen::Vector3d> failed_suggestions_;
   std::optional<Eigen::Vector3d> last_suggestion_;
+  std::vector<double> sharpness_;  // TopBoardSharpness of the shots checked so far
 };
 
 }  // namespace mesocap::app

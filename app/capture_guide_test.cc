@@ -182,6 +182,54 @@ TEST(CaptureGuide, ShotsItCannotUseAreExplained) {
   EXPECT_TRUE(named) << text;
 }
 
+// A box blur of `radius` pixels, three times over (close to a Gaussian of sigma ~ radius).
+Image Blurred(Image image, int radius) {
+  for (int pass = 0; pass < 3; ++pass)
+    for (int axis = 0; axis < 2; ++axis) {
+      const Image in = image;
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+          for (int c = 0; c < image.channels(); ++c) {
+            float sum = 0;
+            int n = 0;
+            for (int d = -radius; d <= radius; ++d) {
+              const int xx = axis == 0 ? x + d : x, yy = axis == 1 ? y + d : y;
+              if (xx < 0 || yy < 0 || xx >= image.width() || yy >= image.height()) continue;
+              sum += in.at(xx, yy, c);
+              ++n;
+            }
+            image.at(x, y, c) = sum / float(n);
+          }
+    }
+  return image;
+}
+
+// The shot's own problems: a shaken (blurred) copy of a shot and an overexposed one are named;
+// the shot itself is not.
+TEST(CaptureGuide, BlurredAndOverexposedShotsAreNamed) {
+  const fs::path dir = testing::MakeTempDir();
+  GuidedRun run = Capture(dir, "virtual:seed=33,width=900,height=600,shots=7,calib-shots=0", 7, false, 3);
+  ASSERT_TRUE(run.guide->rig_located());
+  for (size_t i = 3; i < run.guidance.size(); ++i) EXPECT_TRUE(run.guidance[i].warnings.empty()) << run.guidance[i].Text();
+  auto shot = ReadImage(run.session / "shots" / "shot_0007.jpg");
+  ASSERT_TRUE(shot.ok());
+  ASSERT_TRUE(WriteImage(run.session / "shots" / "again.png", *shot).ok());
+  const ShotGuidance again = run.guide->AfterShot("shots/again.png");
+  EXPECT_TRUE(again.warnings.empty()) << again.Text();
+  ASSERT_TRUE(WriteImage(run.session / "shots" / "shaken.png", Blurred(*shot, 2)).ok());
+  const ShotGuidance shaken = run.guide->AfterShot("shots/shaken.png");
+  ASSERT_EQ(shaken.warnings.size(), 1u) << shaken.Text();
+  EXPECT_NE(shaken.warnings[0].find("blurred"), std::string::npos) << shaken.Text();
+  Image bright = *shot;
+  for (size_t i = 0; i < bright.size(); ++i) bright.data()[i] = std::min(1.0f, 30 * bright.data()[i]);
+  ASSERT_TRUE(WriteImage(run.session / "shots" / "bright.png", bright).ok());
+  const ShotGuidance overexposed = run.guide->AfterShot("shots/bright.png");
+  bool named = false;
+  for (const std::string& w : overexposed.warnings) named |= w.find("overexposed") != std::string::npos;
+  EXPECT_TRUE(named) << overexposed.Text();
+  std::printf("%s\n%s\n", shaken.Text().c_str(), overexposed.Text().c_str());
+}
+
 TEST(CaptureGuide, ASuggestionWhoseShotGaveNoFlashIsNotMadeAgain) {
   // A guided virtual weave session (seed 22, 3000x2000) once took 42 shots in a row at one
   // suggestion from which only one ball showed its highlight. A shot with no flash position rules

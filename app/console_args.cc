@@ -33,6 +33,8 @@ CLI::App* AddConsoleOptions(CLI::App& app, ConsoleArgs* args) {
   sub->add_option("--connections", args->threads, "Connections served at once (each open page's event stream holds one)")
       ->check(CLI::Range(4, 1024))
       ->capture_default_str();
+  sub->add_flag("--no-guide", args->no_guide,
+                "No guidance: the page shows the shots only (no flash positions, coverage or suggestions)");
   sub->add_flag("--follow-guide", args->follow_guide,
                 "With the virtual rig: the virtual photographer holds the flash at the first suggestion");
   sub->add_option("--layout", args->guidance.layout_file, "Guidance: the rig layout (default " + S.rig_layout().string() + ")");

@@ -23,7 +23,7 @@ struct ConsoleArgs {
   std::string listen = "127.0.0.1:8765";
   std::string token;
   int threads = 256;
-  bool follow_guide = false;
+  bool no_guide = false, follow_guide = false;
   std::vector<std::string> guide_images;
   std::string process_args;  // for finish: `mesocap process SESSION ARGS`
   bool exit_after_finish = false;

@@ -69,7 +69,9 @@ int RunConsole(ConsoleArgs& a) {
   work.review = a.review;
   work.mode = a.mode == "remote" ? CaptureMode::kRemote : CaptureMode::kEnter;
   work.settings = a.settings;
+  work.guide = !a.no_guide;
   work.follow_guide = a.follow_guide;
+  if (a.no_guide && a.follow_guide) return Fail("console", "--follow-guide follows the guidance --no-guide turns off", kExitUsage);
   work.guidance = a.guidance;
   work.guidance.coverage.images = MirrorImagesNamed(a.guide_images);
   work.process_args = SplitWords(a.process_args);

@@ -18,6 +18,7 @@ main { display: grid; grid-template-columns: 60vw 1fr; gap: 16px; padding: 12px 
 #caption { font-size: 28px; margin-top: 6px; }
 .ok { color: #5e5; } .bad { color: #f66; } .unknown { color: #bbb; }
 #reasons { margin: 4px 0 0 0; font-size: 24px; color: #f99; }
+#warnings { margin: 4px 0 0 0; font-size: 24px; color: #fb6; }
 #nextwords { font-size: 40px; line-height: 1.2; margin: 6px 0; color: #fd6; }
 #nextbox { display: flex; gap: 16px; align-items: center; }
 #arrow { flex: none; }
@@ -46,6 +47,7 @@ footer figure.rejected { opacity: .35; }
     <img id="lastimg" alt="the last shot">
     <div id="caption">No shot yet.</div>
     <ul id="reasons"></ul>
+    <ul id="warnings"></ul>
   </section>
   <aside>
     <div id="nextbox">
@@ -108,13 +110,14 @@ function verdict(shot) {
 function renderLast(shots) {
   const live = shots.filter((s) => !s.rejected);
   const last = live.length ? live[live.length - 1] : null;
-  if (!last) { text($("caption"), "No shot yet."); list($("reasons"), []); return; }
+  if (!last) { text($("caption"), "No shot yet."); list($("reasons"), []); list($("warnings"), []); return; }
   if ($("lastimg").dataset.file !== last.file) { $("lastimg").src = last.image; $("lastimg").dataset.file = last.file; }
   const [words, cls] = verdict(last);
   const flash = last.flash ? "flash " + last.flash.words : "flash position unknown";
   $("caption").className = cls;
   text($("caption"), last.file + ": " + (last.kind === "calib" ? "" : flash + " · ") + words);
   list($("reasons"), last.why_not || []);
+  list($("warnings"), last.warnings || []);
 }
 function renderNext(next) {
   const line = $("arrowline");

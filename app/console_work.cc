@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <chrono>
 #include <fstream>
 
 #include "app/guided_capture.h"
@@ -34,7 +35,7 @@ Json ShotEntry(const ShotRecord& r) {
   if (not_fired) why_not.push_back("the flash did not fire (the photo's EXIF says so)");
   return {{"file", r.file}, {"kind", r.kind}, {"index", r.index}, {"time_utc", r.time_utc},
           {"image", "/files/" + r.file}, {"thumbnail", "/files/" + r.file}, {"flags", r.flags},
-          {"usable", not_fired ? Json(false) : Json()}, {"why_not", why_not}, {"flash", nullptr},
+          {"usable", not_fired ? Json(false) : Json()}, {"why_not", why_not}, {"warnings", Json::array()}, {"flash", nullptr},
           {"rejected", false}, {"analysed", false}};
 }
 
@@ -257,6 +258,7 @@ void ConsoleWork::UndoLastShot() {
 // Called by capture once the shot is in the session and journaled: the page hears of it at once;
 // what it shows comes after the analysis.
 void ConsoleWork::AfterShot(const CapturedShot& shot) {
+  const auto t0 = std::chrono::steady_clock::now();
   ShotRecord record;
   record.index = shot.index;
   record.kind = shot.kind;
@@ -267,9 +269,16 @@ void ConsoleWork::AfterShot(const CapturedShot& shot) {
     s["shots"].push_back(ShotEntry(record));
     s["capture"]["state"] = "waiting";
   }, {{"type", "shot"}, {"file", shot.file}, {"kind", shot.kind}});
-  std::lock_guard<std::mutex> hold(mutex_);
-  jobs_.push_back({shot.kind, shot.file});
+  {
+    std::lock_guard<std::mutex> hold(mutex_);
+    jobs_.push_back({shot.kind, shot.file});
+  }
   wake_.notify_all();
+  // mesocap's own time for the shot: capture's (checks, fsync, journal) and the console's.
+  const double console_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  state_->Update([&](Json& s) {
+    if (Json* entry = FindShot(s, shot.file)) (*entry)["overhead_s"] = shot.overhead_s + console_s;
+  }, {{"type", "timing"}, {"file", shot.file}});
 }
 
 // --- The analysis's thread ------------------------------------------------------------------
@@ -302,7 +311,7 @@ void ConsoleWork::Analyse(const Job& job) {
   WriteThumbnail(job.file);
   ShotGuidance g;
   g.shot = job.file;
-  if (job.what == "shot") {
+  if (job.what == "shot" && options_.guide) {
     StartGuideIfNeeded();
     if (guide_) g = guide_->AfterShot(job.file);
   }
@@ -356,6 +365,7 @@ void ConsoleWork::RecordGuidance(const std::string& file, const ShotGuidance& g,
       (*shot)["seconds"] = g.seconds;
       for (const std::string& m : g.missing)
         if (m.rfind(prefix, 0) == 0) (*shot)["why_not"].push_back(m.substr(prefix.size()));
+      (*shot)["warnings"] = g.warnings;
       if ((*shot)["kind"] == "calib") (*shot)["note"] = "checkerboard: for the camera's intrinsics";
     }
     if (guide_ && guide_->rig_located()) {

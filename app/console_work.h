@@ -27,6 +27,7 @@ struct ConsoleWorkOptions {
   std::filesystem::path session;  // exists (created or resumed), its lock held by the caller
   CaptureMode mode = CaptureMode::kEnter;
   std::vector<std::string> settings;
+  bool guide = true;  // off: shots and thumbnails only (no flash, coverage or suggestions)
   bool follow_guide = false;
   CaptureGuideOptions guidance;
   std::vector<std::string> process_args;
