@@ -428,6 +428,7 @@ void ConsoleWork::Finish() {
     posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 1);
     posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 2);
     posix_spawn_file_actions_addclose(&actions, pipe_fds[0]);
+    posix_spawn_file_actions_addclosefrom_np(&actions, 3);  // not the server's sockets, nor the lock
     pid_t child = 0;
     // The child inherits MESOCAP_SESSION_LOCK: it works under the console's lock.
     const int spawned = ::posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);

@@ -136,7 +136,7 @@ class EventStream {
 TEST(Console, AnOperatorFollowsTheSuggestionsUndoesAndFinishes) {
   const fs::path dir = testing::MakeTempDir(), session = dir / "s";
   RunningConsole console = StartConsole(session.string() + " " + kCamera +
-                                            " --follow-guide --guide-after 5 --exit-after-finish --process-args "
+                                            " --follow-guide --guide-after 5 --process-args "
                                             "'--slice-size 64 --btf-size 32 --btf-grid coarse'",
                                         dir / "console.log");
   ASSERT_GT(console.port, 0) << "no address printed; see " << console.log;
@@ -201,6 +201,7 @@ TEST(Console, AnOperatorFollowsTheSuggestionsUndoesAndFinishes) {
   const testing::RawReply page = testing::LocalRequest(port, "GET " + report);
   EXPECT_EQ(page.status, 200);
   EXPECT_NE(page.text.find("<html"), std::string::npos);
+  ::kill(console.pid, SIGTERM);
   EXPECT_EQ(WaitForExit(console.pid, 60), 0);
   // Every stage left the undone shot out.
   std::ifstream calibration(SessionLayout(session).calibration().report());
