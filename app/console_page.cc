@@ -25,14 +25,14 @@ main { display: grid; grid-template-columns: 60vw 1fr; gap: 16px; padding: 12px 
 #percent { font-size: 64px; font-weight: 700; }
 #bar { height: 22px; background: #333; border-radius: 11px; overflow: hidden; }
 #bar div { height: 100%; width: 0; background: #3c6; transition: width .4s; }
-#plot { width: 100%; max-height: 34vh; object-fit: contain; background: #fff; margin-top: 8px; }
+#plot { width: 100%; max-height: 29vh; object-fit: contain; background: #fff; margin-top: 8px; }
 #boards { font-size: 15px; color: #ccc; }
 #buttons { display: flex; flex-wrap: wrap; gap: 10px; margin: 12px 0; }
 button { font-size: 24px; padding: 10px 18px; border-radius: 8px; border: 0; background: #357; color: #fff; cursor: pointer; }
 button#finish { background: #363; } button#undo { background: #733; }
 #error { color: #f66; font-size: 20px; min-height: 1em; }
-#process pre { max-height: 22vh; overflow: auto; background: #000; font-size: 15px; padding: 6px; white-space: pre-wrap; }
-#report a { font-size: 32px; color: #6cf; }
+#process pre { max-height: 20vh; overflow: auto; background: #000; font-size: 15px; padding: 6px; white-space: pre-wrap; }
+#report a { font-size: 36px; color: #6cf; display: block; margin: 8px 0; }
 #notes { font-size: 18px; color: #fc9; }
 footer { position: fixed; bottom: 0; left: 0; right: 0; height: 120px; display: flex; gap: 8px; overflow-x: auto; padding: 8px 20px; background: #1a1a1a; }
 footer figure { margin: 0; text-align: center; font-size: 15px; flex: none; }
@@ -64,14 +64,14 @@ footer figure.rejected { opacity: .35; }
     <div id="bar"><div></div></div>
     <div id="boards"></div>
     <img id="plot" alt="per board: the light directions measured, still needed and out of reach" hidden>
+    <div id="report"></div>
+    <div id="process" hidden><div id="processtitle">mesocap process</div><pre id="lines"></pre></div>
     <div id="buttons">
       <button id="shot">Take a shot</button><button id="calib">Calibration shot</button>
       <button id="undo">Undo last shot</button><button id="finish">Finish</button>
     </div>
     <div id="error"></div>
     <ul id="notes"></ul>
-    <div id="process" hidden><div>Processing</div><pre id="lines"></pre></div>
-    <div id="report"></div>
   </aside>
 </main>
 <footer id="shots"></footer>
@@ -139,7 +139,7 @@ function renderShots(shots) {
   const footer = $("shots");
   if (footer.dataset.key === JSON.stringify(shots.map((s) => [s.file, s.thumbnail, s.usable, s.rejected]))) return;
   footer.dataset.key = JSON.stringify(shots.map((s) => [s.file, s.thumbnail, s.usable, s.rejected]));
-  footer.replaceChildren(...shots.map((s) => {
+  footer.replaceChildren(...shots.slice().reverse().map((s) => {
     const f = document.createElement("figure"), img = document.createElement("img"), cap = document.createElement("figcaption");
     img.src = s.thumbnail; img.alt = s.file; img.loading = "lazy";
     cap.textContent = (s.kind === "calib" ? "c" : "#") + s.index;
@@ -148,11 +148,13 @@ function renderShots(shots) {
     f.append(img, cap);
     return f;
   }));
-  footer.scrollLeft = footer.scrollWidth;
 }
 function renderProcess(p) {
   if (p.state === "idle") return;
   $("process").hidden = false;
+  $("buttons").hidden = true;  // finishing: the process's lines and the report take their place
+  text($("processtitle"), "mesocap process: " + p.state);
+  $("plot").style.maxHeight = "18vh";
   text($("lines"), p.lines.join("\n"));
   $("lines").scrollTop = $("lines").scrollHeight;
   if (p.report && !$("reportlink")) {
@@ -195,13 +197,16 @@ $("lastimg").addEventListener("load", () => {
   const file = $("lastimg").dataset.file;
   if (arrived[file] !== undefined && shown[file] === undefined) shown[file] = (performance.now() - arrived[file]) / 1000;
 });
-const events = new EventSource("/api/events");
-events.onopen = refresh;
-events.onmessage = (message) => {
-  const event = JSON.parse(message.data);
-  if (event.type === "shot") arrived[event.file] = performance.now();
-  refresh();
-};
+// #still (a screenshot): the state as it is, without the event stream that would keep loading.
+if (location.hash !== "#still") {
+  const events = new EventSource("/api/events");
+  events.onopen = refresh;
+  events.onmessage = (message) => {
+    const event = JSON.parse(message.data);
+    if (event.type === "shot") arrived[event.file] = performance.now();
+    refresh();
+  };
+}
 refresh();
 
 // #operator=N (tests and the demo's recording): the page presses its own buttons as an operator

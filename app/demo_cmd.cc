@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/demo_console.h"
 #include "app/demo_reconstruct.h"
 #include "app/process.h"
 #include "app/demo_synthesis.h"
@@ -285,6 +286,8 @@ int RunDemo(DemoArgs& a) {
   if (Status st = AddReconstructionToDemo(rec, &report); !st.ok()) return Fail("demo", st);
   if (Status st = AddSynthesisToDemo(a.out, session_dir, rec.top_board, &clock, &report); !st.ok())
     return Fail("demo", st);
+  clock.Start("the capture console");
+  if (Status st = AddConsoleToDemo(a.out, &report); !st.ok()) return Fail("demo", st);
 
   clock.Stop();
   AddTiming(clock, &report);
