@@ -6,7 +6,9 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <optional>
 #include <csignal>
 #include <cstdio>
 #include <sstream>
@@ -85,7 +87,6 @@ int RunConsole(ConsoleArgs& a) {
     return Fail("console", a.session.string() + ": exists and is not empty; choose a new folder, or add --resume or --review", kExitUsage);
 
   std::unique_ptr<Camera> camera;
-  std::optional<SessionLock> lock;
   if (!a.review) {
     auto opened = CreateCamera(a.camera_model, a.port);
     if (!opened.ok()) return Fail("console", opened.status());
@@ -94,46 +95,65 @@ int RunConsole(ConsoleArgs& a) {
       return Fail("console", st.message, st.error == CameraError::kBadSetting ? kExitUsage : kExitFailure);
     if (ConfigEntry entry; a.follow_guide && !camera->GetConfig(kFlashPositionSetting, &entry).ok())
       return Fail("console", "--follow-guide needs a camera that places the flash itself (--camera virtual)", kExitUsage);
-    if (!exists) {
-      CaptureOptions o;
-      o.out = work.session;
-      o.settings = a.settings;
-      if (auto created = Session::Create(work.session, CaptureManifest(camera->info(), o)); !created.ok())
-        return Fail("console", created.status());
-    }
-    auto taken = SessionLock::Acquire(work.session, "console");
-    if (!taken.ok()) return Fail("console", taken.status());
-    lock.emplace(std::move(*taken));
   }
 
+  // The server is listening before the session is touched: a busy port leaves nothing behind.
   ConsoleState state(InitialConsoleState(work.session, a.review));
-  ConsoleWork worker(work, std::move(camera), &state);
+  std::unique_ptr<ConsoleWork> worker;
+  std::atomic<ConsoleWork*> live{nullptr};
+  const auto ask = [&live](auto request) -> std::string {
+    ConsoleWork* w = live.load();
+    return w ? request(*w) : "the console is starting";
+  };
   ConsoleActions actions;
-  actions.shot = [&] { return worker.RequestShot("shot"); };
-  actions.calibration_shot = [&] { return worker.RequestShot("calib"); };
-  actions.undo = [&] { return worker.RequestUndo(); };
-  actions.finish = [&] { return worker.RequestFinish(); };
+  actions.shot = [ask] { return ask([](ConsoleWork& w) { return w.RequestShot("shot"); }); };
+  actions.calibration_shot = [ask] { return ask([](ConsoleWork& w) { return w.RequestShot("calib"); }); };
+  actions.undo = [ask] { return ask([](ConsoleWork& w) { return w.RequestUndo(); }); };
+  actions.finish = [ask] { return ask([](ConsoleWork& w) { return w.RequestFinish(); }); };
   auto serving = ConsoleServer::Start(server, &state, actions, ConsolePage(work.session.filename().string()));
-  if (!serving.ok()) {
-    worker.Stop();
-    return Fail("console", serving.status());
-  }
-  std::printf("mesocap console: %s on %s (Ctrl-C to stop)\n", work.session.string().c_str(), (*serving)->url().c_str());
-  std::fflush(stdout);
-
+  if (!serving.ok()) return Fail("console", serving.status());
   g_stop = 0;
   struct sigaction on_stop {}, previous_int {}, previous_term {};
   on_stop.sa_handler = OnStop;
   sigemptyset(&on_stop.sa_mask);
   ::sigaction(SIGINT, &on_stop, &previous_int);
   ::sigaction(SIGTERM, &on_stop, &previous_term);
-  while (!g_stop && !(a.exit_after_finish && worker.finished()))
+  const auto restore_signals = [&] {
+    ::sigaction(SIGINT, &previous_int, nullptr);
+    ::sigaction(SIGTERM, &previous_term, nullptr);
+  };
+
+  std::optional<SessionLock> lock;
+  if (!a.review) {
+    if (!exists) {
+      CaptureOptions o;
+      o.out = work.session;
+      o.settings = a.settings;
+      if (auto created = Session::Create(work.session, CaptureManifest(camera->info(), o)); !created.ok()) {
+        (*serving)->Stop();
+        restore_signals();
+        return Fail("console", created.status());
+      }
+    }
+    auto taken = SessionLock::Acquire(work.session, "console");
+    if (!taken.ok()) {
+      (*serving)->Stop();
+      restore_signals();
+      return Fail("console", taken.status());
+    }
+    lock.emplace(std::move(*taken));
+  }
+  worker = std::make_unique<ConsoleWork>(work, std::move(camera), &state);
+  live = worker.get();
+  std::printf("mesocap console: %s on %s (Ctrl-C to stop)\n", work.session.string().c_str(), (*serving)->url().c_str());
+  std::fflush(stdout);
+
+  while (!g_stop && !(a.exit_after_finish && worker->finished()))
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  worker.Stop();
+  worker->Stop();
   state.Close();
-  (*serving)->Stop();
-  ::sigaction(SIGINT, &previous_int, nullptr);
-  ::sigaction(SIGTERM, &previous_term, nullptr);
+  (*serving)->Stop();  // before the worker goes: no request reaches it after
+  restore_signals();
   const Json final_state = state.Snapshot();
   if (final_state["process"]["state"] == "failed")
     return Fail("console", "finish: `mesocap process` failed (its lines: " +

@@ -89,11 +89,13 @@ let state = null, fetching = false, again = false;
 async function refresh() {
   if (fetching) { again = true; return; }
   fetching = true;
+  let fresh = null;
   try {
     const response = await fetch("/api/state", { cache: "no-store" });
-    if (response.ok) { state = await response.json(); render(); }
+    if (response.ok) fresh = await response.json();
   } catch (e) { $("state").textContent = "connection lost: retrying"; }
   fetching = false;
+  if (fresh) { state = fresh; render(); }  // outside the try: a rendering error counts as one
   if (again) { again = false; refresh(); }
 }
 function text(node, value) { if (node.textContent !== value) node.textContent = value; }
@@ -111,7 +113,7 @@ function renderLast(shots) {
   const live = shots.filter((s) => !s.rejected);
   const last = live.length ? live[live.length - 1] : null;
   if (!last) { text($("caption"), "No shot yet."); list($("reasons"), []); list($("warnings"), []); return; }
-  if ($("lastimg").dataset.file !== last.file) { $("lastimg").src = last.image; $("lastimg").dataset.file = last.file; }
+  if (last.image && $("lastimg").getAttribute("src") !== last.image) { $("lastimg").src = last.image; $("lastimg").dataset.file = last.file; }
   const [words, cls] = verdict(last);
   const flash = last.flash ? "flash " + last.flash.words : "flash position unknown";
   $("caption").className = cls;
@@ -141,7 +143,8 @@ function renderShots(shots) {
   footer.dataset.key = JSON.stringify(shots.map((s) => [s.file, s.thumbnail, s.usable, s.rejected]));
   footer.replaceChildren(...shots.slice().reverse().map((s) => {
     const f = document.createElement("figure"), img = document.createElement("img"), cap = document.createElement("figcaption");
-    img.src = s.thumbnail; img.alt = s.file; img.loading = "lazy";
+    if (s.thumbnail) img.src = s.thumbnail;
+    img.alt = s.file; img.loading = "lazy";
     cap.textContent = (s.kind === "calib" ? "c" : "#") + s.index;
     f.className = s.rejected ? "rejected" : s.usable === true ? "usable" : s.usable === false ? "unusable" : "";
     f.title = s.file + (s.why_not && s.why_not.length ? ": " + s.why_not.join("; ") : "");
@@ -150,11 +153,13 @@ function renderShots(shots) {
   }));
 }
 function renderProcess(p) {
-  if (p.state === "idle") return;
-  $("process").hidden = false;
-  $("buttons").hidden = true;  // finishing: the process's lines and the report take their place
-  text($("processtitle"), "mesocap process: " + p.state);
-  $("plot").style.maxHeight = "18vh";
+  if (p.state === "idle" && !p.report) return;
+  if (p.state !== "idle") {  // finishing: the process's lines and the report take the buttons' place
+    $("process").hidden = false;
+    $("buttons").hidden = true;
+    $("plot").style.maxHeight = "18vh";
+    text($("processtitle"), "mesocap process: " + p.state);
+  }
   text($("lines"), p.lines.join("\n"));
   $("lines").scrollTop = $("lines").scrollHeight;
   if (p.report && !$("reportlink")) {

@@ -4,7 +4,10 @@
 #include <ifaddrs.h>
 #include <netinet/in.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
+#include <chrono>
 #include <fstream>
 #include <map>
 #include <set>
@@ -35,8 +38,11 @@ std::string ContentTypeOf(const fs::path& file) {
 void Reply(httplib::Response& res, int status, const Json& body) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(), "application/json");
+  res.set_content(body.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
 }
+
+// One cookie per console (its port), so two consoles on a host keep their own tokens.
+std::string TokenCookie(int port) { return std::string(kTokenCookie) + "_" + std::to_string(port); }
 
 std::string WithPort(const std::string& host, int port) {
   return (host.find(':') != std::string::npos ? "[" + host + "]" : host) + ":" + std::to_string(port);
@@ -63,7 +69,14 @@ std::vector<std::string> InterfaceAddresses() {
 }  // namespace
 
 bool IsLoopbackHost(const std::string& host) {
-  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+  in_addr v4{};
+  if (::inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  return host == "localhost" || host == "::1";
+}
+
+bool IsValidToken(const std::string& token) {
+  return token.size() >= 8 && token.size() <= 256 &&
+         std::all_of(token.begin(), token.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'; });
 }
 
 std::vector<std::string> OwnHostNames(const std::string& host, int port) {
@@ -78,7 +91,7 @@ std::vector<std::string> OwnHostNames(const std::string& host, int port) {
   return names;
 }
 
-std::string RequestToken(const std::string& authorization, const std::string& cookie) {
+std::string RequestToken(const std::string& authorization, const std::string& cookie, const std::string& cookie_name) {
   const std::string bearer = "Bearer ";
   if (authorization.rfind(bearer, 0) == 0) return authorization.substr(bearer.size());
   size_t start = 0;
@@ -88,7 +101,7 @@ std::string RequestToken(const std::string& authorization, const std::string& co
     std::string pair = cookie.substr(start, end - start);
     pair.erase(0, pair.find_first_not_of(' '));
     const size_t eq = pair.find('=');
-    if (eq != std::string::npos && pair.substr(0, eq) == kTokenCookie) return pair.substr(eq + 1);
+    if (eq != std::string::npos && pair.substr(0, eq) == cookie_name) return pair.substr(eq + 1);
     start = end + 1;
   }
   return "";
@@ -162,11 +175,12 @@ httplib::Server::HandlerResponse ConsoleServer::Impl::Screen(const httplib::Requ
   }
   if (options.token.empty()) return R::Unhandled;
   if (req.method == "GET" && req.path == "/" && req.has_param("token") && SameToken(req.get_param_value("token"), options.token)) {
-    res.set_header("Set-Cookie", std::string(kTokenCookie) + "=" + options.token + "; HttpOnly; SameSite=Strict; Path=/");
+    res.set_header("Set-Cookie", TokenCookie(port) + "=" + options.token + "; HttpOnly; SameSite=Strict; Path=/");
     res.set_redirect("/", 303);
     return R::Handled;
   }
-  if (!SameToken(RequestToken(req.get_header_value("Authorization"), req.get_header_value("Cookie")), options.token)) {
+  if (!SameToken(RequestToken(req.get_header_value("Authorization"), req.get_header_value("Cookie"), TokenCookie(port)),
+                 options.token)) {
     res.set_header("WWW-Authenticate", "Bearer");
     Reply(res, 401, {{"error", "this console needs its token (the address it printed, or Authorization: Bearer TOKEN)"}});
     return R::Handled;
@@ -227,9 +241,9 @@ void ConsoleServer::Impl::Routes() {
       const bool missing = file.status().message().find("no such file") != std::string::npos;
       return Reply(res, missing ? 404 : 403, {{"error", file.status().message()}});
     }
-    auto in = std::make_shared<std::ifstream>(*file, std::ios::binary);
-    std::error_code ec;
-    const size_t size = size_t(fs::file_size(*file, ec));
+    auto in = std::make_shared<std::ifstream>(*file, std::ios::binary | std::ios::ate);
+    if (!*in) return Reply(res, 404, {{"error", "/files/" + std::string(req.matches[1]) + ": cannot be read"}});
+    const size_t size = size_t(in->tellg());  // of the file opened (one renamed over it meanwhile is not mixed in)
     res.set_header("Cache-Control", "no-cache");
     res.set_content_provider(size, ContentTypeOf(*file), [in](size_t offset, size_t length, httplib::DataSink& sink) {
       std::vector<char> buffer(std::min<size_t>(length, 1 << 16));
@@ -258,6 +272,8 @@ StatusOr<std::unique_ptr<ConsoleServer>> ConsoleServer::Start(const ConsoleServe
                                                               ConsoleActions actions, std::string page) {
   if (!IsLoopbackHost(options.host) && options.token.empty())
     return Status::Error("listening on " + options.host + " needs a token (--token, or let the console make one)");
+  if (!options.token.empty() && !IsValidToken(options.token))
+    return Status::Error("the token must be 8 to 256 letters, digits, '.', '_' or '-'");
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   impl->state = state;
@@ -280,6 +296,8 @@ StatusOr<std::unique_ptr<ConsoleServer>> ConsoleServer::Start(const ConsoleServe
   }
   Impl* raw = impl.get();
   impl->listener = std::thread([raw] { raw->server.listen_after_bind(); });
+  // httplib's stop() does nothing until the loop runs: a Stop right after Start would wait forever.
+  for (int i = 0; i < 500 && !impl->server.is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   return std::unique_ptr<ConsoleServer>(new ConsoleServer(std::move(impl)));
 }
 

@@ -47,12 +47,15 @@ class ConsoleServer {
 };
 
 // The rules, apart from the socket (tested one by one):
-bool IsLoopbackHost(const std::string& host);
+bool IsLoopbackHost(const std::string& host);  // localhost, ::1 or an address of 127.0.0.0/8
 // Host header values the console answers to when listening on `host`:`port`: that address, the
 // loopback names on loopback, this machine's name and addresses on a wildcard address.
 std::vector<std::string> OwnHostNames(const std::string& host, int port);
-// The token a request carries: its Bearer header, else its cookie; empty when none.
-std::string RequestToken(const std::string& authorization, const std::string& cookie);
+// The token a request carries: its Bearer header, else its cookie `cookie_name`; empty when none.
+std::string RequestToken(const std::string& authorization, const std::string& cookie, const std::string& cookie_name);
+// A token a request can carry as is: 8 to 256 letters, digits, '.', '_' or '-' (header values
+// reach the server percent-decoded).
+bool IsValidToken(const std::string& token);
 bool SameToken(const std::string& a, const std::string& b);  // in constant time
 // The regular file `relative` (a request's path under /files/, decoded) names inside `session`;
 // an error for "..", absolute or odd names, and for a file reached through a symlink out of it.

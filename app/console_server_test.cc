@@ -39,7 +39,7 @@ class ConsoleServerTest : public ::testing::Test {
     fs::create_directory_symlink(dir_, session_ / "folder_out");
     ConsoleServerOptions options;
     options.port = 0;
-    options.token = "s3cret";
+    options.token = "s3cret-token";
     options.session = session_;
     ConsoleActions actions;
     actions.shot = [this] { ++shots_; return std::string(); };
@@ -72,7 +72,7 @@ class ConsoleServerTest : public ::testing::Test {
   int port_ = 0;
   std::string host_;
   std::atomic<int> shots_{0}, undos_{0};
-  const std::string bearer_ = "Authorization: Bearer s3cret\r\n";
+  const std::string bearer_ = "Authorization: Bearer s3cret-token\r\n";
 };
 
 TEST(ConsoleRules, HostsTokensAndFileNames) {
@@ -80,15 +80,20 @@ TEST(ConsoleRules, HostsTokensAndFileNames) {
   EXPECT_TRUE(IsLoopbackHost("localhost"));
   EXPECT_FALSE(IsLoopbackHost("0.0.0.0"));
   EXPECT_FALSE(IsLoopbackHost("192.168.1.7"));
+  EXPECT_TRUE(IsLoopbackHost("127.3.4.5"));
+  EXPECT_FALSE(IsLoopbackHost("127.evil.example"));
+  EXPECT_TRUE(IsValidToken("s3cret-token_1.0"));
+  EXPECT_FALSE(IsValidToken("short"));
+  EXPECT_FALSE(IsValidToken("with space or ;"));
   const std::vector<std::string> own = OwnHostNames("127.0.0.1", 8765);
   for (const char* name : {"127.0.0.1:8765", "localhost:8765", "[::1]:8765"})
     EXPECT_NE(std::find(own.begin(), own.end(), name), own.end()) << name;
   for (const char* name : {"127.0.0.1", "evil.example:8765", "127.0.0.1:8766"})
     EXPECT_EQ(std::find(own.begin(), own.end(), name), own.end()) << name;
   EXPECT_EQ(OwnHostNames("192.168.1.7", 80), std::vector<std::string>{"192.168.1.7:80"});
-  EXPECT_EQ(RequestToken("Bearer abc", ""), "abc");
-  EXPECT_EQ(RequestToken("", "theme=dark; mesocap_console=xyz; other=1"), "xyz");
-  EXPECT_EQ(RequestToken("Basic abc", "mesocap_consolex=1"), "");
+  EXPECT_EQ(RequestToken("Bearer abc", "", "mesocap_console_80"), "abc");
+  EXPECT_EQ(RequestToken("", "theme=dark; mesocap_console_80=xyz; other=1", "mesocap_console_80"), "xyz");
+  EXPECT_EQ(RequestToken("Basic abc", "mesocap_console_81=1", "mesocap_console_80"), "");
   EXPECT_TRUE(SameToken("abc", "abc"));
   EXPECT_FALSE(SameToken("abc", "abd"));
   EXPECT_FALSE(SameToken("abc", "abcd"));
@@ -122,11 +127,13 @@ TEST_F(ConsoleServerTest, TheTokenHostAndOriginAreChecked) {
   EXPECT_EQ(Request("GET /api/state", "Authorization: Bearer wrong\r\n").status, 401);
   EXPECT_EQ(Request("GET /?token=wrong").status, 401);
   EXPECT_EQ(Request("GET /api/state", bearer_).status, 200);
-  EXPECT_EQ(Request("GET /api/state", "Cookie: mesocap_console=s3cret\r\n").status, 200);
+  EXPECT_EQ(Request("GET /api/state", "Cookie: mesocap_console_" + std::to_string(port_) + "=s3cret-token\r\n").status, 200);
+  EXPECT_EQ(Request("GET /api/state", "Cookie: mesocap_console_1=s3cret-token\r\n").status, 401);  // another console's
   // The page's first load with ?token= sets the cookie its own requests then carry.
-  const Reply first = Request("GET /?token=s3cret");
+  const Reply first = Request("GET /?token=s3cret-token");
   EXPECT_EQ(first.status, 303);
-  EXPECT_NE(first.text.find("Set-Cookie: mesocap_console=s3cret; HttpOnly; SameSite=Strict"), std::string::npos) << first.text;
+  EXPECT_NE(first.text.find("Set-Cookie: mesocap_console_" + std::to_string(port_) + "=s3cret-token; HttpOnly; SameSite=Strict"),
+            std::string::npos) << first.text;
   // DNS rebinding and cross-site requests.
   Reply wrong_host = Raw(port_, "GET /api/state HTTP/1.1\r\nHost: evil.example:" + std::to_string(port_) + "\r\n" + bearer_ +
                                     "Connection: close\r\n\r\n");
@@ -156,7 +163,8 @@ TEST_F(ConsoleServerTest, OversizedMalformedAndSlowRequestsAreRefusedAndTheRealC
   EXPECT_EQ(Raw(port_, "GARBAGE\r\n\r\n").status, 400);
   EXPECT_EQ(Raw(port_, "GET / HTTP/9.9\r\n" + host_ + "\r\n").status, 400);
   EXPECT_EQ(Request("PUT /api/shot", bearer_).status / 100, 4);
-  EXPECT_EQ(Request("GET /api/state", "Authorization: Bearer s3cret%0d%0aX-Evil: 1\r\n").status, 401);
+  EXPECT_EQ(Request("GET /api/state", "Authorization: Bearer s3cret-token%0d%0aX-Evil: 1\r\n").status, 401);
+  EXPECT_EQ(Raw(port_, "GET / HTTP/1.1\r\nHost: %FF%FE\r\nConnection: close\r\n\r\n").status, 403);  // not UTF-8
   // 200 clients connect at once and send half a request each, never the rest.
   std::vector<int> slow;
   for (int i = 0; i < 200; ++i) {

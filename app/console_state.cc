@@ -11,7 +11,8 @@ void ConsoleState::Update(const std::function<void(Json& state)>& change, Json e
     ++version_;
     state_["version"] = version_;
     event["version"] = version_;
-    events_.push_back({version_, event.dump()});
+    // Text from a camera or a child's output may not be UTF-8: replaced, never thrown on.
+    events_.push_back({version_, event.dump(-1, ' ', false, Json::error_handler_t::replace)});
     if (events_.size() > kKeptEvents) events_.pop_front();
   }
   changed_.notify_all();
@@ -33,7 +34,7 @@ std::vector<ConsoleEvent> ConsoleState::EventsAfter(int64_t after, std::chrono::
   std::vector<ConsoleEvent> out;
   if (closed_ || version_ <= after) return out;
   if (events_.empty() || events_.front().id > after + 1)  // dropped from the log: read the state anew
-    return {{version_, Json{{"type", "resync"}, {"version", version_}}.dump()}};
+    return {{version_, Json{{"type", "resync"}, {"version", version_}}.dump(-1, ' ', false, Json::error_handler_t::replace)}};
   for (const ConsoleEvent& e : events_)
     if (e.id > after) out.push_back(e);
   return out;

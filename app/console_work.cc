@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <chrono>
 #include <fstream>
+#include <set>
+#include <tuple>
 
 #include "app/guided_capture.h"
 #include "app/rig_plot.h"
@@ -24,19 +26,27 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kThumbnailWidth = 320;
+constexpr int kThumbnailWidth = 320, kViewWidth = 1600;
 constexpr size_t kProcessLinesKept = 400;
 
 std::string FileUrl(const SessionLayout& layout, const fs::path& path) { return "/files/" + layout.Relative(path); }
 
+// The shot's own file where a browser shows it as it is (until its view is made), else null.
+Json BrowserImage(const std::string& file) {
+  std::string ext = fs::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".jpg" || ext == ".jpeg" || ext == ".png" ? Json("/files/" + file) : Json();
+}
+
 Json ShotEntry(const ShotRecord& r) {
-  Json why_not = Json::array();
+  // What the shot's own reading found against it; why_not adds the calibration's verdict.
+  Json problems = Json::array();
   const bool not_fired = std::find(r.flags.begin(), r.flags.end(), "flash_not_fired") != r.flags.end();
-  if (not_fired) why_not.push_back("the flash did not fire (the photo's EXIF says so)");
+  if (not_fired) problems.push_back("the flash did not fire (the photo's EXIF says so)");
   return {{"file", r.file}, {"kind", r.kind}, {"index", r.index}, {"time_utc", r.time_utc},
-          {"image", "/files/" + r.file}, {"thumbnail", "/files/" + r.file}, {"flags", r.flags},
-          {"usable", not_fired ? Json(false) : Json()}, {"why_not", why_not}, {"warnings", Json::array()}, {"flash", nullptr},
-          {"rejected", false}, {"analysed", false}};
+          {"image", BrowserImage(r.file)}, {"thumbnail", BrowserImage(r.file)}, {"flags", r.flags},
+          {"usable", not_fired ? Json(false) : Json()}, {"why_not", problems}, {"read_problems", problems},
+          {"warnings", Json::array()}, {"flash", nullptr}, {"rejected", false}, {"analysed", false}};
 }
 
 Json CoverageSummaryJson(const CoverageAssessment& a, const std::string& plot_url) {
@@ -70,6 +80,7 @@ Json InitialConsoleState(const fs::path& session, bool review) {
       Json entry = ShotEntry(r);
       entry["rejected"] = opened->IsRejected(r.file);
       if (fs::exists(layout.console_thumbnail(r.file))) entry["thumbnail"] = FileUrl(layout, layout.console_thumbnail(r.file));
+      if (fs::exists(layout.console_view(r.file))) entry["image"] = FileUrl(layout, layout.console_view(r.file));
       state["shots"].push_back(entry);
     }
   }
@@ -112,14 +123,17 @@ std::string ConsoleWork::RequestUndo() {
   if (options_.review) return "review: nothing is changed";
   std::lock_guard<std::mutex> hold(mutex_);
   if (finishing_) return "the session is finished";
+  // The last flash shot the operator sees that no undo asks for yet.
   const Json shots = state_->Snapshot()["shots"];
-  const size_t undos = size_t(std::count(commands_.begin(), commands_.end(), "undo"));
-  size_t undoable = 0;
-  for (const Json& shot : shots) undoable += shot["kind"] == "shot" && !shot["rejected"].get<bool>();
-  if (undoable <= undos) return "no flash shot to undo";
-  commands_.push_back("undo");
-  wake_.notify_all();
-  return "";
+  for (auto it = shots.rbegin(); it != shots.rend(); ++it) {
+    if ((*it)["kind"] != "shot" || (*it)["rejected"].get<bool>()) continue;
+    const std::string command = kUndo + (*it)["file"].get<std::string>();
+    if (std::find(commands_.begin(), commands_.end(), command) != commands_.end()) continue;
+    commands_.push_back(command);
+    wake_.notify_all();
+    return "";
+  }
+  return "no flash shot to undo";
 }
 
 std::string ConsoleWork::RequestFinish() {
@@ -141,6 +155,7 @@ void ConsoleWork::Stop() {
   {
     std::lock_guard<std::mutex> hold(mutex_);
     stopping_ = true;
+    if (child_ > 0) ::kill(child_, SIGTERM);  // process stops as on Ctrl-C; the lock goes with the console
   }
   wake_.notify_all();
   if (camera_thread_.joinable()) camera_thread_.join();
@@ -165,66 +180,102 @@ void ConsoleWork::CaptureLoop() {
       o.settings.push_back(std::string("subject=") + (kind == "calib" ? "checkerboard" : "flash"));
     state_->Update([&](Json& s) { s["capture"] = {{"state", "waiting"}, {"kind", kind}, {"error", ""}}; },
                    {{"type", "capture"}, {"state", "waiting"}, {"kind", kind}});
-    // Enter mode: the run waits in WaitForShot; remote mode: it stops for the next command.
+    {
+      std::lock_guard<std::mutex> hold(mutex_);
+      reconcile_ = true;  // a resumed run may journal files a crash left: the page gets them too
+    }
+    // Enter mode: the run waits in WaitForShot. Remote mode: it ends when a command other than
+    // undo is queued, which stays queued for the loop below.
     const ProgressFn progress = [this](int, int, const std::string&) {
+      ReconcileWithJournal();
       std::unique_lock<std::mutex> hold(mutex_);
       if (stopping_) return false;
-      if (options_.mode != CaptureMode::kRemote || commands_.empty()) return true;
-      pending_ = commands_.front();
-      commands_.pop_front();
-      if (pending_ != "undo") return false;
-      pending_.clear();
-      hold.unlock();
-      UndoLastShot();
-      return true;
+      if (options_.mode != CaptureMode::kRemote) return true;
+      TakeUndos(hold);
+      return commands_.empty();
     };
     auto report = RunCapture(*camera_, o, progress, [this, kind](int, int) { return WaitForShot(kind); },
                              [this](const CapturedShot& shot) { AfterShot(shot); });
     if (report.ok())
       if (Status st = WriteVirtualTruth(*camera_, *report, options_.session); !st.ok())
         state_->Update([&](Json& s) { s["notes"].push_back(st.message()); }, {{"type", "note"}});
-    std::string next;
-    {
-      std::lock_guard<std::mutex> hold(mutex_);
-      next = pending_;
-      pending_.clear();
-    }
     const std::string error = !report.ok() ? report.status().message() : report->error;
+    std::unique_lock<std::mutex> hold(mutex_);
     if (!error.empty()) {
+      hold.unlock();
       state_->Update([&](Json& s) { s["capture"] = {{"state", "error"}, {"kind", kind}, {"error", error}}; },
                      {{"type", "capture"}, {"state", "error"}, {"error", error}});
-      std::unique_lock<std::mutex> hold(mutex_);  // the operator may still finish with the shots taken
-      wake_.wait(hold, [&] { return stopping_ || finishing_; });
-      next = stopping_ ? "" : "finish";
+      hold.lock();
+      for (;;) {  // the operator may still undo and finish with the shots taken
+        wake_.wait(hold, [&] { return stopping_ || !commands_.empty(); });
+        if (stopping_) return;
+        TakeUndos(hold);
+        if (finishing_) break;
+        commands_.clear();  // shots: refused at the request already
+      }
+    }
+    if (stopping_) return;
+    const std::string next = commands_.empty() ? "" : commands_.front();
+    if (!next.empty() && next != "shot" && next != "calib") commands_.pop_front();
+    if (next == "finish" || (!error.empty() && finishing_)) {
+      hold.unlock();
+      Finish();
+      return;
     }
     if (next == "shot" || next == "calib") {
       kind = next;
-      std::lock_guard<std::mutex> hold(mutex_);
-      commands_.push_front(next);
-      continue;
+      if (options_.mode == CaptureMode::kRemote) commands_.pop_front();  // remote: the switch is the command
     }
-    if (next == "finish") Finish();
-    return;
+  }
+}
+
+void ConsoleWork::TakeUndos(std::unique_lock<std::mutex>& hold) {
+  while (!commands_.empty() && commands_.front().rfind(kUndo, 0) == 0) {
+    const std::string file = commands_.front().substr(kUndo.size());
+    commands_.pop_front();
+    hold.unlock();
+    UndoShot(file);
+    hold.lock();
+  }
+}
+
+// Shots the journal has and the page lacks (journaled by a resumed run's recovery) join the page
+// and the analysis, once per capture run.
+void ConsoleWork::ReconcileWithJournal() {
+  {
+    std::lock_guard<std::mutex> hold(mutex_);
+    if (!reconcile_) return;
+    reconcile_ = false;
+  }
+  auto session = Session::Open(options_.session);
+  if (!session.ok()) return;
+  const Json now = state_->Snapshot();
+  std::set<std::string> shown;
+  for (const Json& shot : now["shots"]) shown.insert(shot["file"].get<std::string>());
+  for (const ShotRecord& r : session->shots()) {
+    if (shown.count(r.file)) continue;
+    state_->Update([&](Json& s) {
+      Json entry = ShotEntry(r);
+      entry["rejected"] = session->IsRejected(r.file);
+      s["shots"].push_back(entry);
+    }, {{"type", "shot"}, {"file", r.file}, {"kind", r.kind}});
+    if (session->IsRejected(r.file)) continue;
+    std::lock_guard<std::mutex> hold(mutex_);
+    jobs_.push_back({r.kind, r.file});
+    wake_.notify_all();
   }
 }
 
 bool ConsoleWork::WaitForShot(const std::string& kind) {
+  ReconcileWithJournal();
   std::unique_lock<std::mutex> hold(mutex_);
   for (;;) {
     wake_.wait(hold, [&] { return stopping_ || !commands_.empty(); });
     if (stopping_) return false;
-    const std::string command = commands_.front();
+    TakeUndos(hold);
+    if (commands_.empty()) continue;
+    if (commands_.front() != kind) return false;  // left queued: the capture loop takes it
     commands_.pop_front();
-    if (command == "undo") {
-      hold.unlock();
-      UndoLastShot();
-      hold.lock();
-      continue;
-    }
-    if (command != kind) {
-      pending_ = command;
-      return false;
-    }
     hold.unlock();
     if (kind == "shot" && options_.follow_guide) {  // the virtual photographer takes the first suggestion
       const Json next = state_->Snapshot()["next"];
@@ -237,13 +288,9 @@ bool ConsoleWork::WaitForShot(const std::string& kind) {
   }
 }
 
-void ConsoleWork::UndoLastShot() {
-  std::string file;
-  const Json now = state_->Snapshot();
-  for (const Json& shot : now["shots"])
-    if (shot["kind"] == "shot" && !shot["rejected"].get<bool>()) file = shot["file"];
-  if (file.empty()) return;
+void ConsoleWork::UndoShot(const std::string& file) {
   auto session = Session::Open(options_.session);
+  if (session.ok() && session->IsRejected(file)) return;
   const Status rejected = session.ok() ? session->RejectShot(file, "undone in the console") : session.status();
   if (!rejected.ok()) {
     state_->Update([&](Json& s) { s["notes"].push_back(rejected.message()); }, {{"type", "note"}});
@@ -335,17 +382,22 @@ void ConsoleWork::StartGuideIfNeeded() {
   state_->Update([&](Json& s) { s["notes"] = Json::array({note}); }, {{"type", "note"}});
 }
 
+// The shot as a browser shows it: a JPEG view for the page (also of RAW or EXR shots, and lighter
+// than a full-size photo over the network) and a thumbnail for the list.
 void ConsoleWork::WriteThumbnail(const std::string& file) {
   const SessionLayout layout(options_.session);
   auto image = ReadImage(options_.session / file);
   if (!image.ok()) return;  // the analysis says why the shot cannot be used
-  const fs::path thumb = layout.console_thumbnail(file);
-  std::error_code ec;
-  fs::create_directories(thumb.parent_path(), ec);
-  if (!WriteImage(thumb, Thumbnail(*image, kThumbnailWidth), {.format = PixelFormat::kUint8Srgb, .jpeg_quality = 85}).ok()) return;
-  const std::string url = FileUrl(layout, thumb);
+  Json urls = Json::object();
+  for (const auto& [key, path, width] : {std::tuple{"image", layout.console_view(file), kViewWidth},
+                                         std::tuple{"thumbnail", layout.console_thumbnail(file), kThumbnailWidth}}) {
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    const Image scaled = image->width() > width ? Thumbnail(*image, width) : *image;
+    if (WriteImage(path, scaled, {.format = PixelFormat::kUint8Srgb, .jpeg_quality = 85}).ok()) urls[key] = FileUrl(layout, path);
+  }
   state_->Update([&](Json& s) {
-    if (Json* shot = FindShot(s, file)) (*shot)["thumbnail"] = url;
+    if (Json* shot = FindShot(s, file)) shot->update(urls);
   }, {{"type", "thumbnail"}, {"file", file}});
 }
 
@@ -364,28 +416,36 @@ void ConsoleWork::RecordGuidance(const std::string& file, const ShotGuidance& g,
       (*shot)["analysed"] = true;
       (*shot)["seconds"] = g.seconds;
       for (const std::string& m : g.missing)
-        if (m.rfind(prefix, 0) == 0) (*shot)["why_not"].push_back(m.substr(prefix.size()));
+        if (m.rfind(prefix, 0) == 0) (*shot)["read_problems"].push_back(m.substr(prefix.size()));
       (*shot)["warnings"] = g.warnings;
       if ((*shot)["kind"] == "calib") (*shot)["note"] = "checkerboard: for the camera's intrinsics";
     }
-    if (guide_ && guide_->rig_located()) {
-      std::map<std::string, std::string> calibration_flags;
+    // Every flash shot's verdict anew: balls found later can give an earlier shot its flash, and
+    // the flash of a shot can drop out when they are found again.
+    std::map<std::string, std::string> calibration_flags;
+    const BoardPose* top = nullptr;
+    const bool located = guide_ && guide_->rig_located();
+    if (located) {
       for (const ShotCalibration& c : guide_->rig().shots) calibration_flags[c.file] = c.light.ok ? "" : c.light.flag;
-      const BoardPose* top = TopBoardPose(guide_->rig());
-      for (Json& shot : s["shots"]) {
-        if (shot["kind"] != "shot" || shot["rejected"].get<bool>() || !shot["analysed"].get<bool>()) continue;
-        const std::string name = shot["file"];
-        if (auto it = guide_->flashes().find(name); it != guide_->flashes().end()) {
-          shot["flash"] = {{"position_cam_m", ToJson(it->second)},
-                           {"words", top ? FlashPositionWords(it->second, {top->id, top->R, top->t, {}}) : ""}};
-          shot["usable"] = shot["why_not"].empty();
-        } else if (shot["usable"].is_null()) {
-          shot["usable"] = false;
-          if (shot["why_not"].empty())
-            shot["why_not"].push_back(calibration_flags.count(name) && !calibration_flags[name].empty()
-                                          ? "no flash position: " + calibration_flags[name]
-                                          : "no flash position from the balls");
-        }
+      top = TopBoardPose(guide_->rig());
+    }
+    for (Json& shot : s["shots"]) {
+      if (shot["kind"] != "shot" || !shot["analysed"].get<bool>()) continue;
+      const std::string name = shot["file"];
+      const Json& problems = shot["read_problems"];
+      const auto flash = located ? guide_->flashes().find(name) : std::map<std::string, Eigen::Vector3d>::const_iterator();
+      shot["why_not"] = problems;
+      if (located && flash != guide_->flashes().end()) {
+        shot["flash"] = {{"position_cam_m", ToJson(flash->second)},
+                         {"words", top ? FlashPositionWords(flash->second, {top->id, top->R, top->t, {}}) : ""}};
+        shot["usable"] = problems.empty();
+      } else {
+        shot["flash"] = nullptr;
+        shot["usable"] = located || !problems.empty() ? Json(false) : Json();  // null: not known until located
+        if (located && problems.empty())
+          shot["why_not"].push_back(calibration_flags.count(name) && !calibration_flags[name].empty()
+                                        ? "no flash position: " + calibration_flags[name]
+                                        : "no flash position from the balls");
       }
     }
     if (g.coverage) {
@@ -405,6 +465,10 @@ void ConsoleWork::WaitForAnalysis() {
 
 void ConsoleWork::Finish() {
   WaitForAnalysis();
+  {
+    std::lock_guard<std::mutex> hold(mutex_);
+    if (stopping_) return;
+  }
   const SessionLayout layout(options_.session);
   state_->Update([&](Json& s) {
     s["capture"]["state"] = "finished";
@@ -431,14 +495,21 @@ void ConsoleWork::Finish() {
     posix_spawn_file_actions_addclosefrom_np(&actions, 3);  // not the server's sockets, nor the lock
     pid_t child = 0;
     // The child inherits MESOCAP_SESSION_LOCK: it works under the console's lock.
-    const int spawned = ::posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
+    int spawned = 0;
+    {
+      std::lock_guard<std::mutex> hold(mutex_);  // Stop() terminates it from now on
+      spawned = stopping_ ? -1 : ::posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
+      if (spawned == 0) child_ = child;
+    }
     posix_spawn_file_actions_destroy(&actions);
     ::close(pipe_fds[1]);
+    FILE* out = spawned == 0 ? ::fdopen(pipe_fds[0], "r") : nullptr;
+    if (!out) ::close(pipe_fds[0]);
     if (spawned == 0) {
-      FILE* out = ::fdopen(pipe_fds[0], "r");
-      char buffer[4096];
-      while (out && std::fgets(buffer, sizeof buffer, out)) {
-        std::string line = buffer;
+      char* buffer = nullptr;
+      size_t capacity = 0;
+      for (ssize_t n; out && (n = ::getline(&buffer, &capacity, out)) >= 0;) {
+        std::string line(buffer, size_t(n));
         while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
         log << line << "\n" << std::flush;
         state_->Update([&](Json& s) {
@@ -447,11 +518,13 @@ void ConsoleWork::Finish() {
           if (lines.size() > kProcessLinesKept) lines.erase(lines.begin());
         }, {{"type", "process"}, {"line", line}});
       }
+      std::free(buffer);
       if (out) std::fclose(out);
       int status = 0;
       if (::waitpid(child, &status, 0) == child && WIFEXITED(status)) exit_code = WEXITSTATUS(status);
+      std::lock_guard<std::mutex> hold(mutex_);
+      child_ = 0;
     } else {
-      ::close(pipe_fds[0]);
       log << "cannot start " << args[0] << "\n";
     }
   }

@@ -6,6 +6,8 @@
 // progress streamed to the page. Every change goes through the ConsoleState.
 #pragma once
 
+#include <sys/types.h>
+
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
@@ -61,7 +63,9 @@ class ConsoleWork {
   };
   void CaptureLoop();
   bool WaitForShot(const std::string& kind);  // ReadyFn: true to take the next shot of `kind`
-  void UndoLastShot();
+  void TakeUndos(std::unique_lock<std::mutex>& hold);  // runs the undos at the queue's front
+  void UndoShot(const std::string& file);
+  void ReconcileWithJournal();
   void AfterShot(const CapturedShot& shot);
   void AnalysisLoop();
   void Analyse(const Job& job);
@@ -76,10 +80,12 @@ class ConsoleWork {
   ConsoleState* state_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
-  std::deque<std::string> commands_;  // "shot", "calib", "undo", "finish"
-  std::string pending_;               // the command that ended a capture run
+  inline static const std::string kUndo = "undo ";
+  std::deque<std::string> commands_;  // "shot", "calib", "undo FILE", "finish"
   std::deque<Job> jobs_;
   bool analysing_ = false, stopping_ = false, finishing_ = false, finished_ = false;
+  bool reconcile_ = false;  // the page is compared with the journal at the next chance
+  pid_t child_ = 0;         // finish's `mesocap process`, while it runs
   std::unique_ptr<CaptureGuide> guide_;
   size_t guide_failed_at_calib_shots_ = size_t(-1);
   std::thread camera_thread_, analysis_thread_;

@@ -140,6 +140,9 @@ fs::path SessionLayout::console() const { return root_ / "console"; }
 fs::path SessionLayout::console_thumbnail(const std::string& shot_file) const {
   return console() / "thumbs" / (fs::path(shot_file).stem().string() + ".jpg");
 }
+fs::path SessionLayout::console_view(const std::string& shot_file) const {
+  return console() / "views" / (fs::path(shot_file).stem().string() + ".jpg");
+}
 fs::path SessionLayout::console_process_log() const { return console() / "process.log"; }
 fs::path SessionLayout::workflow_marker(const std::string& job) const {
   return workflow() / ((job.empty() ? "JOB" : job) + ".done");
@@ -252,6 +255,7 @@ Json SessionLayout::ToJson() const {
                  {"part_record", ShardsFolder::part_record_name()}};
   j["workflow"] = {{"folder", rel(workflow())}, {"marker", rel(workflow_marker(""))}, {"log", rel(workflow_log(""))}};
   j["console"] = {{"folder", rel(console())}, {"thumbnail", rel(console_thumbnail("shot_0001.jpg"))},
+                  {"view", rel(console_view("shot_0001.jpg"))},
                   {"process_log", rel(console_process_log())}};
   j["report"] = {{"html", rel(report_html())},
                  {"markdown", rel(report_md())},

@@ -175,6 +175,7 @@ class SessionLayout {
   // the finishing `process` run.
   std::filesystem::path console() const;
   std::filesystem::path console_thumbnail(const std::string& shot_file) const;  // console/thumbs/shot_0001.jpg
+  std::filesystem::path console_view(const std::string& shot_file) const;       // console/views/shot_0001.jpg
   std::filesystem::path console_process_log() const;                            // console/process.log
 
   // The session's report (Report::Write names the files in a folder) and its pictures.

@@ -236,7 +236,9 @@ TEST(Console, ThePageInHeadlessChromiumFollowsAThirtyShotSession) {
                                         dir / "console.log");
   ASSERT_GT(console.port, 0);
   std::string out;
-  const std::string driver = std::string(std::getenv("MESOCAP_SOURCE_DIR")) + "/scripts/console_browser.py";
+  const char* source = std::getenv("MESOCAP_SOURCE_DIR");
+  ASSERT_NE(source, nullptr) << "run through ctest (MESOCAP_SOURCE_DIR)";
+  const std::string driver = std::string(source) + "/scripts/console_browser.py";
   const int code = testing::RunCommand("/usr/bin/python3 " + driver + " http://127.0.0.1:" + std::to_string(console.port) +
                                            "/ --operator 30 --calibration 10 --timeout 600 2>&1",
                                        &out);
