@@ -50,8 +50,10 @@ ASAN_EXCLUDE='^e2e/|^workflow/|^app/capture_guide_test$|^reconstruct/btf_evaluat
 # streamed SVD), and the CLI runs of fit-ptm and synth (parallel decoding and slice writing, the
 # progress bar as callback; synth_cli_test runs texton synthesis, whose passes sweep bands of rows
 # in parallel). synth/quilt_test (the same code as synth_cli_test, at 13 s Release)
-# takes 220 s under TSan and is left out; add it with -R when quilting's threading changes.
-TSAN_TESTS='^(core/progress_test|reconstruct/(ptm|steerable_pyramid|statistical_btf)_test|capture/btf_render_test|formats/ptm_file_test|synth/(patch_matching|roller)_test|e2e/(ptm_cli|synth_cli)_test)$'
+# takes 220 s under TSan and is left out; add it with -R when quilting's threading changes. The
+# capture console's server (app/console_server_test): its state and event log under the
+# connection threads (cpp-httplib itself is not instrumented).
+TSAN_TESTS='^(core/progress_test|reconstruct/(ptm|steerable_pyramid|statistical_btf)_test|capture/btf_render_test|formats/ptm_file_test|synth/(patch_matching|roller)_test|e2e/(ptm_cli|synth_cli)_test|app/console_server_test)$'
 
 # thread: TSan sees synchronisation only in instrumented code, and Debian's libtbb12 is not: its
 # task hand-offs are invisible, so every ParallelFor looks like a race (hundreds of false reports
