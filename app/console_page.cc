@@ -85,7 +85,7 @@ window.addEventListener("unhandledrejection", countError);
 const consoleError = console.error.bind(console);
 console.error = (...args) => { countError(); consoleError(...args); };
 
-let state = null, fetching = false, again = false;
+let state = null, fetching = false, again = false, plotsShown = 0;
 async function refresh() {
   if (fetching) { again = true; return; }
   fetching = true;
@@ -135,7 +135,7 @@ function renderCoverage(c) {
   text($("covtext"), "of the reachable light directions covered (" + c.covered + " of " + c.reachable + ")");
   $("bar").firstElementChild.style.width = Math.min(100, c.percent) + "%";
   text($("boards"), c.boards.map((b) => "board " + b.board + ": " + b.covered + "/" + b.reachable + " (" + b.lights + " lights)").join(" · "));
-  if ($("plot").getAttribute("src") !== c.plot) { $("plot").src = c.plot; $("plot").hidden = false; }
+  if ($("plot").getAttribute("src") !== c.plot) { $("plot").src = c.plot; $("plot").hidden = false; ++plotsShown; }
 }
 function renderShots(shots) {
   const footer = $("shots");
@@ -246,7 +246,7 @@ async function operate(shots, calibration) {
   const report = link ? await fetch(link.href) : null;
   document.body.dataset.operator = JSON.stringify({
     shots: count(state, "shot", false), shown_s: Object.values(shown), percents: percents,
-    suggestions: suggestions.size, undone: state.shots.filter((x) => x.rejected).map((x) => x.file),
+    suggestions: suggestions.size, plots: plotsShown, undone: state.shots.filter((x) => x.rejected).map((x) => x.file),
     process: state.process.state, report: link ? link.getAttribute("href") : null, report_status: report ? report.status : 0,
   });
 }

@@ -65,6 +65,24 @@ Json SuggestionsJson(const CoverageAssessment& a) {
   return next;
 }
 
+// Review: each flash shot's verdict as the session's calibration gave it (unknown without one).
+void MarkCalibrationVerdicts(const SessionLayout& layout, Json* state) {
+  std::map<std::string, Json> light;  // file -> calibration's reading of its flash
+  if (auto report = ReadJsonFile(layout.calibration().report()); report.ok() && report->is_object())
+    for (const Json& shot : report->value("shots", Json::array()))
+      if (shot.is_object() && shot.contains("file") && shot["file"].is_string())
+        light[shot["file"].get<std::string>()] = shot.value("light", Json::object());
+  for (Json& shot : (*state)["shots"]) {
+    shot["analysed"] = true;
+    const auto it = light.find(shot["file"].get<std::string>());
+    if (shot["kind"] != "shot" || it == light.end() || !it->second.is_object()) continue;
+    const Json ok = it->second.value("ok", Json()), flag = it->second.value("flag", Json());
+    const bool found = ok.is_boolean() && ok.get<bool>();  // a hand-edited report is not trusted
+    shot["usable"] = found && shot["read_problems"].empty();
+    if (!found) shot["why_not"].push_back("no flash position: " + (flag.is_string() ? flag.get<std::string>() : "not found"));
+  }
+}
+
 }  // namespace
 
 Json InitialConsoleState(const fs::path& session, bool review) {
@@ -84,10 +102,15 @@ Json InitialConsoleState(const fs::path& session, bool review) {
       state["shots"].push_back(entry);
     }
   }
+  if (review) MarkCalibrationVerdicts(layout, &state);
   if (auto coverage = ReadJsonFile(layout.coverage().assessment()); review && coverage.ok() && coverage->is_object()) {
-    const int covered = coverage->value("covered", 0), reachable = coverage->value("reachable", 0);
+    const auto count = [&](const char* key) {
+      const Json v = coverage->value(key, Json());
+      return v.is_number_integer() ? std::max<int64_t>(0, v.get<int64_t>()) : 0;
+    };
+    const int64_t covered = count("covered"), reachable = count("reachable");
     state["coverage"] = {{"covered", covered}, {"reachable", reachable},
-                         {"percent", reachable ? 100.0 * covered / reachable : 100.0}, {"boards", Json::array()},
+                         {"percent", reachable ? 100.0 * double(covered) / double(reachable) : 100.0}, {"boards", Json::array()},
                          {"plot", FileUrl(layout, layout.coverage().plot())}};
   }
   if (fs::exists(layout.report_html())) state["process"]["report"] = FileUrl(layout, layout.report_html());

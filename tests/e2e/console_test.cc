@@ -258,6 +258,7 @@ TEST(Console, ThePageInHeadlessChromiumFollowsAThirtyShotSession) {
   ASSERT_GE(op["percents"].size(), 20u);
   EXPECT_GT(op["percents"].back().get<double>(), op["percents"].front().get<double>() + 30) << out;
   EXPECT_GE(op["suggestions"].get<int>(), 5);
+  EXPECT_GE(op["plots"].get<int>(), 20);  // the boards' hemispheres redrawn after the shots
   EXPECT_EQ(op["undone"], Json::array({"shots/shot_0030.jpg"}));
   EXPECT_EQ(op["process"], "done");
   EXPECT_EQ(op["report_status"], 200);
@@ -297,6 +298,10 @@ TEST(Console, AKilledConsoleResumesWithEveryShotOnce) {
   state = State(review.port);
   EXPECT_EQ(state["mode"], "review");
   EXPECT_EQ(state["shots"].size(), before + 1);
+  for (const Json& shot : state["shots"]) {
+    EXPECT_TRUE(shot["analysed"].get<bool>());  // shown as it is: not "reading"
+    EXPECT_TRUE(shot["usable"].is_null());      // no calibration yet: not known
+  }
   EXPECT_EQ(Post(review.port, "/api/shot"), 409);
   EXPECT_EQ(Post(review.port, "/api/undo"), 409);
   const testing::RawReply page = testing::LocalRequest(review.port, "GET /");
