@@ -38,23 +38,28 @@ CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args) {
                 "needed; " + S.coverage().root.string() + "/ shows it per board (as `mesocap coverage`)");
   sub->add_flag("--follow-guide", args->follow_guide,
                 "With --guide and the virtual rig: the virtual photographer moves the flash to the first suggestion");
-  sub->add_option("--layout", args->guidance.layout_file, "Guidance: the rig layout (default " + S.rig_layout().string() + ")");
-  sub->add_option("--camera-file", args->guidance.camera_file,
+  AddGuidanceOptions(sub, &args->guidance, &args->guide_images);
+  return sub;
+}
+
+void AddGuidanceOptions(CLI::App* sub, CaptureGuideOptions* guidance, std::vector<std::string>* guide_images) {
+  const SessionLayout S = HelpLayout();
+  sub->add_option("--layout", guidance->layout_file, "Guidance: the rig layout (default " + S.rig_layout().string() + ")");
+  sub->add_option("--camera-file", guidance->camera_file,
                   "Guidance: intrinsics (camera.json from calibrate-camera); default: from the session's " + FolderName(S.calib()) + " shots");
-  sub->add_option("--guide-after", args->guidance.locate_after_shots,
+  sub->add_option("--guide-after", guidance->locate_after_shots,
                   "Guidance: flash shots before the boards and balls are located (a full calibration, once)")
       ->capture_default_str();
-  sub->add_option("--suggest", args->guidance.coverage.suggestions, "Guidance: next flash positions listed")
+  sub->add_option("--suggest", guidance->coverage.suggestions, "Guidance: next flash positions listed")
       ->capture_default_str();
   const std::vector<std::string> image_names(kMirrorImageNames.begin(), kMirrorImageNames.end());
-  sub->add_option("--guide-images", args->guide_images,
+  sub->add_option("--guide-images", *guide_images,
                   "Guidance: images of the patch the material looks the same under, comma-separated; each board "
                   "also counts its lights' images (as `mesocap coverage` does where the session's slices show them "
                   "hold). Default: each board's own lights. The top board's slices tell only after 70-85 "
                   "hand-held shots (docs/reconstruction.md)")
       ->delimiter(',')
       ->check(CLI::IsMember(image_names));
-  return sub;
 }
 
 }  // namespace mesocap::app

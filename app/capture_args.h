@@ -15,6 +15,13 @@ class Option;
 
 namespace mesocap::app {
 
+// Guidance for an operator during capture: the first three suggestions listed.
+inline CaptureGuideOptions OperatorGuidance() {
+  CaptureGuideOptions o;
+  o.coverage.suggestions = 3;
+  return o;
+}
+
 struct CaptureArgs {
   CaptureOptions options;
   std::string camera_model, port, mode = "interval";
@@ -23,14 +30,13 @@ struct CaptureArgs {
   bool no_progress = false;
   bool guide = false, follow_guide = false;
   std::vector<std::string> guide_images;  // MirrorImages() names: CoverageOptions::images
-  CaptureGuideOptions guidance = [] {
-    CaptureGuideOptions o;
-    o.coverage.suggestions = 3;
-    return o;
-  }();
+  CaptureGuideOptions guidance = OperatorGuidance();
 };
 
 CLI::App* AddCaptureOptions(CLI::App& app, CaptureArgs* args);
+// The guidance's options (--layout, --camera-file, --guide-after, --suggest, --guide-images), as
+// `capture --guide` and `console` take them.
+void AddGuidanceOptions(CLI::App* sub, CaptureGuideOptions* guidance, std::vector<std::string>* guide_images);
 int RunCapture(CaptureArgs& a);
 
 }  // namespace mesocap::app

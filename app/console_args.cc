@@ -7,7 +7,6 @@
 namespace mesocap::app {
 
 CLI::App* AddConsoleOptions(CLI::App& app, ConsoleArgs* args) {
-  const SessionLayout S = HelpLayout();
   CLI::App* sub = app.add_subcommand(
       "console",
       "A live web page for a tethered capture session: the last shot, per board the light directions measured and "
@@ -37,19 +36,7 @@ CLI::App* AddConsoleOptions(CLI::App& app, ConsoleArgs* args) {
                 "No guidance: the page shows the shots only (no flash positions, coverage or suggestions)");
   sub->add_flag("--follow-guide", args->follow_guide,
                 "With the virtual rig: the virtual photographer holds the flash at the first suggestion");
-  sub->add_option("--layout", args->guidance.layout_file, "Guidance: the rig layout (default " + S.rig_layout().string() + ")");
-  sub->add_option("--camera-file", args->guidance.camera_file,
-                  "Guidance: intrinsics (camera.json from calibrate-camera); default: from the session's " + FolderName(S.calib()) + " shots");
-  sub->add_option("--guide-after", args->guidance.locate_after_shots,
-                  "Guidance: flash shots before the boards and balls are located (a full calibration, once)")
-      ->capture_default_str();
-  sub->add_option("--suggest", args->guidance.coverage.suggestions, "Guidance: next flash positions listed")
-      ->capture_default_str();
-  const std::vector<std::string> image_names(kMirrorImageNames.begin(), kMirrorImageNames.end());
-  sub->add_option("--guide-images", args->guide_images,
-                  "Guidance: images of the patch the material looks the same under, comma-separated (as for `mesocap capture`)")
-      ->delimiter(',')
-      ->check(CLI::IsMember(image_names));
+  AddGuidanceOptions(sub, &args->guidance, &args->guide_images);
   sub->add_option("--process-args", args->process_args,
                   "Finish runs `mesocap process SESSION` with these options (one string, split at spaces), e.g. "
                   "\"--camera camera.json --slice-size 128\"");

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "app/capture_guide.h"
+#include "app/capture_args.h"
 
 namespace CLI {
 class App;
@@ -27,11 +27,7 @@ struct ConsoleArgs {
   std::vector<std::string> guide_images;
   std::string process_args;  // for finish: `mesocap process SESSION ARGS`
   bool exit_after_finish = false;
-  CaptureGuideOptions guidance = [] {
-    CaptureGuideOptions o;
-    o.coverage.suggestions = 3;
-    return o;
-  }();
+  CaptureGuideOptions guidance = OperatorGuidance();
 };
 
 CLI::App* AddConsoleOptions(CLI::App& app, ConsoleArgs* args);

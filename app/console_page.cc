@@ -1,5 +1,7 @@
 #include "app/console_page.h"
 
+#include "export/report.h"
+
 namespace mesocap::app {
 namespace {
 
@@ -261,14 +263,7 @@ if (plan.has("operator"))
 }  // namespace
 
 std::string ConsolePage(const std::string& session_name) {
-  std::string escaped;
-  for (char c : session_name) {
-    if (c == '<') escaped += "&lt;";
-    else if (c == '>') escaped += "&gt;";
-    else if (c == '&') escaped += "&amp;";
-    else if (c == '"') escaped += "&quot;";
-    else escaped += c;
-  }
+  const std::string escaped = HtmlEscape(session_name);
   std::string page = kPage;
   for (size_t at = page.find("@SESSION@"); at != std::string::npos; at = page.find("@SESSION@", at + escaped.size()))
     page.replace(at, 9, escaped);

@@ -24,40 +24,39 @@ void Report::Html(const std::string& html, const std::string& markdown_note) {
   blocks_.push_back({Block::kHtml, markdown_note, html, {}, {}});
 }
 
-namespace {
-std::string Escape(const std::string& s) {
+std::string HtmlEscape(const std::string& s) {
   std::string out;
   for (char c : s) {
     if (c == '<') out += "&lt;";
     else if (c == '>') out += "&gt;";
     else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
     else out += c;
   }
   return out;
 }
-}  // namespace
 
 Status Report::Write(const std::filesystem::path& dir) const {
   std::string md = "# " + title_ + "\n\n";
-  std::string html = "<!doctype html><html><head><meta charset=\"utf-8\"><title>" + Escape(title_) +
+  std::string html = "<!doctype html><html><head><meta charset=\"utf-8\"><title>" + HtmlEscape(title_) +
                      "</title><style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}"
                      "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:3px 8px;"
                      "text-align:right}th{background:#eee}img{max-width:100%;border:1px solid #ccc}"
-                     "figcaption{color:#555;font-size:90%}</style></head><body><h1>" + Escape(title_) + "</h1>\n";
+                     "figcaption{color:#555;font-size:90%}</style></head><body><h1>" + HtmlEscape(title_) + "</h1>\n";
   for (const Block& b : blocks_) {
     switch (b.kind) {
       case Block::kHeading:
         md += "## " + b.text + "\n\n";
-        html += "<h2>" + Escape(b.text) + "</h2>\n";
+        html += "<h2>" + HtmlEscape(b.text) + "</h2>\n";
         break;
       case Block::kParagraph:
         md += b.text + "\n\n";
-        html += "<p>" + Escape(b.text) + "</p>\n";
+        html += "<p>" + HtmlEscape(b.text) + "</p>\n";
         break;
       case Block::kTable: {
         if (!b.text.empty()) {  // folded
-          md += "<details><summary>" + Escape(b.text) + "</summary>\n\n";
-          html += "<details><summary>" + Escape(b.text) + "</summary>\n";
+          md += "<details><summary>" + HtmlEscape(b.text) + "</summary>\n\n";
+          html += "<details><summary>" + HtmlEscape(b.text) + "</summary>\n";
         }
         std::string sep;
         md += "|";
@@ -65,7 +64,7 @@ Status Report::Write(const std::filesystem::path& dir) const {
         for (const auto& h : b.header) {
           md += " " + h + " |";
           sep += "---|";
-          html += "<th>" + Escape(h) + "</th>";
+          html += "<th>" + HtmlEscape(h) + "</th>";
         }
         md += "\n|" + sep + "\n";
         html += "</tr>\n";
@@ -74,7 +73,7 @@ Status Report::Write(const std::filesystem::path& dir) const {
           html += "<tr>";
           for (const auto& cell : row) {
             md += " " + cell + " |";
-            html += "<td>" + Escape(cell) + "</td>";
+            html += "<td>" + HtmlEscape(cell) + "</td>";
           }
           md += "\n";
           html += "</tr>\n";
@@ -86,7 +85,7 @@ Status Report::Write(const std::filesystem::path& dir) const {
       }
       case Block::kPicture:
         md += "![" + b.text + "](" + b.path + ")\n\n*" + b.text + "*\n\n";
-        html += "<figure><img src=\"" + Escape(b.path) + "\"><figcaption>" + Escape(b.text) + "</figcaption></figure>\n";
+        html += "<figure><img src=\"" + HtmlEscape(b.path) + "\"><figcaption>" + HtmlEscape(b.text) + "</figcaption></figure>\n";
         break;
       case Block::kHtml:
         md += b.text + "\n\n";
@@ -96,7 +95,7 @@ Status Report::Write(const std::filesystem::path& dir) const {
   }
   const std::string footer = "mesocap " + std::string(Version()) + ", " + UtcNowIso8601() + ": `" + CommandLine() + "`";
   md += "---\n" + footer + "\n";
-  html += "<hr><p><small>" + Escape(footer) + "</small></p></body></html>\n";
+  html += "<hr><p><small>" + HtmlEscape(footer) + "</small></p></body></html>\n";
   MESOCAP_RETURN_IF_ERROR(WriteTextAtomically(dir / ReportMarkdownName(), md));
   return WriteTextAtomically(dir / ReportHtmlName(), html);
 }

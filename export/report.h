@@ -11,6 +11,9 @@
 
 namespace mesocap {
 
+// `s` as HTML text or a quoted attribute value: <, >, & and " escaped.
+std::string HtmlEscape(const std::string& s);
+
 class Report {
  public:
   explicit Report(std::string title) : title_(std::move(title)) {}
