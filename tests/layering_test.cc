@@ -21,6 +21,7 @@ TEST(Layering, EachLibraryIncludesOnlyItsOwnAndLowerLayers) {
       {"reconstruct", {"core", "reconstruct"}},
       {"formats", {"core", "reconstruct", "formats"}},  // .ptm and .lp: below every stage that reads them
       {"synth", {"core", "reconstruct", "formats", "synth"}},
+      {"mesh", {"core", "reconstruct", "formats", "synth", "mesh"}},
       {"export", {"core", "reconstruct", "formats", "export"}},
   };
   const fs::path root = MESOCAP_SOURCE_DIR;

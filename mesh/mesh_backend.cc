@@ -1,0 +1,22 @@
+#include "mesh/mesh_backend.h"
+
+#include "core/module_loader.h"
+
+namespace mesocap {
+
+#ifdef MESOCAP_MESH_BACKEND_BUILD_PATH
+static constexpr const char* kBuildPath = MESOCAP_MESH_BACKEND_BUILD_PATH;
+#else
+static constexpr const char* kBuildPath = "";
+#endif
+
+StatusOr<MeshBackend*> LoadMeshBackend() {
+  static const StatusOr<MeshBackend*> backend = []() -> StatusOr<MeshBackend*> {
+    auto factory = LoadModuleSymbol(kMeshBackendModuleName, kBuildPath, kMeshBackendFactorySymbol);
+    if (!factory.ok()) return factory.status();
+    return reinterpret_cast<MeshBackendFactory>(*factory)();
+  }();
+  return backend;
+}
+
+}  // namespace mesocap

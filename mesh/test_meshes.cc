@@ -1,0 +1,117 @@
+#include "mesh/test_meshes.h"
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+namespace mesocap::testing {
+
+TriangleMesh IcoSphere(int subdivisions, double radius) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  TriangleMesh m;
+  for (const auto& p : std::vector<Eigen::Vector3d>{{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}})
+    m.positions.push_back(p.normalized());
+  m.faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+             {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<int, int>, int> middle;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = middle.find(key);
+      if (it != middle.end()) return it->second;
+      m.positions.push_back((m.positions[a] + m.positions[b]).normalized());
+      return middle[key] = int(m.positions.size()) - 1;
+    };
+    std::vector<std::array<int32_t, 3>> faces;
+    for (const auto& f : m.faces) {
+      const int a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
+      faces.push_back({f[0], a, c}), faces.push_back({f[1], b, a}), faces.push_back({f[2], c, b}), faces.push_back({a, b, c});
+    }
+    m.faces = std::move(faces);
+  }
+  for (auto& p : m.positions) m.normals.push_back(p), p *= radius;
+  return m;
+}
+
+TriangleMesh Torus(int major, int minor, double R, double r) {
+  TriangleMesh m;
+  for (int i = 0; i < major; ++i)
+    for (int j = 0; j < minor; ++j) {
+      const double u = 2 * M_PI * i / major, v = 2 * M_PI * j / minor;
+      const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+      m.positions.push_back(Eigen::Vector3d(R * std::cos(u), R * std::sin(u), 0) + r * n);
+      m.normals.push_back(n);
+    }
+  auto at = [&](int i, int j) { return int32_t(((i + major) % major) * minor + (j + minor) % minor); };
+  for (int i = 0; i < major; ++i)
+    for (int j = 0; j < minor; ++j) {
+      m.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+TriangleMesh DoubleTorus(int cells) {
+  const double R = 1.0, r = 0.4;
+  auto torus = [&](const Eigen::Vector3d& p, double cx) {
+    const double q = std::hypot(p.x() - cx, p.y()) - R;
+    return std::hypot(q, p.z()) - r;
+  };
+  auto f = [&](const Eigen::Vector3d& p) { return std::min(torus(p, -0.85), torus(p, 0.85)); };
+  const Eigen::Vector3d lo(-2.4, -1.5, -0.6), hi(2.4, 1.5, 0.6);
+  const double step = (hi.x() - lo.x()) / cells;
+  const Eigen::Vector3i n((hi - lo).x() / step + 1, (hi - lo).y() / step + 1, (hi - lo).z() / step + 1);
+  auto corner = [&](int i, int j, int k) { return Eigen::Vector3d(lo + step * Eigen::Vector3d(i, j, k)); };
+  auto key = [&](int i, int j, int k) { return (int64_t(k) * (n.y() + 1) + j) * (n.x() + 1) + i; };
+  TriangleMesh m;
+  std::map<std::pair<int64_t, int64_t>, int32_t> edge_vertex;
+  auto vertex_on = [&](int64_t ka, const Eigen::Vector3d& a, double fa, int64_t kb, const Eigen::Vector3d& b, double fb) {
+    const auto k = std::minmax(ka, kb);
+    auto it = edge_vertex.find(k);
+    if (it != edge_vertex.end()) return it->second;
+    const double t = fa / (fa - fb);
+    m.positions.push_back(a + t * (b - a));
+    return edge_vertex[k] = int32_t(m.positions.size() - 1);
+  };
+  // Six tetrahedra per cube around its main diagonal (corners 0 and 7).
+  static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 3, 2, 7}, {0, 2, 6, 7}, {0, 6, 4, 7}, {0, 4, 5, 7}, {0, 5, 1, 7}};
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int i = 0; i < n.x(); ++i) {
+        Eigen::Vector3d p[8];
+        double v[8];
+        int64_t id[8];
+        for (int c = 0; c < 8; ++c) {
+          const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+          p[c] = corner(i + di, j + dj, k + dk), id[c] = key(i + di, j + dj, k + dk);
+          v[c] = f(p[c]);
+          if (v[c] == 0) v[c] = 1e-12;
+        }
+        for (const auto& tet : kTets) {
+          std::vector<int> in, out;
+          for (int c : tet) (v[c] < 0 ? in : out).push_back(c);
+          if (in.empty() || out.empty()) continue;
+          auto cut = [&](int a, int b) { return vertex_on(id[a], p[a], v[a], id[b], p[b], v[b]); };
+          std::vector<int32_t> poly;
+          if (in.size() == 1) poly = {cut(in[0], out[0]), cut(in[0], out[1]), cut(in[0], out[2])};
+          else if (in.size() == 3) poly = {cut(out[0], in[0]), cut(out[0], in[1]), cut(out[0], in[2])};
+          else poly = {cut(in[0], out[0]), cut(in[0], out[1]), cut(in[1], out[1]), cut(in[1], out[0])};
+          // Orient each polygon with the gradient (outward: f increases).
+          const Eigen::Vector3d centre = m.positions[poly[0]];
+          const double h = 1e-4;
+          const Eigen::Vector3d grad((f(centre + Eigen::Vector3d(h, 0, 0)) - f(centre - Eigen::Vector3d(h, 0, 0))),
+                                     (f(centre + Eigen::Vector3d(0, h, 0)) - f(centre - Eigen::Vector3d(0, h, 0))),
+                                     (f(centre + Eigen::Vector3d(0, 0, h)) - f(centre - Eigen::Vector3d(0, 0, h))));
+          const Eigen::Vector3d normal = (m.positions[poly[1]] - m.positions[poly[0]]).cross(m.positions[poly[2]] - m.positions[poly[0]]);
+          if (normal.dot(grad) < 0) std::reverse(poly.begin(), poly.end());
+          m.faces.push_back({poly[0], poly[1], poly[2]});
+          if (poly.size() == 4) m.faces.push_back({poly[0], poly[2], poly[3]});
+        }
+      }
+  MeshRepairReport report;
+  RepairMesh(m, &report);
+  return m;
+}
+
+}  // namespace mesocap::testing

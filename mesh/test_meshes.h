@@ -1,0 +1,16 @@
+// Meshes the mesh tests write: made here in closed form, so each test knows its surface exactly.
+#pragma once
+
+#include "mesh/triangle_mesh.h"
+
+namespace mesocap::testing {
+
+// A unit sphere by `subdivisions` of an icosahedron (10 x 4^s + 2 vertices), no UVs.
+TriangleMesh IcoSphere(int subdivisions, double radius = 1.0);
+// A torus around the z axis, `major` x `minor` quads, each split in two.
+TriangleMesh Torus(int major, int minor, double major_radius = 1.0, double minor_radius = 0.35);
+// A genus-2 surface (two overlapping tori's union, the zero set of min(f1, f2)) by marching
+// tetrahedra on a grid of `cells` along x: no global parameterisation exists.
+TriangleMesh DoubleTorus(int cells);
+
+}  // namespace mesocap::testing
