@@ -8,6 +8,7 @@
 #include "app/capture_args.h"
 #include "app/console_args.h"
 #include "app/coverage_args.h"
+#include "app/decorate_args.h"
 #include "app/demo_args.h"
 #include "app/evaluate_args.h"
 #include "app/export_args.h"

@@ -36,7 +36,8 @@ struct GlobalOptions {
 // Run##Verb. The front defines the options of each, the module runs the chosen one by its name.
 #define MESOCAP_FOR_EACH_COMMAND(X)                                                                            \
   X(Simulate) X(Demo) X(Import) X(Capture) X(Console) X(Cameras) X(Calibrate) X(CalibrateCamera) X(FitPtm) X(Relight) \
-  X(Reconstruct) X(Evaluate) X(Lights) X(Synth) X(SynthApply) X(Paint) X(Process) X(Export) X(Coverage) X(Layout)
+  X(Reconstruct) X(Evaluate) X(Lights) X(Synth) X(SynthApply) X(Paint) X(Decorate) X(Render) X(Process) X(Export) X(Coverage) \
+  X(Layout)
 
 // The commands module's one entry point: runs the command `verb` ("FitPtm") on `args`, the
 // Verb##Args the front parsed (`args_size` its size, a check that both halves come from one

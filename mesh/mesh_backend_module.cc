@@ -59,7 +59,7 @@ class AssimpEmbreeBackend final : public MeshBackend {
   StatusOr<MeshFileData> Load(const std::filesystem::path& path) override {
     Assimp::Importer importer;
     // Points and lines are read and dropped (counted); node transforms are baked into the vertices.
-    const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices |
+    const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
                                                                 aiProcess_SortByPType);
     if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
       return Status::Error(path.string() + ": not a mesh file mesocap can read (" + importer.GetErrorString() + ")");

@@ -96,7 +96,7 @@ void BuildTemplates(Level& L, const std::vector<Offset>& offsets, int num_thread
 class SurfaceQuery {
  public:
   void Build(const SampleLevel& s, const Slot* slots, int count, const std::vector<int32_t>& label,
-             const std::vector<float>& table, int labels) {
+             const std::vector<float>& table, int labels, bool interpolate) {
     terms_.clear(), ends_.clear(), constant_ = 0;
     for (int j = 0; j < count; ++j) {
       const Slot& slot = slots[j];
@@ -106,12 +106,16 @@ class SurfaceQuery {
         int a[3];
         float w[3];
         int n = 0;
+        int top = 0;
+        for (int k = 1; k < 3; ++k)
+          if (slot.w[k] > slot.w[top]) top = k;
         for (int k = 0; k < 3; ++k) {
+          if (!interpolate && k != top) continue;  // the nearest vertex's texton, weight 1
           const int l = label[slot.v[k]];
           int i = 0;
           while (i < n && a[i] != l) ++i;
           if (i == n) a[n] = l, w[n] = 0, ++n;
-          w[i] += slot.w[k];
+          w[i] += interpolate ? slot.w[k] : 1.f;
         }
         for (int i = 0; i < n; ++i) {
           terms_.push_back({s.Row(a[i]), w[i]});
@@ -154,11 +158,12 @@ class VertexCorrector {
   VertexCorrector(const Level& L, const SampleLevel& s, const std::vector<float>& table, double texel_size,
                   const SurfaceTextonOptions& o)
       : L_(L), s_(s), table_(table), labels_(s.level->textons + 1), h_(texel_size),
-        coherent_weight_(float(1 - o.coherence)), stamp_(size_t(s.texels()), 0) {}
+        coherent_weight_(float(1 - o.coherence)), stamp_(size_t(s.texels()), 0),
+        interpolate_(o.slot_textons == SlotTextons::kInterpolated) {}
 
   int32_t Best(int v, const std::vector<int32_t>& texel, const std::vector<int32_t>& label, Counters* counters) {
     const int W = s_.width(), S = s_.slot_count();
-    query_.Build(s_, L_.slots.data() + size_t(v) * S, S, label, table_, labels_);
+    query_.Build(s_, L_.slots.data() + size_t(v) * S, S, label, table_, labels_, interpolate_);
     const Eigen::Vector3d& p = L_.mesh->positions[v];
     const Eigen::Vector3d &sv = L_.frames.s[v], &tv = L_.frames.t[v];
     continued_.clear(), around_.clear();
@@ -203,6 +208,7 @@ class VertexCorrector {
   std::vector<int32_t> continued_, around_, candidates_;
   std::vector<uint32_t> stamp_;
   uint32_t query_id_ = 0;
+  bool interpolate_;
 };
 
 // Greedy colouring of the vertex graph: the correction's sub-passes.
@@ -365,6 +371,32 @@ StatusOr<SurfaceMap> SurfaceTextonSynthesis(const TriangleMesh& mesh, const Tang
     report->seconds = seconds(start, end);
   }
   return map;
+}
+
+}  // namespace mesocap
+
+namespace mesocap {
+
+SurfaceMapUsage MeasureSurfaceMap(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map) {
+  SurfaceMapUsage f;
+  const VertexAdjacency ring = VertexNeighbours(mesh);
+  long edges = 0, same = 0, coherent = 0;
+  std::vector<char> used(size_t(map.sample_width) * map.sample_height, 0);
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Vector2i a = map.SourceTexel(v);
+    used[size_t(a.y()) * map.sample_width + a.x()] = 1;
+    for (const int32_t* u = ring.begin(v); u != ring.end(v); ++u) {
+      ++edges, same += a == map.SourceTexel(*u);
+      const Eigen::Vector3d d = (mesh.positions[*u] - mesh.positions[v]) / map.texel_size;
+      const Eigen::Vector2d expected(map.source_x[v] + d.dot(frames.s[v]), map.source_y[v] - d.dot(frames.t[v]));
+      coherent += (Eigen::Vector2d(map.source_x[*u], map.source_y[*u]) - expected).norm() <= 1.0;
+    }
+  }
+  if (edges) f.repeats = double(same) / edges, f.coherent = double(coherent) / edges;
+  long count = 0;
+  for (char c : used) count += c;
+  f.texels_used = used.empty() ? 0 : double(count) / double(used.size());
+  return f;
 }
 
 }  // namespace mesocap

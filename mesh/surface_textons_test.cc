@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <set>
 
 #include "core/image_io.h"
 #include "mesh/test_meshes.h"
@@ -36,33 +35,6 @@ TextonAnalysis Analyse(const Image& sample) {
   return std::move(*analysis);
 }
 
-struct MapFigures {
-  double repeats = 0;      // share of mesh edges whose two vertices copy the same texel
-  double texels_used = 0;  // share of the sample's texels some vertex copies
-  double coherent = 0;     // share of edges whose texels continue each other (within one texel)
-};
-
-MapFigures Figures(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map) {
-  MapFigures f;
-  const VertexAdjacency ring = VertexNeighbours(mesh);
-  long edges = 0, same = 0, coherent = 0;
-  std::set<int> used;
-  for (int v = 0; v < mesh.vertex_count(); ++v) {
-    const Eigen::Vector2i a = map.SourceTexel(v);
-    used.insert(a.y() * map.sample_width + a.x());
-    for (const int32_t* u = ring.begin(v); u != ring.end(v); ++u) {
-      const Eigen::Vector2i b = map.SourceTexel(*u);
-      ++edges, same += a == b;
-      const Eigen::Vector3d d = (mesh.positions[*u] - mesh.positions[v]) / map.texel_size;
-      const Eigen::Vector2d expected(map.source_x[v] + d.dot(frames.s[v]), map.source_y[v] - d.dot(frames.t[v]));
-      coherent += (Eigen::Vector2d(map.source_x[*u], map.source_y[*u]) - expected).norm() <= 1.0;
-    }
-  }
-  f.repeats = double(same) / edges, f.coherent = double(coherent) / edges;
-  f.texels_used = double(used.size()) / (map.sample_width * map.sample_height);
-  return f;
-}
-
 struct MeshCase {
   std::string name;
   TriangleMesh (*make)();
@@ -88,7 +60,7 @@ TEST_P(SurfaceTextons, EveryVertexGetsAValidCoordinateWithoutRepeats) {
     const Eigen::Vector2i t = map->SourceTexel(v);
     ASSERT_EQ(map->label[v], analysis.levels[0].label(t.x(), t.y()));
   }
-  const MapFigures f = Figures(mesh, frames, *map);
+  const SurfaceMapUsage f = MeasureSurfaceMap(mesh, frames, *map);
   std::printf("%s: %d vertices, %zu levels, repeats %.2f%%, texels used %.1f%%, coherent edges %.1f%%, "
               "uncovered slots %.2f%%, %.2f s\n",
               GetParam().name.c_str(), mesh.vertex_count(), report.levels.size(), 100 * f.repeats, 100 * f.texels_used,

@@ -1,0 +1,53 @@
+#include "app/surface_views.h"
+
+#include <cmath>
+
+#include "core/image_io.h"
+
+namespace mesocap::app {
+namespace {
+
+// Camera frame: right, up, back (toward the camera).
+void CameraFrame(const RenderCamera& c, Eigen::Vector3d* right, Eigen::Vector3d* up, Eigen::Vector3d* back) {
+  *back = (c.eye - c.target).normalized();
+  *right = c.up.cross(*back).normalized();
+  *up = back->cross(*right);
+}
+
+}  // namespace
+
+std::vector<RenderLight> PreviewLights(const RenderCamera& camera) {
+  Eigen::Vector3d right, up, back;
+  CameraFrame(camera, &right, &up, &back);
+  std::vector<RenderLight> lights(3);
+  lights[0].vector = (-0.5 * right + 0.6 * up + 0.6 * back).normalized();
+  lights[1].vector = back;
+  lights[2].vector = (0.9 * right + 0.1 * up + 0.3 * back).normalized();
+  return lights;
+}
+
+RenderLight SweepLight(const RenderCamera& camera, int k, int n) {
+  Eigen::Vector3d right, up, back;
+  CameraFrame(camera, &right, &up, &back);
+  const double a = 2 * M_PI * k / std::max(1, n);
+  RenderLight light;
+  light.vector = (std::cos(a) * std::sqrt(0.5) * right + std::sin(a) * std::sqrt(0.5) * up + std::sqrt(0.5) * back).normalized();
+  return light;
+}
+
+Status RenderDressedToPng(const SurfaceScene& scene, const SurfaceAppearance& appearance, const DressedMesh& d,
+                          const RenderCamera& camera, const RenderLight& light, double exposure,
+                          const std::filesystem::path& path, int num_threads, double* lit_share) {
+  const auto colours = ShadeVertices(appearance, d.mesh, d.frames, d.map, camera.eye, light, num_threads);
+  const SurfaceRender r = RenderSurface(scene, colours, camera, light, num_threads);
+  if (lit_share) {
+    long surface = 0, lit = 0;
+    for (size_t i = 0; i < r.lit.size(); ++i) surface += r.triangle[i] >= 0, lit += r.lit[i];
+    *lit_share = surface ? double(lit) / surface : 0;
+  }
+  ImageWriteOptions options;
+  options.format = PixelFormat::kUint8Srgb;
+  return WriteImage(path, ToDisplay(r.colour, exposure), options);
+}
+
+}  // namespace mesocap::app

@@ -1,0 +1,200 @@
+// The renderer (mesh/surface_render.h) against independent references written here: brute-force
+// ray casts for visibility and cast shadows, and a lookup of the exemplar's slices for the
+// consistency of the mesostructure under any light.
+#include "mesh/surface_render.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "capture/material_catalog.h"
+#include "capture/true_btf_folder.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "mesh/test_meshes.h"
+#include "synth/synth_test_support.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+
+// Möller-Trumbore in double precision over every triangle: the nearest hit's distance and face.
+std::pair<double, int> BruteForceHit(const TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                                     double t_min = 0) {
+  double best = std::numeric_limits<double>::infinity();
+  int face = -1;
+  for (int f = 0; f < m.face_count(); ++f) {
+    const Eigen::Vector3d &a = m.positions[m.faces[f][0]], &b = m.positions[m.faces[f][1]], &c = m.positions[m.faces[f][2]];
+    const Eigen::Vector3d e1 = b - a, e2 = c - a, p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-14) continue;
+    const Eigen::Vector3d s = o - a;
+    const double u = s.dot(p) / det;
+    if (u < 0 || u > 1) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < 0 || u + v > 1) continue;
+    const double t = e2.dot(q) / det;
+    if (t > t_min && t < best) best = t, face = f;
+  }
+  return {best, face};
+}
+
+// A torus lit from the side: its near half shadows its far half. Every pixel the brute-force
+// cast calls occluded is rendered shadowed (black), and every pixel it calls lit is rendered lit,
+// except within one pixel of the shadow's edge.
+TEST(SurfaceRender, CastShadowsMatchBruteForceRayCasting) {
+  const TriangleMesh torus = testing::Torus(96, 32);
+  auto scene = SurfaceScene::Build(torus);
+  ASSERT_TRUE(scene.ok()) << scene.status().message();
+  const RenderCamera camera = FramingCamera(torus, 200, 150, Eigen::Vector3d(0.2, -0.6, 1.0));
+  RenderLight light;
+  light.vector = Eigen::Vector3d(1, 0, 0.15).normalized();
+  const std::vector<Eigen::Vector3f> white(torus.vertex_count(), Eigen::Vector3f::Ones());
+  const SurfaceRender r = RenderSurface(*scene, white, camera, light);
+  const int W = camera.width, H = camera.height;
+  std::vector<int> expected(size_t(W) * H, -1);  // -1 background, 0 dark, 1 lit
+  const double eps = 1e-5 * BoundingDiagonal(torus);
+  long occluded = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Eigen::Vector3d d = camera.RayDirection(x, y);
+      const auto [t, f] = BruteForceHit(torus, camera.eye, d);
+      if (f < 0) continue;
+      const Eigen::Vector3d p = camera.eye + t * d;
+      Eigen::Vector3d n = torus.FaceNormal(f);
+      if (n.dot(d) > 0) n = -n;
+      const Eigen::Vector3d l = light.DirectionFrom(p);
+      bool lit = n.dot(l) > 0;
+      if (lit) {
+        lit = BruteForceHit(torus, p + eps * n, l).second < 0;
+        occluded += !lit;
+      }
+      expected[size_t(y) * W + x] = lit;
+    }
+  ASSERT_GT(occluded, 200) << "the light must cast a shadow of the torus on itself";
+  long mismatched = 0, compared = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t i = size_t(y) * W + x;
+      const int rendered = r.triangle[i] < 0 ? -1 : r.lit[i];
+      if (expected[i] < 0 && rendered < 0) continue;
+      bool edge = false;  // the brute force's state changes within one pixel
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = std::clamp(x + dx, 0, W - 1), yy = std::clamp(y + dy, 0, H - 1);
+          edge = edge || expected[size_t(yy) * W + xx] != expected[i];
+        }
+      if (edge) continue;
+      ++compared;
+      if (rendered != expected[i]) ++mismatched;
+      if (rendered == 0) {
+        EXPECT_EQ(r.colour.at(x, y, 0), 0.f);
+      } else if (rendered == 1) {
+        EXPECT_GT(r.colour.at(x, y, 0), 0.f);
+      }
+    }
+  std::printf("%ld pixels compared away from edges, %ld occluded by brute force, %ld differ\n", compared, occluded, mismatched);
+  EXPECT_GT(compared, 3000);
+  EXPECT_EQ(mismatched, 0);
+}
+
+// A BTF with 9 views and 13 lights per view (the virtual rig's stones, true values).
+Exemplar GridBtf() {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+  std::vector<Eigen::Vector3d> dirs{DirectionFromAnglesDeg(0, 0)};
+  for (int k = 0; k < 4; ++k) dirs.push_back(DirectionFromAnglesDeg(30, 90 * k)), dirs.push_back(DirectionFromAnglesDeg(60, 90 * k + 45));
+  std::vector<Eigen::Vector3d> lights{DirectionFromAnglesDeg(0, 0)};
+  for (int k = 0; k < 6; ++k) lights.push_back(DirectionFromAnglesDeg(30, 60 * k)), lights.push_back(DirectionFromAnglesDeg(65, 60 * k + 30));
+  for (const auto& v : dirs)
+    for (const auto& l : lights) pairs.push_back({l, v});
+  const auto dir = testing::MakeTempDir() / "btf";
+  auto material = Material::Create("stones");
+  MESOCAP_CHECK(material.ok(), material.status().message());
+  TrueBtfFolderOptions options;
+  options.size = 32;
+  MESOCAP_CHECK(WriteTrueBtfFolder(*material, pairs, options, dir).ok(), "cannot write the BTF");
+  auto e = LoadExemplar(dir, [] { ExemplarOptions o; o.features = false; return o; }());
+  MESOCAP_CHECK(e.ok(), e.status().message());
+  return std::move(*e);
+}
+
+// The independent lookup: the slices read from disk, the 4 nearest views by angle and the 4
+// nearest lights of each, inverse-angle weights (docs: mesh/surface_shading.h).
+Eigen::Vector3f ReferenceLookup(const Exemplar& e, const std::vector<Image>& slices, int x, int y, const Eigen::Vector3d& l,
+                                const Eigen::Vector3d& v) {
+  if (l.z() <= 0) return Eigen::Vector3f::Zero();
+  auto angle = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)); };
+  std::vector<Eigen::Vector3d> views;
+  for (const auto& s : e.slices) {
+    bool known = false;
+    for (const auto& w : views) known = known || angle(w, s.view) < 1e-6;
+    if (!known) views.push_back(s.view);
+  }
+  std::sort(views.begin(), views.end(), [&](const auto& a, const auto& b) { return angle(a, v) < angle(b, v); });
+  views.resize(std::min<size_t>(4, views.size()));
+  double view_sum = 0;
+  for (const auto& w : views) view_sum += 1 / (angle(w, v) + 0.01);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& w : views) {
+    std::vector<int> of_view;
+    for (size_t k = 0; k < e.slices.size(); ++k)
+      if (angle(e.slices[k].view, w) < 1e-6) of_view.push_back(int(k));
+    std::sort(of_view.begin(), of_view.end(), [&](int a, int b) { return angle(e.slices[a].light, l) < angle(e.slices[b].light, l); });
+    of_view.resize(std::min<size_t>(4, of_view.size()));
+    double light_sum = 0;
+    for (int k : of_view) light_sum += 1 / (angle(e.slices[k].light, l) + 0.01);
+    for (int k : of_view) {
+      const double weight = (1 / (angle(w, v) + 0.01) / view_sum) * (1 / (angle(e.slices[k].light, l) + 0.01) / light_sum);
+      for (int ch = 0; ch < 3; ++ch) c[ch] += weight * slices[k].at(x, y, ch);
+    }
+  }
+  return c.cast<float>();
+}
+
+// Consistent mesostructure: at sampled lit vertices under several lights the rendered value is the
+// exemplar's BTF at the vertex's mapped texel and local directions; every lit pixel is the blend
+// of its triangle's vertex values.
+TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
+  const Exemplar btf = GridBtf();
+  std::vector<Image> slices;
+  for (size_t k = 0; k < btf.slices.size(); ++k) slices.push_back(*btf.ReadSlice(int(k)));
+  auto appearance = SurfaceAppearance::FromExemplar(btf);
+  ASSERT_TRUE(appearance.ok()) << appearance.status().message();
+  const TriangleMesh torus = testing::Torus(120, 40);
+  const TangentFrames frames = RelaxedFrames(torus);
+  SurfaceMap map;  // any map: here a deterministic scatter of texels
+  map.sample_width = map.sample_height = 32, map.texel_size = MeanEdgeLength(torus);
+  for (int v = 0; v < torus.vertex_count(); ++v)
+    map.source_x.push_back(float((v * 7) % 32) + 0.5f), map.source_y.push_back(float((v * 13 / 5) % 32) + 0.5f), map.label.push_back(-1);
+  auto scene = SurfaceScene::Build(torus);
+  ASSERT_TRUE(scene.ok());
+  const RenderCamera camera = FramingCamera(torus, 160, 120);
+  long checked = 0;
+  for (const Eigen::Vector3d& to_light : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0.3, 0.6), Eigen::Vector3d(-0.5, 0.8, 0.4)}) {
+    RenderLight light;
+    light.vector = to_light.normalized();
+    const auto colours = ShadeVertices(*appearance, torus, frames, map, camera.eye, light);
+    for (int v = 0; v < torus.vertex_count(); v += 11) {
+      const Eigen::Vector3d& p = torus.positions[v];
+      const Eigen::Vector3d l = frames.ToLocal(v, light.vector), w = frames.ToLocal(v, (camera.eye - p).normalized());
+      const Eigen::Vector2i t = map.SourceTexel(v);
+      const Eigen::Vector3f ref = ReferenceLookup(btf, slices, t.x(), t.y(), l, w);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(colours[v][c], ref[c], 1.0 / 255) << "vertex " << v;
+      checked += l.z() > 0;
+    }
+    const SurfaceRender r = RenderSurface(*scene, colours, camera, light);
+    for (size_t i = 0; i < r.lit.size(); ++i) {
+      if (!r.lit[i]) continue;
+      const auto& f = torus.faces[r.triangle[i]];
+      const Eigen::Vector3f blend = (1 - r.u[i] - r.v[i]) * colours[f[0]] + r.u[i] * colours[f[1]] + r.v[i] * colours[f[2]];
+      const int x = int(i % 160), y = int(i / 160);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(r.colour.at(x, y, c), blend[c], 1e-5);
+    }
+  }
+  EXPECT_GT(checked, 300);
+}
+
+}  // namespace
+}  // namespace mesocap
