@@ -1,0 +1,192 @@
+// The dressed mesh as a person sees it: renders of surface texton maps (mesh/surface_textons.h)
+// against a naive planar projection of the sample, on a UV-less sphere, from a photograph
+// (tests/data/textures/brick) and from the virtual rig's BTF (stones, true values).
+// - Seams: over pixel pairs lit and unshadowed on both sides and away from silhouettes, the colour
+//   step across patch boundaries (a pixel on a triangle whose texels do not continue each other;
+//   for the projection, a triangle across the tiling's wrap) over the step inside patches, under
+//   three lights: at most 1.2, and below the projection's.
+// - Statistics: the renders' central windows from six directions (head-on light), against the
+//   sample seen under the same light: subband distance below the projection's, summed over views.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "capture/material_catalog.h"
+#include "capture/true_btf_folder.h"
+#include "core/directions.h"
+#include "core/image_io.h"
+#include "mesh/surface_render.h"
+#include "mesh/surface_textons.h"
+#include "mesh/test_meshes.h"
+#include "synth/synth_quality.h"
+#include "tests/testing.h"
+
+namespace mesocap {
+namespace {
+
+constexpr int kSample = 64, kRender = 176, kWindow = 48;
+
+Exemplar PhotoExemplar(const std::string& name) {
+  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
+  auto photo = ReadImage(path, {true, 3});
+  MESOCAP_CHECK(photo.ok(), photo.status().message());
+  Image crop(kSample, kSample, 3);
+  for (int y = 0; y < kSample; ++y)
+    for (int x = 0; x < kSample; ++x)
+      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
+  return ImageExemplar(crop);
+}
+
+// 9 views x 13 lights of the virtual rig's stones.
+Exemplar RigExemplar() {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+  std::vector<Eigen::Vector3d> views{DirectionFromAnglesDeg(0, 0)}, lights{DirectionFromAnglesDeg(0, 0)};
+  for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90 * k)), views.push_back(DirectionFromAnglesDeg(60, 90 * k + 45));
+  for (int k = 0; k < 6; ++k) lights.push_back(DirectionFromAnglesDeg(30, 60 * k)), lights.push_back(DirectionFromAnglesDeg(65, 60 * k + 30));
+  for (const auto& v : views)
+    for (const auto& l : lights) pairs.push_back({l, v});
+  const auto dir = testing::MakeTempDir() / "btf";
+  auto material = Material::Create("stones");
+  MESOCAP_CHECK(material.ok(), material.status().message());
+  TrueBtfFolderOptions options;
+  options.size = kSample;
+  MESOCAP_CHECK(WriteTrueBtfFolder(*material, pairs, options, dir).ok(), "cannot write the BTF");
+  ExemplarOptions o;
+  o.features = false;
+  auto e = LoadExemplar(dir, o);
+  MESOCAP_CHECK(e.ok(), e.status().message());
+  return std::move(*e);
+}
+
+// The naive planar projection: each vertex's (x, -y) over the texel size, tiled.
+SurfaceMap PlanarProjection(const TriangleMesh& mesh, double texel_size, int w, int h) {
+  SurfaceMap map;
+  map.method = "planar", map.sample_width = w, map.sample_height = h, map.texel_size = texel_size;
+  for (const auto& p : mesh.positions) {
+    const double x = std::fmod(std::fmod(p.x() / texel_size, w) + w, w), y = std::fmod(std::fmod(-p.y() / texel_size, h) + h, h);
+    map.source_x.push_back(float(std::min(x, w - 1e-3))), map.source_y.push_back(float(std::min(y, h - 1e-3)));
+    map.label.push_back(-1);
+  }
+  return map;
+}
+
+// Triangles a patch boundary crosses: an edge whose texels do not continue each other (by the edge
+// in the first vertex's frame, within one texel).
+std::vector<char> CutTriangles(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map, bool planar) {
+  std::vector<char> cut(mesh.face_count(), 0);
+  for (int f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.faces[f][k], b = mesh.faces[f][(k + 1) % 3];
+      const Eigen::Vector2d step(map.source_x[b] - map.source_x[a], map.source_y[b] - map.source_y[a]);
+      if (planar) {  // the projection is continuous but for the tiling's wrap
+        cut[f] |= std::abs(step.x()) > map.sample_width / 2 || std::abs(step.y()) > map.sample_height / 2;
+      } else {
+        const Eigen::Vector3d d = (mesh.positions[b] - mesh.positions[a]) / map.texel_size;
+        cut[f] |= (step - Eigen::Vector2d(d.dot(frames.s[a]), -d.dot(frames.t[a]))).norm() > 1.0;
+      }
+    }
+  return cut;
+}
+
+struct Steps {
+  double across = 0, inside = 0;
+  long across_pairs = 0, inside_pairs = 0;
+  double ratio() const { return (across / across_pairs) / (inside / inside_pairs); }
+};
+
+// Adds a render's pixel pairs: both pixels lit with their 3 x 3 neighbourhoods, both on triangles
+// facing the camera (|n.v| > 0.3: away from silhouettes).
+void AddSteps(const SurfaceRender& r, const TriangleMesh& mesh, const RenderCamera& camera, const std::vector<char>& cut, Steps* s) {
+  const int W = r.width(), H = r.colour.height();
+  auto usable = [&](int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= W || yy >= H || !r.lit[size_t(yy) * W + xx]) return false;
+      }
+    const int f = r.triangle[size_t(y) * W + x];
+    return std::abs(mesh.FaceNormal(f).dot(camera.RayDirection(x, y))) > 0.3;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        if (x + dx >= W || y + dy >= H || !usable(x, y) || !usable(x + dx, y + dy)) continue;
+        double step = 0;
+        for (int c = 0; c < 3; ++c) step += std::abs(r.colour.at(x, y, c) - r.colour.at(x + dx, y + dy, c));
+        const bool across = cut[r.triangle[size_t(y) * W + x]] || cut[r.triangle[size_t(y + dy) * W + x + dx]];
+        (across ? s->across : s->inside) += step;
+        ++(across ? s->across_pairs : s->inside_pairs);
+      }
+}
+
+struct Judged {
+  Steps steps;
+  double subband = 0;
+};
+
+Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map, const SurfaceAppearance& appearance,
+             const SurfaceScene& scene, const Image& sample_head_on, bool planar) {
+  Judged j;
+  const std::vector<char> cut = CutTriangles(mesh, frames, map, planar);
+  for (const Eigen::Vector3d& view : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0),
+                                      Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0.2, 0), Eigen::Vector3d(0.3, -1, 0)}) {
+    const RenderCamera camera = FramingCamera(mesh, kRender, kRender, view);
+    const Eigen::Vector3d back = (camera.eye - camera.target).normalized();
+    const Eigen::Vector3d right = camera.up.cross(back).normalized(), up = back.cross(right);
+    for (const Eigen::Vector3d& l : {back, Eigen::Vector3d(-0.5 * right + 0.6 * up + 0.6 * back), Eigen::Vector3d(0.8 * right + 0.2 * up + 0.5 * back)}) {
+      RenderLight light;
+      light.vector = l.normalized();
+      const auto colours = ShadeVertices(appearance, mesh, frames, map, camera.eye, light);
+      const SurfaceRender r = RenderSurface(scene, colours, camera, light);
+      AddSteps(r, mesh, camera, cut, &j.steps);
+      if (l == back) {  // the central window, head-on light
+        Image window(kWindow, kWindow, 3);
+        const int o = (kRender - kWindow) / 2;
+        for (int y = 0; y < kWindow; ++y)
+          for (int x = 0; x < kWindow; ++x)
+            for (int c = 0; c < 3; ++c) window.at(x, y, c) = r.colour.at(x + o, y + o, c);
+        j.subband += SubbandDistance(window, sample_head_on);
+      }
+    }
+  }
+  return j;
+}
+
+class SurfaceQuality : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SurfaceQuality, SeamsAndStatisticsBeatAPlanarProjection) {
+  const Exemplar e = GetParam() == "rig" ? RigExemplar() : PhotoExemplar(GetParam());
+  auto analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, {});
+  ASSERT_TRUE(analysis.ok()) << analysis.status().message();
+  auto appearance = SurfaceAppearance::FromExemplar(e);
+  ASSERT_TRUE(appearance.ok()) << appearance.status().message();
+  Image head_on(kSample, kSample, 3);  // the sample as a head-on light and view show it
+  for (int y = 0; y < kSample; ++y)
+    for (int x = 0; x < kSample; ++x) {
+      const Eigen::Vector3f c = appearance->Lookup(x, y, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ());
+      for (int k = 0; k < 3; ++k) head_on.at(x, y, k) = c[k];
+    }
+  const TriangleMesh sphere = testing::IcoSphere(6);  // 40962 vertices: one per rendered pixel or more
+  const TangentFrames frames = RelaxedFrames(sphere);
+  SurfaceTextonOptions o;
+  o.seed = testing::SeedFromTestName();
+  auto map = SurfaceTextonSynthesis(sphere, frames, *analysis, o, nullptr);
+  ASSERT_TRUE(map.ok()) << map.status().message();
+  const SurfaceMap planar = PlanarProjection(sphere, map->texel_size, kSample, kSample);
+  auto scene = SurfaceScene::Build(sphere);
+  ASSERT_TRUE(scene.ok());
+  const Judged texton = Judge(sphere, frames, *map, *appearance, *scene, head_on, false);
+  const Judged projection = Judge(sphere, frames, planar, *appearance, *scene, head_on, true);
+  std::printf("%s: seams texton %.3f (%ld/%ld pairs across/inside), projection %.3f (%ld/%ld); subband texton %.4f, projection %.4f\n",
+              GetParam().c_str(), texton.steps.ratio(), texton.steps.across_pairs, texton.steps.inside_pairs,
+              projection.steps.ratio(), projection.steps.across_pairs, projection.steps.inside_pairs, texton.subband,
+              projection.subband);
+  EXPECT_LE(texton.steps.ratio(), 1.2);
+  EXPECT_LT(texton.steps.ratio(), projection.steps.ratio());
+  EXPECT_LT(texton.subband, projection.subband);
+}
+
+INSTANTIATE_TEST_SUITE_P(Exemplars, SurfaceQuality, ::testing::Values("brick", "rig"));
+
+}  // namespace
+}  // namespace mesocap
