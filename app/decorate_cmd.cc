@@ -12,6 +12,7 @@
 #include "core/atomic_file.h"
 #include "core/json.h"
 #include "core/progress.h"
+#include "core/session_layout.h"
 #include "core/session.h"
 #include "mesh/surface_map_file.h"
 #include "synth/exemplar.h"
@@ -78,9 +79,9 @@ int RunDecorate(DecorateArgs& a) {
 
   auto staging = StagingFolder::Begin(a.out);
   if (!staging.ok()) return Fail(kVerb, staging.status());
-  const fs::path dir = staging->path();
-  if (Status st = WriteDressedMesh(dir / "surface_map.ply", dressed); !st.ok()) return Fail(kVerb, st);
-  if (Status st = WriteTextonAnalysis(dir / "textons.exr", *analysis); !st.ok()) return Fail(kVerb, st);
+  const DecorateFolder dir{staging->path()};
+  if (Status st = WriteDressedMesh(dir.surface_map(), dressed); !st.ok()) return Fail(kVerb, st);
+  if (Status st = WriteTextonAnalysis(dir.textons(), *analysis); !st.ok()) return Fail(kVerb, st);
 
   const auto previews_start = std::chrono::steady_clock::now();
   auto appearance = SurfaceAppearance::FromExemplar(e);
@@ -89,14 +90,14 @@ int RunDecorate(DecorateArgs& a) {
   if (!scene.ok()) return Fail(kVerb, scene.status());
   const RenderCamera camera = FramingCamera(dressed.mesh, preview_w, preview_h);
   const std::vector<RenderLight> lights = PreviewLights(camera);
-  fs::create_directories(dir / "previews");
+  fs::create_directories(dir.previews());
   Json previews = Json::array();
   for (size_t k = 0; k < lights.size(); ++k) {
-    const std::string name = "previews/light_" + std::to_string(k) + ".png";
+    const fs::path file = dir.preview_light(int(k));
     double lit = 0;
-    if (Status st = RenderDressedToPng(*scene, *appearance, dressed, camera, lights[k], 1.0, dir / name, a.threads, &lit); !st.ok())
+    if (Status st = RenderDressedToPng(*scene, *appearance, dressed, camera, lights[k], 1.0, file, a.threads, &lit); !st.ok())
       return Fail(kVerb, st);
-    previews.push_back({{"file", name}, {"light", lights[k].vector}, {"lit_share", lit}});
+    previews.push_back({{"file", fs::relative(file, dir.root).string()}, {"light", lights[k].vector}, {"lit_share", lit}});
   }
 
   Json levels = Json::array();
@@ -118,7 +119,7 @@ int RunDecorate(DecorateArgs& a) {
                    {"templates", report.seconds_templates}, {"synthesis", report.seconds_synthesis},
                    {"previews", SecondsSince(previews_start)}, {"total", SecondsSince(start)}}},
   };
-  if (Status st = WriteTextAtomically(dir / "report.json", j.dump(2) + "\n"); !st.ok()) return Fail(kVerb, st);
+  if (Status st = WriteTextAtomically(dir.report(), j.dump(2) + "\n"); !st.ok()) return Fail(kVerb, st);
   if (Status st = staging->Publish(); !st.ok()) return Fail(kVerb, st);
   std::printf("decorate: %s (%d vertices) dressed in %s (%s, %dx%d) by texton synthesis in %.1f s: %.1f%% of edges inside "
               "patches, %.2f%% repeats -> %s\n",

@@ -8,6 +8,7 @@
 #include "app/surface_views.h"
 #include "app/synth_output.h"
 #include "core/progress.h"
+#include "core/session_layout.h"
 #include "mesh/surface_map_file.h"
 #include "synth/exemplar.h"
 
@@ -45,7 +46,7 @@ int RunRender(RenderArgs& a) {
   if (a.turntable < 0 || a.light_sweep < 0 || (a.turntable > 0 && a.light_sweep > 0))
     return Fail(kVerb, "--turntable and --light-sweep take a positive frame count, one of them at a time", kExitUsage);
   if (!(a.exposure > 0)) return Fail(kVerb, "--exposure must be positive", kExitUsage);
-  auto dressed = ReadDressedMesh(a.map / "surface_map.ply");
+  auto dressed = ReadDressedMesh(DecorateFolder{a.map}.surface_map());
   if (!dressed.ok()) return Fail(kVerb, dressed.status());
   if (!a.mesh.empty())
     if (Status st = CheckSameMesh(a.mesh, dressed->mesh); !st.ok()) return Fail(kVerb, st);
@@ -70,6 +71,11 @@ int RunRender(RenderArgs& a) {
   if (!a.light_pos.empty()) light.point = true, light.vector = Eigen::Vector3d(a.light_pos[0], a.light_pos[1], a.light_pos[2]);
   if (!light.point && !(light.vector.norm() > 0)) return Fail(kVerb, "--light must be a non-zero direction", kExitUsage);
 
+  if (a.out.has_parent_path()) {
+    std::error_code error;
+    fs::create_directories(a.out.parent_path(), error);
+    if (error) return Fail(kVerb, a.out.parent_path().string() + ": cannot make the folder (" + error.message() + ")");
+  }
   const int frames = std::max({1, a.turntable, a.light_sweep});
   ProgressBar bar("frames", !a.no_progress && frames > 1);
   const Eigen::Vector3d offset = camera.eye - camera.target;

@@ -60,6 +60,12 @@ fs::path SynthFolder::preview_light(int k) const { return root / ("preview_light
 fs::path SynthFolder::textons() const { return root / "textons.exr"; }
 fs::path SynthFolder::report() const { return root / kReport; }
 
+fs::path DecorateFolder::surface_map() const { return root / "surface_map.ply"; }
+fs::path DecorateFolder::textons() const { return root / "textons.exr"; }
+fs::path DecorateFolder::report() const { return root / kReport; }
+fs::path DecorateFolder::previews() const { return root / "previews"; }
+fs::path DecorateFolder::preview_light(int k) const { return previews() / ("light_" + std::to_string(k) + ".png"); }
+
 std::string GltfFolder::material_name() { return "material.gltf"; }
 std::string GltfFolder::buffer_name() { return "material.bin"; }
 std::string GltfFolder::base_color_name() { return "base_color.png"; }

@@ -68,6 +68,16 @@ struct SynthFolder {
   BtfFolder btf() const { return {root}; }  // a BTF exemplar's slices
 };
 
+// A dressed mesh (mesocap decorate --out DIR).
+struct DecorateFolder {
+  std::filesystem::path root;
+  std::filesystem::path surface_map() const;  // surface_map.ply
+  std::filesystem::path textons() const;      // textons.exr
+  std::filesystem::path report() const;
+  std::filesystem::path previews() const;     // previews/
+  std::filesystem::path preview_light(int k) const;  // previews/light_K.png
+};
+
 // A glTF material folder (export/gltf, export/gltf_synth).
 struct GltfFolder {
   std::filesystem::path root;

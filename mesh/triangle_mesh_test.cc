@@ -38,8 +38,8 @@ TEST(TriangleMesh, RepairsWhatIsStandardAndSaysSo) {
   // Two triangles sharing an edge, written with split vertices (as a UV seam splits them), a
   // degenerate face, a duplicate face, an unused vertex and no normals.
   const fs::path path = WriteText(dir / "m.obj",
-                                  "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 5 5 5\n"
-                                  "f 1 2 3\nf 4 6 5\nf 1 1 2\nf 3 1 2\n");
+                                  "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 5 5 5\nvt 0 0\nvt 1 1\n"
+                                  "f 1/1 2/1 3/1\nf 4/2 6/2 5/2\nf 1/1 1/1 2/1\nf 3/1 1/1 2/1\n");
   // (Assimp itself drops the unused vertex and the face with a repeated vertex.)
   MeshRepairReport report;
   auto m = LoadMesh(path, &report);

@@ -16,6 +16,7 @@ packages=(
   ccache  # every build compiles through it (CMakeLists.txt)
   chromium  # the report page's viewer is tested in it, headless (tests/e2e/process_test)
   ninja-build clang libclang-rt-14-dev  # sanitizer builds and libFuzzer targets (scripts/sanitize.sh, fuzz.sh)
+  libassimp-dev libembree-dev  # mesh files and ray casting for decorate and render (mesh/mesh_backend_module.cc)
   libcpp-httplib-dev  # the capture console's web server (app/console_server.cc)
   python3-websocket  # drives the console's page in Chromium over DevTools (scripts/console_browser.py)
   snakemake slurm-wlm munge  # the workflow over many sessions, and its one-node Slurm test (scripts/slurm-test.sh)
