@@ -25,6 +25,9 @@ CLI::App* AddDecorateOptions(CLI::App& app, DecorateArgs* args) {
   sub->add_option("--levels", a.texton.levels, "Mesh pyramid levels (0: as many as the analysis and mesh allow)")->capture_default_str();
   sub->add_option("--textons", a.texton_analysis.textons, "n_t, textons at the finest level")->capture_default_str();
   sub->add_option("--preview-size", a.preview_size, "Preview renders, WxH")->capture_default_str();
+  sub->add_option("--atlas-size", a.atlas_size, "Texels a side of the glTF asset's texture atlas (e.g. 512, 1024)")
+      ->check(CLI::Range(64, 8192))
+      ->capture_default_str();
   sub->add_option("--board", a.board, "Session slices: the board to use (-1: the most head-on)")->capture_default_str();
   sub->add_option("--threads", a.threads, "Threads (-1: all cores)")->capture_default_str();
   sub->add_flag("--no-progress", a.no_progress, "Do not draw progress bars");

@@ -21,6 +21,7 @@ struct DecorateArgs {
   std::filesystem::path mesh, input, field, out;
   std::string method = "texton";
   std::string preview_size = "512x512";
+  int atlas_size = 512;
   SurfaceTextonOptions texton;
   TextonAnalysisOptions texton_analysis;
   int board = -1;

@@ -1,11 +1,14 @@
 // mesocap decorate: a mesh dressed in the material. Loads and repairs the mesh, makes its tangent
 // frames (a user field or relaxation), analyses the exemplar's textons, synthesizes the per-vertex
 // surface texton map (mesh/surface_textons.h) and writes, all together or not at all:
-// surface_map.ply, textons.exr, report.json and previews/light_<k>.png under three lights.
+// surface_map.ply, textons.exr, report.json, previews/light_<k>.png under three lights and gltf/,
+// the dressed mesh as a glTF asset (app/dressed_gltf.h).
 #include <chrono>
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/dressed_gltf.h"
+#include "app/material_maps.h"
 #include "app/decorate_args.h"
 #include "app/surface_views.h"
 #include "app/synth_output.h"
@@ -14,6 +17,7 @@
 #include "core/progress.h"
 #include "core/session_layout.h"
 #include "core/session.h"
+#include "mesh/atlas_bake.h"
 #include "mesh/surface_map_file.h"
 #include "synth/exemplar.h"
 
@@ -22,6 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr const char* kVerb = "decorate";
+constexpr int kAtlasGutter = 2;  // texels kept around each chart (mipmaps of two levels never mix charts)
 
 StatusOr<TangentFrames> Frames(const DecorateArgs& a, const TriangleMesh& mesh) {
   if (a.field.empty()) return RelaxedFrames(mesh);
@@ -83,6 +88,22 @@ int RunDecorate(DecorateArgs& a) {
   if (Status st = WriteDressedMesh(dir.surface_map(), dressed); !st.ok()) return Fail(kVerb, st);
   if (Status st = WriteTextonAnalysis(dir.textons(), *analysis); !st.ok()) return Fail(kVerb, st);
 
+  // The glTF asset: an atlas, the map baked into it, the exemplar's material maps through it.
+  const auto gltf_start = std::chrono::steady_clock::now();
+  auto atlas = BuildAtlas(dressed.mesh, {a.atlas_size, kAtlasGutter});
+  if (!atlas.ok()) return Fail(kVerb, Status::Error(a.mesh.string() + ": " + atlas.status().message()));
+  StatusOr<GgxMaterialMaps> material = Status::Error("");
+  {
+    ProgressBar bar("material", !a.no_progress && e.kind == ExemplarKind::kBtf);
+    material = ExemplarMaterialMaps(e, a.board, a.threads, bar.AsCallback());
+  }
+  if (!material.ok()) return Fail(kVerb, material.status());
+  const SynthMap baked = BakeSurfaceMap(dressed.mesh, dressed.frames, dressed.map, *atlas, kAtlasGutter, a.threads);
+  fs::create_directories(dir.gltf().root);
+  auto gltf = WriteDressedGltf(dir.gltf(), dressed, *atlas, baked, *material);
+  if (!gltf.ok()) return Fail(kVerb, gltf.status());
+  const double gltf_seconds = SecondsSince(gltf_start);
+
   const auto previews_start = std::chrono::steady_clock::now();
   auto appearance = SurfaceAppearance::FromExemplar(e);
   if (!appearance.ok()) return Fail(kVerb, appearance.status());
@@ -115,9 +136,12 @@ int RunDecorate(DecorateArgs& a) {
       {"levels", levels},
       {"quality", UsageJson(usage)},
       {"previews", previews},
+      {"gltf", {{"file", fs::relative(dir.gltf().material(), dir.root).string()}, {"atlas_size", gltf->atlas_size},
+                {"charts", gltf->charts}, {"atlas_fill", gltf->fill}, {"vertices", gltf->vertices},
+                {"index_bits", gltf->wide_indices ? 32 : 16}}},
       {"seconds", {{"analysis", analysis->seconds}, {"pyramid", report.seconds_pyramid}, {"lists", report.seconds_lists},
                    {"templates", report.seconds_templates}, {"synthesis", report.seconds_synthesis},
-                   {"previews", SecondsSince(previews_start)}, {"total", SecondsSince(start)}}},
+                   {"gltf", gltf_seconds}, {"previews", SecondsSince(previews_start)}, {"total", SecondsSince(start)}}},
   };
   if (Status st = WriteTextAtomically(dir.report(), j.dump(2) + "\n"); !st.ok()) return Fail(kVerb, st);
   if (Status st = staging->Publish(); !st.ok()) return Fail(kVerb, st);

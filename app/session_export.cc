@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "app/material_maps.h"
 #include "app/session_stages.h"
 #include "app/synth_output.h"
 #include "core/atomic_file.h"
@@ -151,32 +152,6 @@ StatusOr<std::string> ExportExr(const fs::path& session, const ExportFolder& exp
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   return Format("%s (%zu slices)%s", exports.btf().root.string().c_str(), index->slices.size(),
                 options.exr_multipart ? ("; " + exports.btf_multipart().string() + " (one part per slice)").c_str() : "");
-}
-
-// The fitted material enlarged by a synthesis map: each output texel takes its source texel's
-// parameters, the normal turned with the patch (the map's rotation, counter-clockwise in the
-// patch frame).
-GgxMaterialMaps ApplyMapToMaterial(const SynthMap& map, const GgxMaterialMaps& maps) {
-  GgxMaterialMaps out;
-  out.base_color = Image(map.width, map.height, 3);
-  out.roughness = Image(map.width, map.height, 1);
-  out.metallic = Image(map.width, map.height, 1);
-  out.normal = Image(map.width, map.height, 3);
-  out.relative_error = Image(map.width, map.height, 1);
-  for (int y = 0; y < map.height; ++y)
-    for (int x = 0; x < map.width; ++x) {
-      const Eigen::Vector2i src = map.SourceTexel(x, y);
-      const double turn = DegToRad(map.rotation_deg[map.index(x, y)]);
-      const float nx = maps.normal.at(src.x(), src.y(), 0), ny = maps.normal.at(src.x(), src.y(), 1);
-      out.normal.at(x, y, 0) = float(std::cos(turn) * nx - std::sin(turn) * ny);
-      out.normal.at(x, y, 1) = float(std::sin(turn) * nx + std::cos(turn) * ny);
-      out.normal.at(x, y, 2) = maps.normal.at(src.x(), src.y(), 2);
-      for (int c = 0; c < 3; ++c) out.base_color.at(x, y, c) = maps.base_color.at(src.x(), src.y(), c);
-      out.roughness.at(x, y, 0) = maps.roughness.at(src.x(), src.y(), 0);
-      out.metallic.at(x, y, 0) = maps.metallic.at(src.x(), src.y(), 0);
-      out.relative_error.at(x, y, 0) = maps.relative_error.at(src.x(), src.y(), 0);
-    }
-  return out;
 }
 
 // SESSION/synth/'s map applied to the fitted material -> OUT/gltf_synth/. It repeats seamlessly

@@ -76,6 +76,7 @@ struct DecorateFolder {
   std::filesystem::path report() const;
   std::filesystem::path previews() const;     // previews/
   std::filesystem::path preview_light(int k) const;  // previews/light_K.png
+  struct GltfFolder gltf() const;                    // gltf/: the dressed mesh as a glTF asset
 };
 
 // A glTF material folder (export/gltf, export/gltf_synth).

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <tuple>
 #include <vector>
 
 #include <tiny_gltf.h>
@@ -15,10 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct MeshData {
-  std::vector<float> position, normal, tangent, uv;  // 3, 3, 4, 2 per vertex
-  std::vector<uint16_t> indices;
-};
+using MeshData = GltfMeshGeometry;
 
 void AddVertex(MeshData* m, const Eigen::Vector3f& p, const Eigen::Vector3f& n, const Eigen::Vector3f& t, float u, float v) {
   m->position.insert(m->position.end(), {p.x(), p.y(), p.z()});
@@ -51,8 +49,8 @@ MeshData Sphere(float radius, int slices = 48, int stacks = 24) {
   }
   for (int j = 0; j < stacks; ++j)
     for (int i = 0; i < slices; ++i) {
-      const uint16_t a = uint16_t(j * (slices + 1) + i), b = uint16_t(a + slices + 1);
-      m.indices.insert(m.indices.end(), {a, b, uint16_t(a + 1), uint16_t(a + 1), b, uint16_t(b + 1)});
+      const uint32_t a = uint32_t(j * (slices + 1) + i), b = uint32_t(a + slices + 1);
+      m.indices.insert(m.indices.end(), {a, b, a + 1, a + 1, b, b + 1});
     }
   return m;
 }
@@ -96,9 +94,16 @@ int AddMesh(tinygltf::Model* model, const MeshData& data, const std::string& nam
   p.attributes["TANGENT"] = AddFloatAccessor(model, data.tangent, 4, TINYGLTF_TYPE_VEC4, false);
   p.attributes["TEXCOORD_0"] = AddFloatAccessor(model, data.uv, 2, TINYGLTF_TYPE_VEC2, false);
   tinygltf::Accessor indices;
-  indices.bufferView = AddBufferView(model, data.indices.data(), data.indices.size() * sizeof(uint16_t),
-                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  // 16-bit indices when every vertex fits, else 32-bit.
+  if (data.position.size() / 3 <= 65535) {
+    const std::vector<uint16_t> narrow(data.indices.begin(), data.indices.end());
+    indices.bufferView = AddBufferView(model, narrow.data(), narrow.size() * sizeof(uint16_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  } else {
+    indices.bufferView = AddBufferView(model, data.indices.data(), data.indices.size() * sizeof(uint32_t),
+                                       TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  }
   indices.count = data.indices.size();
   indices.type = TINYGLTF_TYPE_SCALAR;
   model->accessors.push_back(indices);
@@ -142,7 +147,11 @@ Status WriteTextures(const GltfFolder& folder, const GgxMaterialMaps& maps) {
 
 }  // namespace
 
-Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMaterialOptions& options) {
+namespace {
+
+// The asset: the textures, one material, and `meshes` as nodes (each with its translation).
+Status WriteAsset(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMaterialOptions& options,
+                  const std::vector<std::tuple<std::string, const MeshData*, std::vector<double>>>& meshes) {
   if (maps.base_color.empty()) return Status::Error("no material to write");
   MESOCAP_RETURN_IF_ERROR(WriteTextures(folder, maps));
   tinygltf::Model model;
@@ -164,18 +173,16 @@ Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, 
   material.normalTexture.index = AddTexture(&model, GltfFolder::normal_name());
   model.materials.push_back(material);
 
-  const float side = float(options.patch_m);
-  tinygltf::Node quad, sphere;
-  quad.name = "quad";
-  quad.mesh = AddMesh(&model, Quad(side), "quad");
-  quad.translation = {-0.6 * side, 0, 0};
-  sphere.name = "sphere";
-  sphere.mesh = AddMesh(&model, Sphere(side / 2), "sphere");
-  sphere.translation = {0.6 * side, 0, 0};
-  model.nodes = {quad, sphere};
   tinygltf::Scene scene;
   scene.name = "preview";
-  scene.nodes = {0, 1};
+  for (const auto& [name, mesh, translation] : meshes) {
+    tinygltf::Node node;
+    node.name = name;
+    node.mesh = AddMesh(&model, *mesh, name);
+    node.translation = translation;
+    model.nodes.push_back(node);
+    scene.nodes.push_back(int(model.nodes.size()) - 1);
+  }
   model.scenes.push_back(scene);
   model.defaultScene = 0;
 
@@ -185,6 +192,20 @@ Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, 
   if (!writer.WriteGltfSceneToFile(&model, file.string(), false, false, true, false))
     return Status::Error(file.string() + ": tinygltf could not write the asset");
   return Status::Ok();
+}
+
+}  // namespace
+
+Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMaterialOptions& options) {
+  const float side = float(options.patch_m);
+  const MeshData quad = Quad(side), sphere = Sphere(side / 2);
+  return WriteAsset(folder, maps, options, {{"quad", &quad, {-0.6 * side, 0, 0}}, {"sphere", &sphere, {0.6 * side, 0, 0}}});
+}
+
+Status WriteGltfMaterialOnMesh(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMeshGeometry& mesh,
+                               const GltfMaterialOptions& options) {
+  if (mesh.position.empty() || mesh.indices.empty()) return Status::Error("no mesh to write");
+  return WriteAsset(folder, maps, options, {{"mesh", &mesh, {}}});
 }
 
 StatusOr<GgxMaterialMaps> ReadGltfMaterialTextures(const GltfFolder& folder) {

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <filesystem>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/session_layout.h"
 #include "core/status.h"
@@ -20,8 +22,20 @@ struct GltfMaterialOptions {
   bool tileable = false;   // textures repeat (a synthesis map's output); else clamp to the edge
 };
 
+// A mesh to carry the material: per vertex a position, a unit normal, a tangent (xyz, then w = +1
+// or -1 for the bitangent n x t's sign) and a texture coordinate; triangles.
+struct GltfMeshGeometry {
+  std::vector<float> position, normal, tangent, uv;  // 3, 3, 4, 2 per vertex
+  std::vector<uint32_t> indices;
+};
+
 // Writes into `folder` (existing); the caller stages it.
 Status WriteGltfMaterial(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMaterialOptions& options = {});
+
+// The material on `mesh` (one node "mesh") instead of the preview quad and sphere; indices are
+// 16-bit when every vertex fits, else 32-bit.
+Status WriteGltfMaterialOnMesh(const GltfFolder& folder, const GgxMaterialMaps& maps, const GltfMeshGeometry& mesh,
+                               const GltfMaterialOptions& options = {});
 
 // The textures WriteGltfMaterial wrote, decoded back into maps (8-bit: within half a step of what
 // was written; relative_error is left empty).

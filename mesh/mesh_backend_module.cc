@@ -14,11 +14,8 @@ namespace {
 
 class EmbreeScene final : public RayScene {
  public:
-  EmbreeScene(RTCDevice device, RTCScene scene) : device_(device), scene_(scene) {}
-  ~EmbreeScene() override {
-    rtcReleaseScene(scene_);
-    rtcReleaseDevice(device_);
-  }
+  explicit EmbreeScene(RTCScene scene) : scene_(scene) {}
+  ~EmbreeScene() override { rtcReleaseScene(scene_); }
 
   RayHit Intersect(const float o[3], const float d[3], float t_far) const override {
     RTCIntersectContext context;
@@ -50,9 +47,15 @@ class EmbreeScene final : public RayScene {
     ray.tnear = t_near, ray.tfar = t_far, ray.mask = 0xFFFFFFFFu, ray.flags = 0, ray.time = 0;
   }
 
-  RTCDevice device_;
   RTCScene scene_;
 };
+
+// One Embree device for the process, made on first use and kept: a device per scene started and
+// stopped Embree's worker threads each time (and LeakSanitizer's tracer crashed at exit over them).
+RTCDevice Device() {
+  static RTCDevice device = rtcNewDevice(nullptr);
+  return device;
+}
 
 class AssimpEmbreeBackend final : public MeshBackend {
  public:
@@ -101,7 +104,7 @@ class AssimpEmbreeBackend final : public MeshBackend {
 
   StatusOr<std::unique_ptr<RayScene>> BuildScene(const std::vector<float>& positions,
                                                  const std::vector<uint32_t>& triangles) override {
-    RTCDevice device = rtcNewDevice(nullptr);
+    RTCDevice device = Device();
     if (!device) return Status::Error("Embree could not start (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
     RTCScene scene = rtcNewScene(device);
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -110,7 +113,7 @@ class AssimpEmbreeBackend final : public MeshBackend {
     unsigned* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                  3 * sizeof(unsigned), triangles.size() / 3));
     if (!v || !t) {
-      rtcReleaseGeometry(geometry), rtcReleaseScene(scene), rtcReleaseDevice(device);
+      rtcReleaseGeometry(geometry), rtcReleaseScene(scene);
       return Status::Error("Embree could not allocate the scene's buffers");
     }
     std::copy(positions.begin(), positions.end(), v);
@@ -121,10 +124,10 @@ class AssimpEmbreeBackend final : public MeshBackend {
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     rtcCommitScene(scene);
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
-      rtcReleaseScene(scene), rtcReleaseDevice(device);
+      rtcReleaseScene(scene);
       return Status::Error("Embree could not build the scene");
     }
-    return std::unique_ptr<RayScene>(new EmbreeScene(device, scene));
+    return std::unique_ptr<RayScene>(new EmbreeScene(scene));
   }
 };
 

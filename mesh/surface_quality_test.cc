@@ -26,16 +26,7 @@ namespace {
 
 constexpr int kSample = 64, kRender = 176, kWindow = 48;
 
-Exemplar PhotoExemplar(const std::string& name) {
-  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
-  auto photo = ReadImage(path, {true, 3});
-  MESOCAP_CHECK(photo.ok(), photo.status().message());
-  Image crop(kSample, kSample, 3);
-  for (int y = 0; y < kSample; ++y)
-    for (int x = 0; x < kSample; ++x)
-      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
-  return ImageExemplar(crop);
-}
+Exemplar PhotoExemplar(const std::string& name) { return ImageExemplar(testing::PhotoCrop(name, kSample)); }
 
 // 9 views x 13 lights of the virtual rig's stones.
 Exemplar RigExemplar() {

@@ -87,8 +87,9 @@ SurfaceRender RenderSurface(const SurfaceScene& scene, const std::vector<Eigen::
       const Eigen::Vector3d l = light.DirectionFrom(p);
       Eigen::Vector3d n = mesh.FaceNormal(hit.triangle);
       if (n.dot(d) > 0) n = -n;  // the side the camera sees
-      const Eigen::Vector3d shading = ((1 - hit.u - hit.v) * mesh.normals[f[0]] + hit.u * mesh.normals[f[1]] + hit.v * mesh.normals[f[2]]);
-      if (n.dot(l) <= 0 || shading.dot(l) <= 0) continue;  // facing away from the light
+      // Facing away from the light: dark (the vertex colours fade to black toward the terminator,
+      // their lights going below the vertices' horizons).
+      if (n.dot(l) <= 0) continue;
       const Eigen::Vector3d o = p + scene.epsilon() * n;
       const float so[3] = {float(o.x()), float(o.y()), float(o.z())}, sd[3] = {float(l.x()), float(l.y()), float(l.z())};
       const float far = light.point ? float((light.vector - o).norm()) : inf;

@@ -45,7 +45,7 @@ std::pair<double, int> BruteForceHit(const TriangleMesh& m, const Eigen::Vector3
 // cast calls occluded is rendered shadowed (black), and every pixel it calls lit is rendered lit,
 // except within one pixel of the shadow's edge.
 TEST(SurfaceRender, CastShadowsMatchBruteForceRayCasting) {
-  const TriangleMesh torus = testing::Torus(96, 32);
+  const TriangleMesh torus = testing::Torus(64, 24);
   auto scene = SurfaceScene::Build(torus);
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   const RenderCamera camera = FramingCamera(torus, 200, 150, Eigen::Vector3d(0.2, -0.6, 1.0));

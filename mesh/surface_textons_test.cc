@@ -17,23 +17,8 @@ namespace {
 
 constexpr int kSample = 64;
 
-Image Crop(const std::string& name, int size = kSample) {
-  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
-  auto photo = ReadImage(path, {true, 3});
-  MESOCAP_CHECK(photo.ok(), photo.status().message());
-  Image crop(size, size, 3);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x)
-      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
-  return crop;
-}
-
-TextonAnalysis Analyse(const Image& sample) {
-  const Exemplar e = ImageExemplar(sample);
-  auto analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, {});
-  MESOCAP_CHECK(analysis.ok(), analysis.status().message());
-  return std::move(*analysis);
-}
+Image Crop(const std::string& name) { return testing::PhotoCrop(name, kSample); }
+TextonAnalysis Analyse(const Image& sample) { return testing::AnalyseImage(sample); }
 
 struct MeshCase {
   std::string name;
@@ -78,22 +63,6 @@ TriangleMesh Genus2() { return testing::DoubleTorus(110); }
 INSTANTIATE_TEST_SUITE_P(Meshes, SurfaceTextons,
                          ::testing::Values(MeshCase{"sphere", Sphere}, MeshCase{"torus", TorusMesh}, MeshCase{"genus2", Genus2}),
                          [](const auto& info) { return info.param.name; });
-
-// The same seed gives the same map whatever the thread count (each sub-pass reads the state it
-// began with).
-TEST(SurfaceTextons, SameMapOnOneThreadAndOnAll) {
-  const TriangleMesh mesh = testing::IcoSphere(4);
-  const TextonAnalysis analysis = Analyse(Crop("sand"));
-  const TangentFrames frames = RelaxedFrames(mesh);
-  SurfaceTextonOptions o;
-  o.num_threads = 1;
-  auto one = SurfaceTextonSynthesis(mesh, frames, analysis, o, nullptr);
-  o.num_threads = -1;
-  auto all = SurfaceTextonSynthesis(mesh, frames, analysis, o, nullptr);
-  ASSERT_TRUE(one.ok() && all.ok());
-  EXPECT_EQ(one->source_x, all->source_x);
-  EXPECT_EQ(one->source_y, all->source_y);
-}
 
 }  // namespace
 }  // namespace mesocap

@@ -2,7 +2,11 @@
 
 #include <cmath>
 #include <functional>
+#include <filesystem>
 #include <map>
+
+#include "core/image_io.h"
+#include "synth/exemplar.h"
 
 namespace mesocap::testing {
 
@@ -112,6 +116,25 @@ TriangleMesh DoubleTorus(int cells) {
   MeshRepairReport report;
   RepairMesh(m, &report);
   return m;
+}
+
+Image PhotoCrop(const std::string& name, int size) {
+  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
+  auto photo = ReadImage(path, {true, 3});
+  MESOCAP_CHECK(photo.ok(), photo.status().message());
+  MESOCAP_CHECK(photo->width() >= size && photo->height() >= size, path.string() + " is smaller than the crop");
+  Image crop(size, size, 3);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
+  return crop;
+}
+
+TextonAnalysis AnalyseImage(const Image& sample) {
+  const Exemplar e = ImageExemplar(sample);
+  auto analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, {});
+  MESOCAP_CHECK(analysis.ok(), analysis.status().message());
+  return std::move(*analysis);
 }
 
 }  // namespace mesocap::testing

@@ -1,7 +1,11 @@
 // Meshes the mesh tests write: made here in closed form, so each test knows its surface exactly.
 #pragma once
 
+#include <string>
+
+#include "core/image.h"
 #include "mesh/triangle_mesh.h"
+#include "synth/texton_analysis.h"
 
 namespace mesocap::testing {
 
@@ -12,5 +16,10 @@ TriangleMesh Torus(int major, int minor, double major_radius = 1.0, double minor
 // A genus-2 surface (two overlapping tori's union, the zero set of min(f1, f2)) by marching
 // tetrahedra on a grid of `cells` along x: no global parameterisation exists.
 TriangleMesh DoubleTorus(int cells);
+
+// A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
+Image PhotoCrop(const std::string& name, int size);
+// The texton analysis of an image exemplar, default options.
+TextonAnalysis AnalyseImage(const Image& sample);
 
 }  // namespace mesocap::testing

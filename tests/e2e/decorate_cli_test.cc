@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "core/image_io.h"
 #include "core/json.h"
@@ -17,16 +18,10 @@ namespace mesocap {
 namespace {
 namespace fs = std::filesystem;
 
-// A 64-texel crop of a photograph, written as a PNG.
+// A crop of a photograph, written as a PNG.
 fs::path WriteSample(const fs::path& dir, int size = 64) {
-  auto photo = ReadImage(fs::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / "stones.png", {true, 3});
-  MESOCAP_CHECK(photo.ok(), photo.status().message());
-  Image crop(size, size, 3);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x)
-      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
   const fs::path path = dir / ("sample" + std::to_string(size) + ".png");
-  MESOCAP_CHECK(WriteImage(path, crop).ok(), "cannot write the sample");
+  MESOCAP_CHECK(WriteImage(path, testing::PhotoCrop("stones", size)).ok(), "cannot write the sample");
   return path;
 }
 
@@ -122,6 +117,99 @@ TEST(DecorateCli, BadInputIsRefusedNamingTheFile) {
             1);
   EXPECT_NE(log.find("torus.obj"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(dir / "r1.png") || fs::exists(dir / "r2.png"));
+}
+
+}  // namespace
+}  // namespace mesocap
+
+#include <tiny_gltf.h>
+
+namespace mesocap {
+namespace {
+
+template <typename T>
+const T* AccessorData(const tinygltf::Model& m, int accessor) {
+  const auto& a = m.accessors[accessor];
+  const auto& v = m.bufferViews[a.bufferView];
+  return reinterpret_cast<const T*>(m.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset);
+}
+
+// The glTF asset of a sphere with more vertices than 16-bit indices reach: it validates with no
+// error or warning (Khronos' validator), and its base-colour texture is, at texels inside its
+// triangles, the sample's colour where the surface map continues from the nearest vertex,
+// recomputed here from the asset's own positions, normals, tangents and UVs and the map's file.
+TEST(DecorateCli, GltfAssetValidatesAndItsTexturesReproduceTheMap) {
+  const fs::path dir = testing::MakeTempDir(), sample = WriteSample(dir), mesh = dir / "big_sphere.obj", out = dir / "dressed";
+  ASSERT_TRUE(WriteObj(mesh, testing::IcoSphere(7)).ok());  // 163842 vertices
+  std::string log;
+  ASSERT_EQ(testing::RunMesocap("decorate --mesh " + mesh.string() + " --input " + sample.string() + " --out " + out.string() +
+                                    " --preview-size 64x64 --atlas-size 1024 --no-progress",
+                                &log),
+            0)
+      << log;
+  const DecorateFolder folder{out};
+  ASSERT_EQ(testing::ValidateGltf(folder.gltf().material(), &log), 0) << log;
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &error, &warning, folder.gltf().material().string())) << error;
+  const auto& primitive = model.meshes.at(0).primitives.at(0);
+  EXPECT_EQ(model.accessors[primitive.indices].componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+  const float* position = AccessorData<float>(model, primitive.attributes.at("POSITION"));
+  const float* normal = AccessorData<float>(model, primitive.attributes.at("NORMAL"));
+  const float* tangent = AccessorData<float>(model, primitive.attributes.at("TANGENT"));
+  const float* uv = AccessorData<float>(model, primitive.attributes.at("TEXCOORD_0"));
+  const uint32_t* indices = AccessorData<uint32_t>(model, primitive.indices);
+  const size_t triangles = model.accessors[primitive.indices].count / 3;
+
+  auto dressed = ReadDressedMesh(folder.surface_map());
+  ASSERT_TRUE(dressed.ok());
+  std::map<std::array<float, 3>, int> by_position;  // the map's vertex at each position
+  for (int v = 0; v < dressed->mesh.vertex_count(); ++v) {
+    const auto& p = dressed->mesh.positions[v];
+    by_position[{float(p.x()), float(p.y()), float(p.z())}] = v;
+  }
+  ImageReadOptions raw;
+  raw.linearize = false;
+  auto base = ReadImage(folder.gltf().base_color(), raw);
+  auto photo = ReadImage(sample, raw);
+  ASSERT_TRUE(base.ok() && photo.ok());
+  const int size = base->width();
+  long checked = 0, differ = 0;
+  for (size_t tri = 0; tri < triangles; tri += 97) {
+    Eigen::Vector3d p[3];
+    Eigen::Vector2d q[3];
+    int vertex[3];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t i = indices[3 * tri + k];
+      p[k] = Eigen::Vector3d(position[3 * i], position[3 * i + 1], position[3 * i + 2]);
+      q[k] = Eigen::Vector2d(uv[2 * i], uv[2 * i + 1]) * size;
+      vertex[k] = int(i);
+    }
+    for (int y = int(std::min({q[0].y(), q[1].y(), q[2].y()})); y <= int(std::max({q[0].y(), q[1].y(), q[2].y()})); ++y)
+      for (int x = int(std::min({q[0].x(), q[1].x(), q[2].x()})); x <= int(std::max({q[0].x(), q[1].x(), q[2].x()})); ++x) {
+        const Eigen::Vector2d e0 = q[1] - q[0], e1 = q[2] - q[0], r = Eigen::Vector2d(x + 0.5, y + 0.5) - q[0];
+        const double det = e0.x() * e1.y() - e1.x() * e0.y();
+        const double w1 = (r.x() * e1.y() - e1.x() * r.y()) / det, w2 = (e0.x() * r.y() - r.x() * e0.y()) / det, w0 = 1 - w1 - w2;
+        if (w0 < 1e-4 || w1 < 1e-4 || w2 < 1e-4) continue;  // clear of the edges, where two faces share texels
+        const Eigen::Vector3d point = w0 * p[0] + w1 * p[1] + w2 * p[2];
+        int k = 0;
+        for (int j = 1; j < 3; ++j)
+          if ((p[j] - point).squaredNorm() < (p[k] - point).squaredNorm()) k = j;
+        const uint32_t i = uint32_t(vertex[k]);
+        const Eigen::Vector3d n(normal[3 * i], normal[3 * i + 1], normal[3 * i + 2]), s(tangent[4 * i], tangent[4 * i + 1], tangent[4 * i + 2]);
+        const int v = by_position.at({float(p[k].x()), float(p[k].y()), float(p[k].z())});
+        const Eigen::Vector3d d = (point - p[k]) / dressed->map.texel_size;
+        const double sx = dressed->map.source_x[v] + d.dot(s), sy = dressed->map.source_y[v] - d.dot(n.cross(s));
+        const int tx = std::clamp(int(std::floor(sx)), 0, 63), ty = std::clamp(int(std::floor(sy)), 0, 63);
+        if (std::abs(sx - std::round(sx)) < 1e-3 || std::abs(sy - std::round(sy)) < 1e-3) continue;  // on a texel border: float rounding decides
+        ++checked;
+        for (int c = 0; c < 3; ++c) differ += std::abs(base->at(x, y, c) - photo->at(tx, ty, c)) > 1.5f / 255;
+      }
+  }
+  std::printf("%ld atlas texels checked, %ld channels differ by more than one 8-bit step\n", checked, differ);
+  EXPECT_GT(checked, 2000);
+  EXPECT_EQ(differ, 0);
 }
 
 }  // namespace

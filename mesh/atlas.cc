@@ -1,0 +1,242 @@
+#include "mesh/atlas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
+#include <CGAL/Surface_mesh_parameterization/parameterize.h>
+
+#include <Eigen/Eigenvalues>
+
+namespace mesocap {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
+namespace SMP = CGAL::Surface_mesh_parameterization;
+
+constexpr int kMaxSplits = 24;  // halvings of one chart before its faces go one by one
+
+using Chart = std::vector<int32_t>;  // faces
+
+// Faces sharing an edge (manifold edges only: an edge of three faces joins none of them).
+std::vector<std::array<int32_t, 3>> FaceNeighbours(const TriangleMesh& m) {
+  std::map<std::pair<int32_t, int32_t>, std::vector<std::pair<int32_t, int>>> edges;
+  for (int f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) edges[std::minmax(m.faces[f][k], m.faces[f][(k + 1) % 3])].push_back({f, k});
+  std::vector<std::array<int32_t, 3>> n(m.face_count(), {-1, -1, -1});
+  for (const auto& [e, faces] : edges)
+    if (faces.size() == 2) n[faces[0].first][faces[0].second] = faces[1].first, n[faces[1].first][faces[1].second] = faces[0].first;
+  return n;
+}
+
+// Connected groups of `faces` (through edges) whose `label` is the same.
+std::vector<Chart> Components(const Chart& faces, const std::vector<int>& label, const std::vector<std::array<int32_t, 3>>& nb,
+                              std::vector<int>& mark, int stamp) {
+  for (int32_t f : faces) mark[f] = stamp;
+  std::vector<Chart> out;
+  for (int32_t f : faces) {
+    if (mark[f] != stamp) continue;
+    Chart c{f};
+    mark[f] = stamp + 1;
+    for (size_t i = 0; i < c.size(); ++i)
+      for (int32_t g : nb[c[i]])
+        if (g >= 0 && mark[g] == stamp && label[g] == label[c[i]]) mark[g] = stamp + 1, c.push_back(g);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+// The chart flattened by LSCM: per face its corners' (u, v), in surface units, or empty when the
+// chart is not a disk or the flattening folds.
+std::vector<std::array<Eigen::Vector2d, 3>> Flatten(const TriangleMesh& m, const Chart& chart) {
+  if (chart.size() == 1) {  // one triangle: laid flat exactly
+    const auto& t = m.faces[chart[0]];
+    const Eigen::Vector3d a = m.positions[t[1]] - m.positions[t[0]], b = m.positions[t[2]] - m.positions[t[0]];
+    const Eigen::Vector3d x = a.normalized(), y = (b - b.dot(x) * x).normalized();
+    return {{Eigen::Vector2d(0, 0), Eigen::Vector2d(a.norm(), 0), Eigen::Vector2d(b.dot(x), b.dot(y))}};
+  }
+  SurfaceMesh sm;
+  std::map<int32_t, SurfaceMesh::Vertex_index> local;
+  for (int32_t f : chart)
+    for (int32_t v : m.faces[f])
+      if (!local.count(v)) local[v] = sm.add_vertex(Kernel::Point_3(m.positions[v].x(), m.positions[v].y(), m.positions[v].z()));
+  for (int32_t f : chart) {
+    const auto& t = m.faces[f];
+    if (sm.add_face(local[t[0]], local[t[1]], local[t[2]]) == SurfaceMesh::null_face()) return {};
+  }
+  // A disk: Euler characteristic 1 and one border.
+  std::vector<SurfaceMesh::Halfedge_index> borders;
+  CGAL::Polygon_mesh_processing::extract_boundary_cycles(sm, std::back_inserter(borders));
+  if (borders.size() != 1 || int(sm.number_of_vertices()) - int(sm.number_of_edges()) + int(sm.number_of_faces()) != 1) return {};
+  auto uv = sm.add_property_map<SurfaceMesh::Vertex_index, Kernel::Point_2>("v:uv").first;
+  const auto border = CGAL::Polygon_mesh_processing::longest_border(sm).first;
+  if (SMP::parameterize(sm, SMP::LSCM_parameterizer_3<SurfaceMesh>(), border, uv) != SMP::OK) return {};
+  std::vector<std::array<Eigen::Vector2d, 3>> out;
+  int positive = 0, negative = 0;
+  for (int32_t f : chart) {
+    std::array<Eigen::Vector2d, 3> c;
+    for (int k = 0; k < 3; ++k) {
+      const auto& p = uv[local[m.faces[f][k]]];
+      c[k] = Eigen::Vector2d(p.x(), p.y());
+      if (!c[k].allFinite()) return {};
+    }
+    const Eigen::Vector2d a = c[1] - c[0], b = c[2] - c[0];
+    const double area = a.x() * b.y() - a.y() * b.x();
+    (area > 0 ? positive : negative) += 1;
+    out.push_back(c);
+  }
+  if (positive && negative) return {};  // folded
+  if (negative)                          // mirrored as a whole
+    for (auto& c : out)
+      for (auto& p : c) p.x() = -p.x();
+  return out;
+}
+
+// Halves a chart across the longest extent of its faces' centres.
+std::pair<Chart, Chart> Split(const TriangleMesh& m, const Chart& chart) {
+  std::vector<Eigen::Vector3d> centre(chart.size());
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (size_t i = 0; i < chart.size(); ++i) {
+    const auto& t = m.faces[chart[i]];
+    centre[i] = (m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]) / 3;
+    lo = lo.cwiseMin(centre[i]), hi = hi.cwiseMax(centre[i]);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  std::vector<size_t> order(chart.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::nth_element(order.begin(), order.begin() + order.size() / 2, order.end(),
+                   [&](size_t a, size_t b) { return centre[a][axis] < centre[b][axis]; });
+  Chart a, b;
+  for (size_t i = 0; i < order.size(); ++i) (i < order.size() / 2 ? a : b).push_back(chart[order[i]]);
+  return {a, b};
+}
+
+struct Flat {
+  Chart faces;
+  std::vector<std::array<Eigen::Vector2d, 3>> uv;  // surface units, turned so the longer side runs along u
+  Eigen::Vector2d extent;
+};
+
+// Scales LSCM's output to surface units (its area the chart's) and turns it to its principal axes.
+void Normalise(const TriangleMesh& m, Flat& c) {
+  double area3 = 0, area2 = 0;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < c.faces.size(); ++i) {
+    area3 += m.FaceArea(c.faces[i]);
+    const Eigen::Vector2d a = c.uv[i][1] - c.uv[i][0], b = c.uv[i][2] - c.uv[i][0];
+    area2 += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    for (const auto& p : c.uv[i]) mean += p;
+  }
+  mean /= 3.0 * c.faces.size();
+  const double scale = area2 > 0 ? std::sqrt(area3 / area2) : 1;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& t : c.uv)
+    for (const auto& p : t) cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  Eigen::Matrix2d R = eig.eigenvectors().transpose().colwise().reverse();  // major axis first
+  if (R.determinant() < 0) R.row(1) *= -1;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = -lo;
+  for (auto& t : c.uv)
+    for (auto& p : t) p = scale * (R * (p - mean)), lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  for (auto& t : c.uv)
+    for (auto& p : t) p -= lo;
+  c.extent = hi - lo;
+}
+
+// Shelf packing of the charts' boxes at `k` texels per unit; false when they do not fit.
+bool Pack(const std::vector<Flat>& charts, const std::vector<size_t>& order, double k, int size, int gutter,
+          std::vector<Eigen::Vector2d>* origin) {
+  double x = 0, y = 0, shelf = 0;
+  origin->assign(charts.size(), Eigen::Vector2d::Zero());
+  for (size_t i : order) {
+    const double w = std::ceil(k * charts[i].extent.x()) + 2 * gutter, h = std::ceil(k * charts[i].extent.y()) + 2 * gutter;
+    if (w > size) return false;
+    if (x + w > size) x = 0, y += shelf, shelf = 0;
+    if (y + h > size) return false;
+    (*origin)[i] = Eigen::Vector2d(x + gutter, y + gutter);
+    x += w, shelf = std::max(shelf, h);
+  }
+  return true;
+}
+
+}  // namespace
+
+StatusOr<Atlas> BuildAtlas(const TriangleMesh& m, const AtlasOptions& o) {
+  if (o.size < 16 || o.size > 16384) return Status::Error("the atlas size must be 16..16384 texels");
+  const auto nb = FaceNeighbours(m);
+  std::vector<int> label(m.face_count());
+  for (int f = 0; f < m.face_count(); ++f) {
+    const Eigen::Vector3d n = m.FaceNormal(f);
+    int axis = 0;
+    n.cwiseAbs().maxCoeff(&axis);
+    label[f] = 2 * axis + (n[axis] < 0);
+  }
+  std::vector<int> mark(m.face_count(), 0);
+  int stamp = 1;
+  Chart all(m.face_count());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<std::pair<Chart, int>> pending;  // a chart and how often it was split
+  for (Chart& c : Components(all, label, nb, mark, stamp)) pending.push_back({std::move(c), 0});
+  stamp += 2;
+  std::vector<Flat> flats;
+  const std::vector<int> one_label(m.face_count(), 0);
+  while (!pending.empty()) {
+    auto [chart, splits] = std::move(pending.back());
+    pending.pop_back();
+    auto uv = Flatten(m, chart);
+    if (!uv.empty()) {
+      flats.push_back({std::move(chart), std::move(uv), {}});
+      continue;
+    }
+    if (splits >= kMaxSplits) {  // give up on this chart's shape: its faces one by one
+      for (int32_t f : chart) pending.push_back({Chart{f}, splits});
+      continue;
+    }
+    auto [a, b] = Split(m, chart);
+    for (Chart* half : {&a, &b}) {
+      for (Chart& c : Components(*half, one_label, nb, mark, stamp)) pending.push_back({std::move(c), splits + 1});
+      stamp += 2;
+    }
+  }
+  for (Flat& c : flats) Normalise(m, c);
+
+  // The largest density at which the boxes fit, by bisection.
+  std::vector<size_t> order(flats.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return flats[a].extent.y() > flats[b].extent.y(); });
+  double area = 0;
+  for (int f = 0; f < m.face_count(); ++f) area += m.FaceArea(f);
+  double lo = 0, hi = o.size / std::sqrt(std::max(area, 1e-300));
+  std::vector<Eigen::Vector2d> origin;
+  for (int it = 0; it < 40; ++it) {
+    const double k = 0.5 * (lo + hi);
+    (Pack(flats, order, k, o.size, o.gutter, &origin) ? lo : hi) = k;
+  }
+  if (!(lo > 0) || !Pack(flats, order, lo, o.size, o.gutter, &origin))
+    return Status::Error("the mesh's " + std::to_string(flats.size()) + " charts do not fit a " + std::to_string(o.size) + " texel atlas");
+  Atlas atlas;
+  atlas.size = o.size, atlas.charts = int(flats.size()), atlas.texels_per_unit = lo;
+  atlas.corner_uv.resize(m.face_count());
+  atlas.face_chart.assign(m.face_count(), -1);
+  double covered = 0;
+  for (size_t c = 0; c < flats.size(); ++c)
+    for (size_t i = 0; i < flats[c].faces.size(); ++i) {
+      const int32_t f = flats[c].faces[i];
+      for (int k = 0; k < 3; ++k) atlas.corner_uv[f][k] = origin[c] + lo * flats[c].uv[i][k];
+      atlas.face_chart[f] = int32_t(c);
+      const Eigen::Vector2d a = atlas.corner_uv[f][1] - atlas.corner_uv[f][0], b = atlas.corner_uv[f][2] - atlas.corner_uv[f][0];
+      covered += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    }
+  atlas.fill = covered / (double(o.size) * o.size);
+  return atlas;
+}
+
+}  // namespace mesocap
