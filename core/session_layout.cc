@@ -64,6 +64,7 @@ fs::path DecorateFolder::surface_map() const { return root / "surface_map.ply"; 
 fs::path DecorateFolder::textons() const { return root / "textons.exr"; }
 fs::path DecorateFolder::report() const { return root / kReport; }
 fs::path DecorateFolder::previews() const { return root / "previews"; }
+fs::path DecorateFolder::sweep_frame(int k) const { return previews() / ("sweep_" + Numbered(k, 2, "KK") + ".png"); }
 GltfFolder DecorateFolder::gltf() const { return {root / "gltf"}; }
 fs::path DecorateFolder::preview_light(int k) const { return previews() / ("light_" + std::to_string(k) + ".png"); }
 

@@ -76,6 +76,7 @@ struct DecorateFolder {
   std::filesystem::path report() const;
   std::filesystem::path previews() const;     // previews/
   std::filesystem::path preview_light(int k) const;  // previews/light_K.png
+  std::filesystem::path sweep_frame(int k) const;    // previews/sweep_KK.png: a light circling the mesh
   struct GltfFolder gltf() const;                    // gltf/: the dressed mesh as a glTF asset
 };
 

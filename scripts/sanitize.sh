@@ -92,7 +92,11 @@ fi
 # so the leaks show as "<unknown module>" and no suppression can name them (keeping the driver
 # loaded changes the camera's behaviour between tests). That test runs with leak detection off;
 # every other ASan and UBSan check stays on.
-GPHOTO2_TEST='^capture/gphoto2_camera_test$'
+# mesh/surface_render_test casts rays with Embree (in the dlopen'd mesh backend): when Embree starts
+# TBB's worker thread, LeakSanitizer's tracer reads a bogus dynamic-TLS range for it at exit
+# ("DTLS 10 at 0x000100000180", then "Tracer caught signal 11", every run): a fault of LSan with
+# modules' TLS, not a leak. It runs with leak detection off too.
+GPHOTO2_TEST='^capture/gphoto2_camera_test$|^mesh/surface_render_test$'
 runs=()
 if [[ ${#select[@]} -gt 0 ]]; then
   runs=("${select[*]}")
