@@ -30,6 +30,11 @@ Json UsageJson(const SurfaceMapUsage& u) {
 
 }  // namespace
 
+StatusOr<TextonAnalysis> AnalyseExemplarTextons(const Exemplar& e, const TextonAnalysisOptions& options, bool progress) {
+  ProgressBar bar("textons", progress);
+  return AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, options, bar.AsCallback());
+}
+
 StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateRequest& a, const Exemplar& e,
                                       const GgxMaterialMaps& material) {
   const auto start = std::chrono::steady_clock::now();
@@ -40,12 +45,7 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
   auto frames = Frames(a, *mesh);
   if (!frames.ok()) return frames.status();
 
-  StatusOr<TextonAnalysis> analysis = Status::Error("");
-  {
-    ProgressBar bar("textons", a.progress);
-    analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, a.texton_analysis,
-                              bar.AsCallback());
-  }
+  auto analysis = a.analysis ? StatusOr<TextonAnalysis>(*a.analysis) : AnalyseExemplarTextons(e, a.texton_analysis, a.progress);
   if (!analysis.ok()) return analysis.status();
   SurfaceTextonReport report;
   StatusOr<SurfaceMap> map = Status::Error("");

@@ -26,6 +26,7 @@ struct DecorateRequest {
   int atlas_size = 512;
   int threads = -1;
   bool progress = true;
+  const TextonAnalysis* analysis = nullptr;  // the exemplar's, when already made (else made here)
 };
 
 struct DecorateResult {
@@ -33,6 +34,9 @@ struct DecorateResult {
   std::string brief;
   std::vector<std::string> repairs;  // one line per repair the mesh needed
 };
+
+// The exemplar's texton analysis (what DecorateInto makes when not given one).
+StatusOr<TextonAnalysis> AnalyseExemplarTextons(const Exemplar& exemplar, const TextonAnalysisOptions& options, bool progress);
 
 // Writes into `dir` (existing and empty: a staging folder the caller publishes). `material`: the
 // exemplar's glTF maps (app/material_maps.h). Errors name the mesh or field file.

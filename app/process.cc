@@ -209,6 +209,16 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
                       if (summary.ok()) RemoveShardParts(SessionLayout(a.session), "export");
                       return summary;
                     }});
+  if (!a.decorate.meshes.empty()) {
+    Json names = Json::array();
+    for (const fs::path& m : a.decorate.meshes) names.push_back(m.filename().string());
+    stages.push_back({"decorate", {"reconstruct", "export"}, a.decorate.meshes,
+                      {{"meshes", names}, {"method", "texton"}, {"seed", a.decorate.seed}, {"max_slices", a.decorate.max_slices},
+                       {"preview_size", a.decorate.preview_size}, {"sweep_frames", a.decorate.sweep_frames},
+                       {"atlas_size", a.decorate.atlas_size}, {"representative_slices", a.decorate.representative_slices}},
+                      {s.Relative(s.decorate_root())},
+                      [&a, progress] { return RunDecorateStage(a.session, a.decorate, a.threads, progress); }});
+  }
   return stages;
 }
 
@@ -246,7 +256,7 @@ StatusOr<std::string> InputsHash(const Stage& stage, const StageCache& cache,
 }  // namespace
 
 const std::vector<std::string>& ProcessStageNames() {
-  static const std::vector<std::string> names = {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export"};
+  static const std::vector<std::string> names = {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export", "decorate"};
   return names;
 }
 
@@ -261,14 +271,16 @@ std::string ProcessOptions::Check() const {
   };
   for (const std::string& f : force)
     if (f != "all" && !is_one_of(f, ProcessStageNames()))
-      return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, all)";
+      return "--force " + f + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, decorate, all)";
   if (!synth.method.empty() && !IsSynthMethod(synth.method))
     return "--synth must be roller, quilt, ptm-block or texton, not '" + synth.method + "'";
   if (GridPairs(reconstruct.grid).empty()) return "--btf-grid must be bonn or coarse, not '" + reconstruct.grid + "'";
   if (threads == 0 || threads < -1) return "--threads must be a positive number (or -1 for all cores)";
   if (!only_stage.empty() && !is_one_of(only_stage, ProcessStageNames()))
-    return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export)";
+    return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, decorate)";
   if (only_stage == "synth" && synth.method.empty()) return "--stage synth needs --synth METHOD";
+  if (only_stage == "decorate" && decorate.meshes.empty()) return "--stage decorate needs --decorate MESH";
+  if (std::string problem = CheckDecorateMeshes(decorate.meshes); !problem.empty()) return problem;
   if ((shard || merge_shards != 0) && !is_one_of(only_stage, ShardableStageNames()))
     return "--shard and --merge need --stage naming a shardable stage (reconstruct, synth, export)";
   if (shard && merge_shards != 0) return "give --shard or --merge, not both";

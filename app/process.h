@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/decorate_stage.h"
 #include "app/session_stages.h"
 #include "core/shard.h"
 #include "core/status.h"
@@ -22,6 +23,7 @@ struct ProcessOptions {
   PtmStageOptions ptm;
   ReconstructStageOptions reconstruct;
   SynthStageOptions synth;  // synth.method empty: no synth stage
+  DecorateStageOptions decorate;  // decorate.meshes empty: no decorate stage
   std::vector<std::string> force;  // stages to rerun even if unchanged; "all" for every one
   // One stage alone (its earlier stages must have run), as the workflow runs it; empty: all.
   std::string only_stage;
@@ -45,7 +47,7 @@ struct StageOutcome {
   StageSummary summary;
 };
 
-// calibrate, resample, fit-ptm, reconstruct, synth (only when asked), export.
+// calibrate, resample, fit-ptm, reconstruct, synth (only when asked), export, decorate (only when asked).
 const std::vector<std::string>& ProcessStageNames();
 // The stages that run as shards: reconstruct.
 const std::vector<std::string>& ShardableStageNames();

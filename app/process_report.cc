@@ -143,6 +143,53 @@ void AddRejectedItems(const SessionLayout& session, const std::optional<StatusOr
   report->FoldedTable(Format("Every one of the %zu, with its shot", rows.size()), {"shot", "board", "reason"}, rows);
 }
 
+// A light circling a dressed mesh: its frames shown in turn (report.md lists the first).
+void AddLightSweep(const SessionLayout& session, const DecorateFolder& folder, Report* report) {
+  std::vector<std::string> frames;
+  for (int k = 0; fs::exists(folder.sweep_frame(k)); ++k) frames.push_back(session.Relative(folder.sweep_frame(k)));
+  if (frames.empty()) return;
+  std::string list;
+  for (const std::string& f : frames) list += (list.empty() ? "\"" : ", \"") + HtmlEscape(f) + "\"";
+  const std::string id = "sweep-" + HtmlEscape(folder.root.filename().string());
+  report->Html("<figure><img id=\"" + id + "\" src=\"" + HtmlEscape(frames[0]) + "\" alt=\"light sweep\"><figcaption>The light circling the " +
+                   "dressed mesh (" + std::to_string(frames.size()) + " frames): the mesostructure stays in place</figcaption></figure>" +
+                   "<script>(function(){var f=[" + list + "],i=0,e=document.getElementById(\"" + id +
+                   "\");setInterval(function(){i=(i+1)%f.length;e.src=f[i];},250);})();</script>",
+               "A light sweep of the dressed mesh: " + frames[0] + " and the frames after it.");
+}
+
+// process --decorate's meshes: each one's figures, previews and light sweep.
+void AddDressedMeshes(const SessionLayout& session, Report* report) {
+  std::error_code ec;
+  if (!fs::is_directory(session.decorate_root(), ec)) return;
+  std::vector<fs::path> folders;
+  for (const auto& entry : fs::directory_iterator(session.decorate_root(), ec))
+    if (entry.is_directory()) folders.push_back(entry.path());
+  std::sort(folders.begin(), folders.end());
+  for (const fs::path& root : folders) {
+    const DecorateFolder folder{root};
+    auto j = ReadJsonFile(folder.report());
+    if (!j.ok()) {
+      SayUnreadable(j.status(), report);
+      continue;
+    }
+    try {
+      report->Paragraph(Format("%s/: %s (%d vertices) dressed in the reconstructed BTF by surface textons: %.1f%% of its edges "
+                               "inside patches, %.2f%% repeats; a glTF asset in %s.",
+                               session.Relative(root).c_str(), root.filename().string().c_str(), (*j)["mesh"]["vertices"].get<int>(),
+                               100 * (*j)["quality"]["coherent_edges"].get<double>(), 100 * (*j)["quality"]["repeats"].get<double>(),
+                               session.Relative(folder.gltf().material()).c_str()));
+    } catch (const std::exception& e) {
+      SayUnreadable(Status::Error(folder.report().string() + ": " + e.what()), report);
+      continue;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (fs::exists(folder.preview_light(k)))
+        report->Picture(session.Relative(folder.preview_light(k)), Format("%s under light %d, with cast shadows", root.filename().string().c_str(), k + 1));
+    AddLightSweep(session, folder, report);
+  }
+}
+
 // The pictures and figures of the results: the PTM (of the top board in `slices`, when read), the
 // BTF, the glTF material, the synthesis.
 void AddResults(const SessionLayout& session, const SliceIndex* slices, Report* report) {
@@ -183,6 +230,7 @@ void AddResults(const SessionLayout& session, const SliceIndex* slices, Report* 
     for (int k = 1; k <= 3; ++k) picture(synth.preview_light(k), Format("The enlarged BTF under light %d", k));
     picture(synth.patches(), "Where each part of the enlarged material comes from (one colour per patch)");
   }
+  AddDressedMeshes(session, report);
 }
 
 }  // namespace

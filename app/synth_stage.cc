@@ -21,17 +21,6 @@ constexpr const char* kStage = "synth";
 
 // The reconstructed BTF as the exemplar; `features`: with its geometry maps (for synthesis; applying
 // a map needs only the slices).
-StatusOr<Exemplar> StageExemplar(const fs::path& session, int num_threads, bool features, bool progress) {
-  const fs::path index = SessionLayout(session).btf().index();
-  if (!fs::exists(index))
-    return Status::Error(index.string() + " not found: synthesis enlarges the reconstructed BTF (run the reconstruct stage)");
-  ExemplarOptions options;
-  options.num_threads = num_threads;
-  options.features = features;
-  ProgressBar bar("features", progress && features);
-  return LoadExemplar(index, options, bar.AsCallback());
-}
-
 // The map and what the method reports of it.
 struct StageMap {
   SynthMap map;
@@ -52,18 +41,6 @@ StatusOr<StageMap> MakeMap(const fs::path& session, const Exemplar& exemplar, co
   if (!map.ok()) return map.status().WithContext(SessionLayout(session).btf().index().string() + ": ");
   made.map = std::move(*map);
   return made;
-}
-
-// Which slices to synthesize: those whose light and view lie on the coarse grid, then the rest,
-// up to max_slices (a 6561-slice BTF at 512 x 512 would be gigabytes); in index order.
-std::vector<int> StageSlices(const Exemplar& exemplar, int max_slices) {
-  std::vector<int> slices;
-  for (int pass = 0; pass < 2; ++pass)
-    for (size_t k = 0; k < exemplar.slices.size() && int(slices.size()) < max_slices; ++k)
-      if (OnCoarseGrid(exemplar.slices[k].light) && OnCoarseGrid(exemplar.slices[k].view) ? pass == 0 : pass == 1)
-        slices.push_back(int(k));
-  std::sort(slices.begin(), slices.end());
-  return slices;
 }
 
 StageSummary Summary(const SynthStageOptions& options, const SynthMap& map, const Exemplar& exemplar, size_t slices,
@@ -112,6 +89,27 @@ StatusOr<SharedMap> SharedSynthesis(const fs::path& session, const SynthStageOpt
 }
 
 }  // namespace
+
+StatusOr<Exemplar> StageExemplar(const fs::path& session, int num_threads, bool features, bool progress) {
+  const fs::path index = SessionLayout(session).btf().index();
+  if (!fs::exists(index))
+    return Status::Error(index.string() + " not found: synthesis enlarges the reconstructed BTF (run the reconstruct stage)");
+  ExemplarOptions options;
+  options.num_threads = num_threads;
+  options.features = features;
+  ProgressBar bar("features", progress && features);
+  return LoadExemplar(index, options, bar.AsCallback());
+}
+
+std::vector<int> StageSlices(const Exemplar& exemplar, int max_slices) {
+  std::vector<int> slices;
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t k = 0; k < exemplar.slices.size() && int(slices.size()) < max_slices; ++k)
+      if (OnCoarseGrid(exemplar.slices[k].light) && OnCoarseGrid(exemplar.slices[k].view) ? pass == 0 : pass == 1)
+        slices.push_back(int(k));
+  std::sort(slices.begin(), slices.end());
+  return slices;
+}
 
 StatusOr<StageSummary> RunSynthStage(const fs::path& session, const SynthStageOptions& options, int num_threads,
                                      bool progress) {

@@ -6,11 +6,19 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "app/session_stages.h"
 #include "core/shard.h"
+#include "synth/exemplar.h"
 
 namespace mesocap::app {
+
+// The session's reconstructed BTF (SESSION/btf/) as an exemplar; an error says to reconstruct first.
+StatusOr<Exemplar> StageExemplar(const std::filesystem::path& session, int num_threads, bool features, bool progress);
+// Which of its slices a stage uses: those whose light and view lie on the coarse grid, then the
+// rest, up to max_slices (a 6561-slice BTF at 512 x 512 would be gigabytes); in index order.
+std::vector<int> StageSlices(const Exemplar& exemplar, int max_slices);
 
 StatusOr<StageSummary> RunSynthStage(const std::filesystem::path& session, const SynthStageOptions& options,
                                      int num_threads, bool progress);

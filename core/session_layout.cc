@@ -137,6 +137,8 @@ SlicesFolder SessionLayout::slices() const { return {root_ / kSlices}; }
 PtmFolder SessionLayout::ptm() const { return {root_ / "ptm"}; }
 BtfFolder SessionLayout::btf() const { return {root_ / kBtf}; }
 SynthFolder SessionLayout::synth() const { return {root_ / "synth"}; }
+fs::path SessionLayout::decorate_root() const { return root_ / "decorate"; }
+DecorateFolder SessionLayout::decorate(const std::string& mesh_name) const { return {decorate_root() / mesh_name}; }
 ExportFolder SessionLayout::exports() const { return {root_ / "export"}; }
 CoverageFolder SessionLayout::coverage() const { return {root_ / "coverage"}; }
 fs::path SessionLayout::shards_root() const { return root_ / "shards"; }
@@ -235,6 +237,15 @@ Json SessionLayout::ToJson() const {
                 {"image", rel(y.image())},        {"ptm", rel(y.ptm())},         {"preview", rel(y.preview())},
                 {"preview_light", rel(y.preview_light(kPattern))}, {"textons", rel(y.textons())},
                 {"report", rel(y.report())},      {"btf", btf_folder(y.btf())}};
+  const DecorateFolder d = decorate("MESH");
+  j["decorate"] = {{"folder", rel(decorate_root())},
+                   {"mesh_folder", rel(d.root)},
+                   {"surface_map", rel(d.surface_map())},
+                   {"textons", rel(d.textons())},
+                   {"report", rel(d.report())},
+                   {"preview_light", rel(d.preview_light(0))},
+                   {"sweep_frame", rel(d.sweep_frame(kPattern))},
+                   {"gltf", gltf(d.gltf(), false)}};
   j["export"] = {{"folder", rel(e.root)},
                  {"material_ptm", rel(e.material_ptm())},
                  {"lp", rel(e.lp())},

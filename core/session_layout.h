@@ -174,6 +174,9 @@ class SessionLayout {
   PtmFolder ptm() const;
   BtfFolder btf() const;
   SynthFolder synth() const;
+  // decorate/: process --decorate's dressed meshes, one folder per mesh (named after its file).
+  std::filesystem::path decorate_root() const;
+  DecorateFolder decorate(const std::string& mesh_name) const;
   ExportFolder exports() const;
   CoverageFolder coverage() const;
   // shards/: sharded stages' parts, by stage and key ("" for the pattern), removed by the merge.

@@ -10,7 +10,7 @@ namespace {
 // Bump a stage's number when its outputs change for the same inputs (and say why in the commit).
 const std::map<std::string, int>& BuiltInVersions() {
   static const std::map<std::string, int> versions = {
-      {"calibrate", 1}, {"resample", 1}, {"fit-ptm", 1}, {"reconstruct", 1}, {"synth", 1}, {"export", 1}};
+      {"calibrate", 1}, {"resample", 1}, {"fit-ptm", 1}, {"reconstruct", 1}, {"synth", 1}, {"export", 1}, {"decorate", 1}};
   return versions;
 }
 
