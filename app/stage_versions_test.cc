@@ -66,10 +66,10 @@ TEST(StageVersions, FitPtmOutputMatchesItsVersion) {
 }
 
 TEST(StageVersions, EveryStageHasAVersionAndProvenanceNamesThem) {
-  for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export"})
+  for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export", "decorate"})
     EXPECT_GE(StageVersion(stage), 1) << stage;
   EXPECT_EQ(StageVersion("no-such-stage"), 0);
-  EXPECT_EQ(StageVersions().size(), 6u);
+  EXPECT_EQ(StageVersions().size(), 7u);
   EXPECT_STRNE(SourceRevision(), "");
 }
 

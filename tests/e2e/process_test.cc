@@ -25,6 +25,7 @@
 #include "formats/ptm_file.h"
 #include "reconstruct/slice_set.h"
 #include "reconstruct/white_lobe.h"
+#include "mesh/mesh_shapes.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -68,7 +69,7 @@ class ProcessTest : public ::testing::Test {
     const int code = testing::RunMesocap("process " + session.string() + Options(session, extra), &out);
     EXPECT_EQ(code, 0) << out;
     std::map<std::string, std::string> status;
-    for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export"}) {
+    for (const char* stage : {"calibrate", "resample", "fit-ptm", "reconstruct", "synth", "export", "decorate"}) {
       const size_t at = out.find("\n" + std::string(stage) + " ");
       if (at == std::string::npos) continue;
       const size_t start = out.find_first_not_of(' ', at + 1 + std::string(stage).size());
@@ -408,6 +409,32 @@ TEST_F(ProcessTest, SynthesisWhenAskedEnlargesTheBtfAndItsGltfMaterial) {
   fs::last_write_time(s / "synth" / "map.exr", fs::file_time_type::clock::now() + std::chrono::hours(1));
   ASSERT_EQ(testing::RunMesocap("export " + s.string() + " --format gltf", &out), 0) << out;
   EXPECT_FALSE(fs::exists(s / "export" / "gltf_synth")) << out;
+}
+
+// --decorate: each mesh dressed after export into decorate/<name>/ (map, previews, a light sweep
+// the report animates, a glTF asset that validates); cached like every stage: a rerun skips it,
+// a changed mesh file reruns it.
+TEST_F(ProcessTest, DecorateWhenAskedDressesEachMeshAfterExport) {
+  const fs::path s = FreshSession(), meshes = testing::MakeTempDir();
+  ASSERT_EQ(Process(s), kAllRan);
+  ASSERT_TRUE(WriteObj(meshes / "ball.obj", IcoSphere(3)).ok());
+  ASSERT_TRUE(WriteObj(meshes / "ring.obj", Torus(48, 16)).ok());
+  const std::string decorate = " --decorate " + (meshes / "ball.obj").string() + " --decorate " + (meshes / "ring.obj").string();
+  EXPECT_EQ(Process(s, decorate), (Statuses{{"calibrate", "skipped"}, {"resample", "skipped"}, {"fit-ptm", "skipped"},
+                                            {"reconstruct", "skipped"}, {"export", "skipped"}, {"decorate", "ran"}}));
+  for (const char* name : {"ball", "ring"}) {
+    const fs::path d = s / "decorate" / name;
+    for (const char* f : {"surface_map.ply", "report.json", "previews/light_0.png", "previews/sweep_11.png", "gltf/base_color.png"})
+      EXPECT_TRUE(fs::exists(d / f)) << name << " " << f;
+    std::string out;
+    EXPECT_EQ(testing::ValidateGltf(d / "gltf" / "material.gltf", &out), 0) << out;
+  }
+  auto html = ReadTextFile(s / "report.html");
+  ASSERT_TRUE(html.ok());
+  EXPECT_NE(html->find("decorate/ring/previews/sweep_00.png"), std::string::npos);
+  EXPECT_EQ(Process(s, decorate).at("decorate"), "skipped");
+  ASSERT_TRUE(WriteObj(meshes / "ring.obj", Torus(40, 16)).ok());
+  EXPECT_EQ(Process(s, decorate).at("decorate"), "ran");
 }
 
 TEST_F(ProcessTest, TheReportRelightsInAHeadlessBrowserWithoutErrors) {
