@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "mesh/mesh_pyramid.h"
+#include "mesh/surface_textons.h"
 #include "mesh/tangent_frames.h"
 #include "mesh/test_meshes.h"
 #include "tests/testing.h"
@@ -134,6 +135,32 @@ TEST(TangentFrames, FieldFromAnotherMeshIsRefused) {
   const Status s = CheckFieldMatchesMesh(field, sphere, "dirs.json");
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("dirs.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mesocap
+
+namespace mesocap {
+namespace {
+
+// A non-manifold mesh (a fin: a third face on one of a sphere's edges) is reported, and the mesh
+// pyramid and surface synthesis still run (CGAL's soup repair duplicates what is not manifold).
+TEST(TriangleMesh, NonManifoldMeshesAreReportedAndStillDressed) {
+  TriangleMesh m = testing::IcoSphere(4);
+  const auto f0 = m.faces[0];
+  m.positions.push_back(1.3 * (m.positions[f0[0]] + m.positions[f0[1]]) / 2);
+  m.normals.push_back(m.positions.back().normalized());
+  m.faces.push_back({f0[0], f0[1], int32_t(m.positions.size() - 1)});
+  MeshRepairReport report;
+  ASSERT_TRUE(RepairMesh(m, &report).ok());
+  EXPECT_EQ(report.non_manifold_edges, 1);
+  auto pyramid = BuildMeshPyramid(m, 3);
+  ASSERT_TRUE(pyramid.ok()) << pyramid.status().message();
+  EXPECT_EQ(pyramid->size(), 3u);
+  const TextonAnalysis analysis = testing::AnalyseImage(testing::PhotoCrop("gravel", 32));
+  auto map = SurfaceTextonSynthesis(m, RelaxedFrames(m), analysis, {}, nullptr);
+  ASSERT_TRUE(map.ok()) << map.status().message();
+  EXPECT_EQ(map->size(), m.vertex_count());
 }
 
 }  // namespace
