@@ -12,7 +12,7 @@
 #include "core/image_io.h"
 #include "mesh/surface_render.h"
 #include "mesh/surface_textons.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_shapes.h"
 
 using namespace mesocap;
 
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     for (int x = 0; x < crop; ++x)
       for (int c = 0; c < 3; ++c) sample.at(x, y, c) = photo->at(x, y, c);
   const Exemplar e = ImageExemplar(sample);
-  const TriangleMesh mesh = testing::Torus(major, minor);
+  const TriangleMesh mesh = Torus(major, minor);
   const TangentFrames frames = RelaxedFrames(mesh);
 
   auto t = std::chrono::steady_clock::now();

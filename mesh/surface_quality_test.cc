@@ -28,27 +28,6 @@ constexpr int kSample = 64, kRender = 176, kWindow = 48;
 
 Exemplar PhotoExemplar(const std::string& name) { return ImageExemplar(testing::PhotoCrop(name, kSample)); }
 
-// 9 views x 13 lights of the virtual rig's stones.
-Exemplar RigExemplar() {
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
-  std::vector<Eigen::Vector3d> views{DirectionFromAnglesDeg(0, 0)}, lights{DirectionFromAnglesDeg(0, 0)};
-  for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90 * k)), views.push_back(DirectionFromAnglesDeg(60, 90 * k + 45));
-  for (int k = 0; k < 6; ++k) lights.push_back(DirectionFromAnglesDeg(30, 60 * k)), lights.push_back(DirectionFromAnglesDeg(65, 60 * k + 30));
-  for (const auto& v : views)
-    for (const auto& l : lights) pairs.push_back({l, v});
-  const auto dir = testing::MakeTempDir() / "btf";
-  auto material = Material::Create("stones");
-  MESOCAP_CHECK(material.ok(), material.status().message());
-  TrueBtfFolderOptions options;
-  options.size = kSample;
-  MESOCAP_CHECK(WriteTrueBtfFolder(*material, pairs, options, dir).ok(), "cannot write the BTF");
-  ExemplarOptions o;
-  o.features = false;
-  auto e = LoadExemplar(dir, o);
-  MESOCAP_CHECK(e.ok(), e.status().message());
-  return std::move(*e);
-}
-
 // The naive planar projection: each vertex's (x, -y) over the texel size, tiled.
 SurfaceMap PlanarProjection(const TriangleMesh& mesh, double texel_size, int w, int h) {
   SurfaceMap map;
@@ -146,7 +125,7 @@ Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const Surfac
 class SurfaceQuality : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SurfaceQuality, SeamsAndStatisticsBeatAPlanarProjection) {
-  const Exemplar e = GetParam() == "rig" ? RigExemplar() : PhotoExemplar(GetParam());
+  const Exemplar e = GetParam() == "rig" ? testing::RigGridBtf("stones", kSample) : PhotoExemplar(GetParam());
   auto analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, {});
   ASSERT_TRUE(analysis.ok()) << analysis.status().message();
   auto appearance = SurfaceAppearance::FromExemplar(e);

@@ -100,26 +100,6 @@ TEST(SurfaceRender, CastShadowsMatchBruteForceRayCasting) {
   EXPECT_EQ(mismatched, 0);
 }
 
-// A BTF with 9 views and 13 lights per view (the virtual rig's stones, true values).
-Exemplar GridBtf() {
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
-  std::vector<Eigen::Vector3d> dirs{DirectionFromAnglesDeg(0, 0)};
-  for (int k = 0; k < 4; ++k) dirs.push_back(DirectionFromAnglesDeg(30, 90 * k)), dirs.push_back(DirectionFromAnglesDeg(60, 90 * k + 45));
-  std::vector<Eigen::Vector3d> lights{DirectionFromAnglesDeg(0, 0)};
-  for (int k = 0; k < 6; ++k) lights.push_back(DirectionFromAnglesDeg(30, 60 * k)), lights.push_back(DirectionFromAnglesDeg(65, 60 * k + 30));
-  for (const auto& v : dirs)
-    for (const auto& l : lights) pairs.push_back({l, v});
-  const auto dir = testing::MakeTempDir() / "btf";
-  auto material = Material::Create("stones");
-  MESOCAP_CHECK(material.ok(), material.status().message());
-  TrueBtfFolderOptions options;
-  options.size = 32;
-  MESOCAP_CHECK(WriteTrueBtfFolder(*material, pairs, options, dir).ok(), "cannot write the BTF");
-  auto e = LoadExemplar(dir, [] { ExemplarOptions o; o.features = false; return o; }());
-  MESOCAP_CHECK(e.ok(), e.status().message());
-  return std::move(*e);
-}
-
 // The independent lookup: the slices read from disk, the 4 nearest views by angle and the 4
 // nearest lights of each, inverse-angle weights (docs: mesh/surface_shading.h).
 Eigen::Vector3f ReferenceLookup(const Exemplar& e, const std::vector<Image>& slices, int x, int y, const Eigen::Vector3d& l,
@@ -157,7 +137,7 @@ Eigen::Vector3f ReferenceLookup(const Exemplar& e, const std::vector<Image>& sli
 // exemplar's BTF at the vertex's mapped texel and local directions; every lit pixel is the blend
 // of its triangle's vertex values.
 TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
-  const Exemplar btf = GridBtf();
+  const Exemplar btf = testing::RigGridBtf("stones", 32);
   std::vector<Image> slices;
   for (size_t k = 0; k < btf.slices.size(); ++k) slices.push_back(*btf.ReadSlice(int(k)));
   auto appearance = SurfaceAppearance::FromExemplar(btf);

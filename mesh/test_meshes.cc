@@ -7,7 +7,11 @@
 #include <filesystem>
 #include <map>
 
+#include "capture/material_catalog.h"
+#include "capture/true_btf_folder.h"
+#include "core/directions.h"
 #include "core/image_io.h"
+#include "tests/testing.h"
 #include "synth/exemplar.h"
 
 namespace mesocap::testing {
@@ -89,6 +93,26 @@ Image PhotoCrop(const std::string& name, int size) {
     for (int x = 0; x < size; ++x)
       for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
   return crop;
+}
+
+Exemplar RigGridBtf(const std::string& material_name, int size) {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
+  std::vector<Eigen::Vector3d> views{DirectionFromAnglesDeg(0, 0)}, lights{DirectionFromAnglesDeg(0, 0)};
+  for (int k = 0; k < 4; ++k) views.push_back(DirectionFromAnglesDeg(30, 90 * k)), views.push_back(DirectionFromAnglesDeg(60, 90 * k + 45));
+  for (int k = 0; k < 6; ++k) lights.push_back(DirectionFromAnglesDeg(30, 60 * k)), lights.push_back(DirectionFromAnglesDeg(65, 60 * k + 30));
+  for (const auto& v : views)
+    for (const auto& l : lights) pairs.push_back({l, v});
+  const auto dir = MakeTempDir() / ("btf_" + material_name + "_" + std::to_string(size));
+  auto material = Material::Create(material_name);
+  MESOCAP_CHECK(material.ok(), material.status().message());
+  TrueBtfFolderOptions options;
+  options.size = size;
+  MESOCAP_CHECK(WriteTrueBtfFolder(*material, pairs, options, dir).ok(), "cannot write the BTF");
+  ExemplarOptions o;
+  o.features = false;
+  auto e = LoadExemplar(dir, o);
+  MESOCAP_CHECK(e.ok(), e.status().message());
+  return std::move(*e);
 }
 
 TextonAnalysis AnalyseImage(const Image& sample) {

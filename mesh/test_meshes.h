@@ -5,6 +5,7 @@
 
 #include "core/image.h"
 #include "mesh/triangle_mesh.h"
+#include "synth/exemplar.h"
 #include "synth/texton_analysis.h"
 
 namespace mesocap::testing {
@@ -19,6 +20,9 @@ TriangleMesh DoubleTorus(int cells);
 
 // A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
 Image PhotoCrop(const std::string& name, int size);
+// The virtual rig's `material` as a true BTF of 9 views x 13 lights per view, `size` texels a side,
+// written under the test's temp folder and loaded without features.
+Exemplar RigGridBtf(const std::string& material, int size);
 // The texton analysis of an image exemplar, default options.
 TextonAnalysis AnalyseImage(const Image& sample);
 
