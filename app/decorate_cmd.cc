@@ -6,6 +6,7 @@
 #include "app/decorate_run.h"
 #include "app/material_maps.h"
 #include "app/synth_output.h"
+#include "app/synth_stage.h"
 #include "core/atomic_file.h"
 #include "core/progress.h"
 #include "core/session.h"
@@ -13,6 +14,7 @@
 namespace mesocap::app {
 namespace {
 constexpr const char* kVerb = "decorate";
+constexpr int kMaxBtfSlices = 289;  // as process's stages take of the 6561-slice grid
 }  // namespace
 
 int RunDecorate(DecorateArgs& a) {
@@ -31,6 +33,11 @@ int RunDecorate(DecorateArgs& a) {
   exemplar_options.features = false, exemplar_options.board = a.board, exemplar_options.num_threads = a.threads;
   auto exemplar = LoadExemplar(a.input, exemplar_options);
   if (!exemplar.ok()) return Fail(kVerb, exemplar.status());
+  Exemplar shown = *exemplar;  // a large BTF: its coarse-grid slices (analysis and previews read each one)
+  if (shown.kind == ExemplarKind::kBtf && int(shown.slices.size()) > kMaxBtfSlices) {
+    shown.slices.clear();
+    for (int k : StageSlices(*exemplar, kMaxBtfSlices)) shown.slices.push_back(exemplar->slices[k]);
+  }
   StatusOr<GgxMaterialMaps> material = Status::Error("");
   {
     ProgressBar bar("material", !a.no_progress && exemplar->kind == ExemplarKind::kBtf);
@@ -39,7 +46,7 @@ int RunDecorate(DecorateArgs& a) {
   if (!material.ok()) return Fail(kVerb, material.status());
   auto staging = StagingFolder::Begin(a.out);
   if (!staging.ok()) return Fail(kVerb, staging.status());
-  auto result = DecorateInto(DecorateFolder{staging->path()}, request, *exemplar, *material);
+  auto result = DecorateInto(DecorateFolder{staging->path()}, request, shown, *material);
   if (!result.ok()) return Fail(kVerb, result.status());
   for (const std::string& line : result->repairs) std::fprintf(stderr, "decorate: %s: repaired: %s\n", a.mesh.string().c_str(), line.c_str());
   if (Status st = staging->Publish(); !st.ok()) return Fail(kVerb, st);
