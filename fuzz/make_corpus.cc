@@ -9,6 +9,7 @@
 #include <string>
 
 #include "calib/calibrate.h"
+#include "core/atomic_file.h"
 #include "core/camera_model.h"
 #include "core/image_io.h"
 #include "core/json.h"
@@ -16,6 +17,9 @@
 #include "core/session.h"
 #include "core/stage_cache.h"
 #include "formats/lp_file.h"
+#include "mesh/mesh_shapes.h"
+#include "mesh/surface_map_file.h"
+#include "mesh/tangent_frames.h"
 #include "synth/synth_map.h"
 #include "synth/texton_analysis.h"
 #include "formats/ptm_file.h"
@@ -280,6 +284,19 @@ void SynthFiles(const fs::path& dir) {
   Check(WriteTextonAnalysis(dir / "textons.exr", analysis));
 }
 
+// A dressed icosahedron (a sample coordinate per vertex) and a two-point direction field.
+void MeshFiles(const fs::path& dir) {
+  DressedMesh d;
+  d.mesh = IcoSphere(1);
+  d.frames = RelaxedFrames(d.mesh);
+  d.map.method = "texton", d.map.sample_width = d.map.sample_height = 16, d.map.texel_size = 0.3;
+  for (int v = 0; v < d.mesh.vertex_count(); ++v)
+    d.map.source_x.push_back(float(v % 16) + 0.5f), d.map.source_y.push_back(float(v / 16) + 0.5f), d.map.label.push_back(v % 5);
+  Check(WriteDressedMesh(dir / "surface_map.ply", d));
+  Check(WriteTextAtomically(dir / "field.json",
+                            "{\"points\": [[1, 0, 0], [0, 0, 1]], \"directions\": [[0, 1, 0], [1, 0, 0]]}\n"));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -303,5 +320,6 @@ int main(int argc, char** argv) {
   Images(dir("image"), dir("image_u8"));
   SynthFiles(dir("synth_files"));
   SessionRecords(dir("rig_json"), dir("stages_json"), dir("marked_corners"));
+  MeshFiles(dir("mesh_files"));
   return 0;
 }

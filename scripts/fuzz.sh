@@ -23,7 +23,7 @@ ROOT=$PWD
 source scripts/asan-build.sh
 BUILD=$ASAN_BUILD
 ALL_TARGETS=(ptm_file lp_file session_json journal_jsonl rig_layout camera_json slice_index slice_set btf_index image image_u8 synth_files
-             rig_json stages_json marked_corners)
+             rig_json stages_json marked_corners mesh_files)
 
 runs= seconds= jobs=1 build=1 make_corpus= layout= fresh=1
 targets=()
