@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "mesh/atlas_bake.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 #include "tests/testing.h"
 
 namespace mesocap {

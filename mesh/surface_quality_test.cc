@@ -17,7 +17,7 @@
 #include "core/image_io.h"
 #include "mesh/surface_render.h"
 #include "mesh/surface_textons.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 #include "synth/synth_quality.h"
 #include "tests/testing.h"
 

@@ -12,7 +12,7 @@
 #include "capture/true_btf_folder.h"
 #include "core/directions.h"
 #include "core/image_io.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 #include "synth/synth_test_support.h"
 #include "tests/testing.h"
 

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "mesh/surface_textons.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 
 namespace mesocap {
 namespace {

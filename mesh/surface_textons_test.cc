@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "core/image_io.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 #include "synth/exemplar.h"
 #include "tests/testing.h"
 

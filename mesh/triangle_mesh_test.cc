@@ -8,7 +8,7 @@
 #include "mesh/mesh_pyramid.h"
 #include "mesh/surface_textons.h"
 #include "mesh/tangent_frames.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 #include "tests/testing.h"
 
 namespace mesocap {

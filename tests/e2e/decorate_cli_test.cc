@@ -11,7 +11,7 @@
 #include "core/json.h"
 #include "core/session_layout.h"
 #include "mesh/surface_map_file.h"
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 #include "tests/testing.h"
 
 namespace mesocap {

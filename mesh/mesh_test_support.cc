@@ -1,4 +1,4 @@
-#include "mesh/test_meshes.h"
+#include "mesh/mesh_test_support.h"
 
 #include "mesh/mesh_shapes.h"
 
