@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include "app/dressed_gltf.h"
 #include "app/surface_views.h"
@@ -71,8 +72,13 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
   const double gltf_seconds = SecondsSince(gltf_start);
 
   const auto previews_start = std::chrono::steady_clock::now();
-  auto appearance = SurfaceAppearance::FromExemplar(e);
-  if (!appearance.ok()) return appearance.status();
+  std::optional<SurfaceAppearance> read_here;
+  const SurfaceAppearance* appearance = a.appearance;
+  if (!appearance) {
+    auto read = SurfaceAppearance::FromExemplar(e);
+    if (!read.ok()) return read.status();
+    appearance = &read_here.emplace(std::move(*read));
+  }
   auto scene = SurfaceScene::Build(dressed.mesh);
   if (!scene.ok()) return scene.status();
   const RenderCamera camera = FramingCamera(dressed.mesh, a.preview_width, a.preview_height);

@@ -11,6 +11,7 @@
 #include "core/session_layout.h"
 #include "core/status.h"
 #include "export/ggx_fit.h"
+#include "mesh/surface_shading.h"
 #include "mesh/surface_textons.h"
 #include "synth/exemplar.h"
 #include "synth/texton_analysis.h"
@@ -26,7 +27,10 @@ struct DecorateRequest {
   int atlas_size = 512;
   int threads = -1;
   bool progress = true;
-  const TextonAnalysis* analysis = nullptr;  // the exemplar's, when already made (else made here)
+  // The exemplar's texton analysis and its slices read for rendering, when a caller dressing
+  // several meshes made them once (else made here).
+  const TextonAnalysis* analysis = nullptr;
+  const SurfaceAppearance* appearance = nullptr;
 };
 
 struct DecorateResult {

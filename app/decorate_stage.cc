@@ -5,7 +5,6 @@
 #include "app/decorate_run.h"
 #include "app/synth_stage.h"
 #include "core/atomic_file.h"
-#include "core/text_format.h"
 #include "export/gltf_material.h"
 
 namespace mesocap::app {
@@ -35,18 +34,19 @@ StatusOr<StageSummary> RunDecorateStage(const fs::path& session, const DecorateS
   analysis_options.representative_slices = options.representative_slices;
   auto analysis = AnalyseExemplarTextons(exemplar, analysis_options, progress);
   if (!analysis.ok()) return analysis.status().WithContext(layout.btf().index().string() + ": ");
+  auto appearance = SurfaceAppearance::FromExemplar(exemplar);  // read once, rendered for every mesh
+  if (!appearance.ok()) return appearance.status();
   StageSummary summary;
   Json meshes = Json::array();
   for (const fs::path& mesh : options.meshes) {
     DecorateRequest request;
     request.mesh = mesh;
     request.texton.seed = options.seed, request.texton.num_threads = num_threads;
-    request.texton_analysis.seed = options.seed, request.texton_analysis.num_threads = num_threads;
     request.preview_width = request.preview_height = options.preview_size;
     request.sweep_frames = options.sweep_frames;
     request.atlas_size = options.atlas_size;
     request.threads = num_threads, request.progress = progress;
-    request.analysis = &*analysis;
+    request.analysis = &*analysis, request.appearance = &*appearance;
     const DecorateFolder folder{staging->path() / mesh.stem()};
     fs::create_directories(folder.root);
     auto result = DecorateInto(folder, request, exemplar, *material);

@@ -5,20 +5,10 @@
 #include "core/image_io.h"
 
 namespace mesocap::app {
-namespace {
-
-// Camera frame: right, up, back (toward the camera).
-void CameraFrame(const RenderCamera& c, Eigen::Vector3d* right, Eigen::Vector3d* up, Eigen::Vector3d* back) {
-  *back = (c.eye - c.target).normalized();
-  *right = c.up.cross(*back).normalized();
-  *up = back->cross(*right);
-}
-
-}  // namespace
 
 std::vector<RenderLight> PreviewLights(const RenderCamera& camera) {
-  Eigen::Vector3d right, up, back;
-  CameraFrame(camera, &right, &up, &back);
+  const CameraFrame frame = camera.Frame();
+  const Eigen::Vector3d &right = frame.right, &up = frame.up, back = -frame.forward;
   std::vector<RenderLight> lights(3);
   lights[0].vector = (-0.5 * right + 0.6 * up + 0.6 * back).normalized();
   lights[1].vector = back;
@@ -27,8 +17,8 @@ std::vector<RenderLight> PreviewLights(const RenderCamera& camera) {
 }
 
 RenderLight SweepLight(const RenderCamera& camera, int k, int n) {
-  Eigen::Vector3d right, up, back;
-  CameraFrame(camera, &right, &up, &back);
+  const CameraFrame frame = camera.Frame();
+  const Eigen::Vector3d &right = frame.right, &up = frame.up, back = -frame.forward;
   const double a = 2 * M_PI * k / std::max(1, n);
   RenderLight light;
   light.vector = (std::cos(a) * std::sqrt(0.5) * right + std::sin(a) * std::sqrt(0.5) * up + std::sqrt(0.5) * back).normalized();

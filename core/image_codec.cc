@@ -14,11 +14,8 @@ static constexpr const char* kBuildPath = "";
 
 StatusOr<ImageCodec*> LoadImageCodec() {
   // Thread-safe once; the module stays loaded for the life of the process.
-  static const StatusOr<ImageCodec*> codec = []() -> StatusOr<ImageCodec*> {
-    auto factory = LoadModuleSymbol(kImageCodecModuleName, kBuildPath, kImageCodecFactorySymbol);
-    if (!factory.ok()) return factory.status();
-    return reinterpret_cast<ImageCodecFactory>(*factory)();
-  }();
+  static const StatusOr<ImageCodec*> codec =
+      LoadModuleObject<ImageCodec>(kImageCodecModuleName, kBuildPath, kImageCodecFactorySymbol);
   return codec;
 }
 

@@ -63,8 +63,7 @@ class ImageCodec {
                                const std::function<StatusOr<EncodeRequest>(int part)>& pixels) = 0;
 };
 
-// The module's one entry point.
-using ImageCodecFactory = ImageCodec* (*)();
+// The module's one entry point, an ImageCodec* () (core/module_loader.h LoadModuleObject).
 inline constexpr const char* kImageCodecFactorySymbol = "MesocapImageCodec";
 inline constexpr const char* kImageCodecModuleName = "libmesocap_oiio.so";
 

@@ -15,4 +15,13 @@ namespace mesocap {
 // process. An error says where it looked and why each candidate failed.
 StatusOr<void*> LoadModuleSymbol(const std::string& module_name, const std::string& build_path, const char* symbol);
 
+// The object a module's factory `symbol` (a function T* ()) returns. Callers keep it in a
+// function-level static, so the module is looked for once.
+template <typename T>
+StatusOr<T*> LoadModuleObject(const std::string& module_name, const std::string& build_path, const char* symbol) {
+  auto factory = LoadModuleSymbol(module_name, build_path, symbol);
+  if (!factory.ok()) return factory.status();
+  return reinterpret_cast<T* (*)()>(*factory)();
+}
+
 }  // namespace mesocap

@@ -11,11 +11,8 @@ static constexpr const char* kBuildPath = "";
 #endif
 
 StatusOr<MeshBackend*> LoadMeshBackend() {
-  static const StatusOr<MeshBackend*> backend = []() -> StatusOr<MeshBackend*> {
-    auto factory = LoadModuleSymbol(kMeshBackendModuleName, kBuildPath, kMeshBackendFactorySymbol);
-    if (!factory.ok()) return factory.status();
-    return reinterpret_cast<MeshBackendFactory>(*factory)();
-  }();
+  static const StatusOr<MeshBackend*> backend =
+      LoadModuleObject<MeshBackend>(kMeshBackendModuleName, kBuildPath, kMeshBackendFactorySymbol);
   return backend;
 }
 

@@ -48,8 +48,8 @@ class MeshBackend {
 };
 
 inline constexpr const char* kMeshBackendModuleName = "libmesocap_mesh_backend.so";
+// The module's one entry point, a MeshBackend* () (core/module_loader.h LoadModuleObject).
 inline constexpr const char* kMeshBackendFactorySymbol = "MesocapMeshBackendFactory";
-using MeshBackendFactory = MeshBackend* (*)();
 
 // The backend, loaded once for the process; an error says where the module was looked for.
 StatusOr<MeshBackend*> LoadMeshBackend();

@@ -8,14 +8,19 @@
 
 namespace mesocap {
 
-Eigen::Vector3d RenderCamera::RayDirection(double x, double y) const {
-  const Eigen::Vector3d forward = (target - eye).normalized();
-  const Eigen::Vector3d right = forward.cross(up).normalized();
-  const Eigen::Vector3d true_up = right.cross(forward);
+CameraFrame RenderCamera::Frame() const {
+  CameraFrame f;
+  f.forward = (target - eye).normalized();
+  f.right = f.forward.cross(up).normalized();
+  f.up = f.right.cross(f.forward);
+  return f;
+}
+
+Eigen::Vector3d RenderCamera::RayDirection(double x, double y, const CameraFrame& f) const {
   const double half = std::tan(fov_y_deg * M_PI / 360.0);
   const double px = (2 * (x + 0.5) / width - 1) * half * width / height;
   const double py = (1 - 2 * (y + 0.5) / height) * half;
-  return (forward + px * right + py * true_up).normalized();
+  return (f.forward + px * f.right + py * f.up).normalized();
 }
 
 RenderCamera FramingCamera(const TriangleMesh& mesh, int width, int height, const Eigen::Vector3d& direction) {
@@ -73,9 +78,10 @@ SurfaceRender RenderSurface(const SurfaceScene& scene, const std::vector<Eigen::
   r.triangle.assign(size_t(W) * H, -1);
   r.u.assign(size_t(W) * H, 0), r.v.assign(size_t(W) * H, 0), r.lit.assign(size_t(W) * H, 0);
   const float inf = std::numeric_limits<float>::infinity();
+  const CameraFrame frame = camera.Frame();
   ParallelFor(0, H, [&](int y) {
     for (int x = 0; x < W; ++x) {
-      const Eigen::Vector3d d = camera.RayDirection(x, y);
+      const Eigen::Vector3d d = camera.RayDirection(x, y, frame);
       const float origin[3] = {float(camera.eye.x()), float(camera.eye.y()), float(camera.eye.z())};
       const float direction[3] = {float(d.x()), float(d.y()), float(d.z())};
       const RayHit hit = scene.rays().Intersect(origin, direction, inf);

@@ -22,12 +22,20 @@
 
 namespace mesocap {
 
+// A camera's unit frame: looking along `forward`, `right` and `up` across the image.
+struct CameraFrame {
+  Eigen::Vector3d forward, right, up;
+};
+
 struct RenderCamera {
   Eigen::Vector3d eye = Eigen::Vector3d(0, 0, 3), target = Eigen::Vector3d::Zero(), up = Eigen::Vector3d::UnitY();
   double fov_y_deg = 35;
   int width = 512, height = 512;
-  // The primary ray through pixel (x, y)'s centre (unit direction).
-  Eigen::Vector3d RayDirection(double x, double y) const;
+  CameraFrame Frame() const;
+  // The primary ray through pixel (x, y)'s centre (unit direction); `frame` is Frame(), made once
+  // by a caller that casts many rays.
+  Eigen::Vector3d RayDirection(double x, double y, const CameraFrame& frame) const;
+  Eigen::Vector3d RayDirection(double x, double y) const { return RayDirection(x, y, Frame()); }
 };
 
 // A camera looking at the mesh's box centre from `direction` (mesh frame, toward the camera),

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace mesocap {
 namespace {
@@ -54,6 +55,8 @@ StatusOr<SurfaceAppearance> SurfaceAppearance::FromExemplar(const Exemplar& e, c
       if (!ReportProgress(progress, int(k + 1), int(e.slices.size()), "reading slices")) return Status::Cancelled();
     }
     if (a.slices_.empty()) return Status::Error(e.path.string() + ": the BTF has no slices");
+    a.view_indices_.resize(a.views_.size());
+    std::iota(a.view_indices_.begin(), a.view_indices_.end(), 0);
   }
   return a;
 }
@@ -62,9 +65,7 @@ std::vector<SurfaceAppearance::Weighted> SurfaceAppearance::BtfBlend(const Eigen
                                                                      const Eigen::Vector3d& view) const {
   std::vector<Weighted> out;
   if (kind_ != ExemplarKind::kBtf) return out;
-  std::vector<int> all_views(views_.size());
-  for (size_t i = 0; i < views_.size(); ++i) all_views[i] = int(i);
-  for (const auto& [v, wv] : NearestWeighted(views_, all_views, view.normalized(), kNearest))
+  for (const auto& [v, wv] : NearestWeighted(views_, view_indices_, view.normalized(), kNearest))
     for (const auto& [k, wl] : NearestWeighted(slice_lights_, view_slices_[v], light.normalized(), kNearest))
       out.push_back({k, wv * wl});
   return out;

@@ -46,6 +46,7 @@ class SurfaceAppearance {
   std::vector<Image> slices_;
   // Slices grouped by view direction.
   std::vector<Eigen::Vector3d> views_;
+  std::vector<int> view_indices_;  // 0, 1, ... views_.size() - 1: every view is a candidate
   std::vector<std::vector<int>> view_slices_;
   std::vector<Eigen::Vector3d> slice_lights_;
 };

@@ -95,8 +95,7 @@ void BuildTemplates(Level& L, const std::vector<Offset>& offsets, int num_thread
 // table and a constant, so a candidate's distance is a constant plus weighted lookups.
 class SurfaceQuery {
  public:
-  void Build(const SampleLevel& s, const Slot* slots, int count, const std::vector<int32_t>& label,
-             const std::vector<float>& table, int labels, bool interpolate) {
+  void Build(const SampleLevel& s, const Slot* slots, int count, const std::vector<int32_t>& label, bool interpolate) {
     terms_.clear(), ends_.clear(), constant_ = 0;
     for (int j = 0; j < count; ++j) {
       const Slot& slot = slots[j];
@@ -119,7 +118,7 @@ class SurfaceQuery {
         }
         for (int i = 0; i < n; ++i) {
           terms_.push_back({s.Row(a[i]), w[i]});
-          for (int k = i + 1; k < n; ++k) constant_ -= w[i] * w[k] * table[size_t(a[i]) * labels + a[k]];
+          for (int k = i + 1; k < n; ++k) constant_ -= w[i] * w[k] * s.Row(a[i])[a[k]];
         }
       }
       ends_.push_back(int(terms_.size()));
@@ -155,15 +154,15 @@ struct Counters {
 // Corrects single vertices of a level against its state at a sub-pass's start.
 class VertexCorrector {
  public:
-  VertexCorrector(const Level& L, const SampleLevel& s, const std::vector<float>& table, double texel_size,
+  VertexCorrector(const Level& L, const SampleLevel& s, double texel_size,
                   const SurfaceTextonOptions& o)
-      : L_(L), s_(s), table_(table), labels_(s.level->textons + 1), h_(texel_size),
+      : L_(L), s_(s), h_(texel_size),
         coherent_weight_(float(1 - o.coherence)), stamp_(size_t(s.texels()), 0),
         interpolate_(o.slot_textons == SlotTextons::kInterpolated) {}
 
   int32_t Best(int v, const std::vector<int32_t>& texel, const std::vector<int32_t>& label, Counters* counters) {
     const int W = s_.width(), S = s_.slot_count();
-    query_.Build(s_, L_.slots.data() + size_t(v) * S, S, label, table_, labels_, interpolate_);
+    query_.Build(s_, L_.slots.data() + size_t(v) * S, S, label, interpolate_);
     const Eigen::Vector3d& p = L_.mesh->positions[v];
     const Eigen::Vector3d &sv = L_.frames.s[v], &tv = L_.frames.t[v];
     continued_.clear(), around_.clear();
@@ -200,8 +199,6 @@ class VertexCorrector {
  private:
   const Level& L_;
   const SampleLevel& s_;
-  const std::vector<float>& table_;
-  int labels_;
   double h_;
   float coherent_weight_;
   SurfaceQuery query_;
@@ -270,10 +267,8 @@ StatusOr<SurfaceMap> SurfaceTextonSynthesis(const TriangleMesh& mesh, const Tang
 
   // Per level: the sample's side (labels, lists) and the mesh's (frames, templates).
   std::vector<SampleLevel> samples(levels);
-  std::vector<std::vector<float>> tables(levels);
   for (int l = 0; l < levels; ++l) {
     samples[l] = MakeSampleLevel(analysis.levels[l], o.neighbourhood);
-    tables[l] = TextonDistances(analysis.levels[l]);
     if (!BuildNearestLists(samples[l], o.k, o.num_threads)) return Status::Cancelled();
   }
   const auto lists_done = std::chrono::steady_clock::now();
@@ -337,7 +332,7 @@ StatusOr<SurfaceMap> SurfaceTextonSynthesis(const TriangleMesh& mesh, const Tang
         std::vector<Counters> block_counters(blocks);
         ParallelFor(0, blocks, [&](int b) {
           if (CancelRequested()) return;
-          VertexCorrector corrector(L[l], s, tables[l], h, o);
+          VertexCorrector corrector(L[l], s, h, o);
           for (int i = b * kBlock; i < std::min(int(cls.size()), (b + 1) * kBlock); ++i)
             next[cls[i]] = corrector.Best(cls[i], texel, label, &block_counters[b]);
         }, o.num_threads);
