@@ -46,7 +46,11 @@ int RunRender(RenderArgs& a) {
   if (a.turntable < 0 || a.light_sweep < 0 || (a.turntable > 0 && a.light_sweep > 0))
     return Fail(kVerb, "--turntable and --light-sweep take a positive frame count, one of them at a time", kExitUsage);
   if (!(a.exposure > 0)) return Fail(kVerb, "--exposure must be positive", kExitUsage);
-  auto dressed = ReadDressedMesh(DecorateFolder{a.map}.surface_map());
+  const DecorateFolder map_folder{a.map};
+  if (std::error_code ec; !fs::is_regular_file(map_folder.surface_map(), ec))
+    return Fail(kVerb, a.map.string() + ": no " + map_folder.surface_map().filename().string() +
+                           ": not a folder mesocap decorate wrote (--map takes decorate's --out)");
+  auto dressed = ReadDressedMesh(map_folder.surface_map());
   if (!dressed.ok()) return Fail(kVerb, dressed.status());
   if (!a.mesh.empty())
     if (Status st = CheckSameMesh(a.mesh, dressed->mesh); !st.ok()) return Fail(kVerb, st);

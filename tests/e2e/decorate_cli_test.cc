@@ -116,7 +116,13 @@ TEST(DecorateCli, BadInputIsRefusedNamingTheFile) {
                                 &log),
             1);
   EXPECT_NE(log.find("torus.obj"), std::string::npos) << log;
-  EXPECT_FALSE(fs::exists(dir / "r1.png") || fs::exists(dir / "r2.png"));
+  fs::create_directories(dir / "empty");
+  EXPECT_EQ(testing::RunMesocap("render --map " + (dir / "empty").string() + " --input " + sample.string() +
+                                    " --size 32x32 --no-progress --out " + (dir / "r3.png").string(),
+                                &log),
+            1);
+  EXPECT_NE(log.find("not a folder mesocap decorate wrote"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(dir / "r1.png") || fs::exists(dir / "r2.png") || fs::exists(dir / "r3.png"));
 }
 
 }  // namespace
