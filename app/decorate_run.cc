@@ -65,7 +65,8 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
   const auto gltf_start = std::chrono::steady_clock::now();
   auto atlas = BuildAtlas(dressed.mesh, {a.atlas_size, kAtlasGutter});
   if (!atlas.ok()) return atlas.status().WithContext(a.mesh.string() + ": ");
-  const SynthMap baked = BakeSurfaceMap(dressed.mesh, dressed.frames, dressed.map, *atlas, kAtlasGutter, a.threads);
+  const AtlasTexels texels = BuildAtlasTexels(dressed.mesh, *atlas, a.threads);
+  const SynthMap baked = BakeSurfaceMap(dressed.mesh, dressed.frames, dressed.map, *atlas, texels, kAtlasGutter);
   fs::create_directories(dir.gltf().root);
   auto gltf = WriteDressedGltf(dir.gltf(), dressed, *atlas, baked, material);
   if (!gltf.ok()) return gltf.status();

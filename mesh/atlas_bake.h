@@ -8,20 +8,24 @@
 
 #include "core/status.h"
 #include "mesh/atlas.h"
+#include "mesh/atlas_texels.h"
 #include "mesh/surface_textons.h"
 #include "mesh/tangent_frames.h"
 #include "synth/synth_map.h"
 
 namespace mesocap {
 
-// The atlas texel (x, y)'s sample coordinate as BakeSurfaceMap computes it for face f, or false
-// when the texel's centre lies outside the face.
-bool AtlasTexelCoordinate(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map, const Atlas& atlas,
-                          int f, int x, int y, Eigen::Vector2f* coordinate);
+// The sample coordinate the map gives surface point `p` of face f: its nearest corner's coordinate
+// continued by the offset (clamped into the sample).
+Eigen::Vector2f ContinuedCoordinate(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map, int f,
+                                    const Eigen::Vector3d& p);
 
 // A map of atlas.size x atlas.size texels into the sample (patch ids: chart ids; texels beyond
 // the gutter keep patch -1 and coordinate 0).
 SynthMap BakeSurfaceMap(const TriangleMesh& mesh, const TangentFrames& frames, const SurfaceMap& map, const Atlas& atlas,
-                        int gutter = 2, int num_threads = -1);
+                        const AtlasTexels& texels, int gutter = 2);
+
+// Each of `gutter` rounds, the empty texels beside filled ones copy one (left, right, up, down).
+void FillAtlasGutter(SynthMap* map, int gutter);
 
 }  // namespace mesocap
