@@ -17,17 +17,6 @@ constexpr int kMaxSplits = 24;  // halvings of one chart before its faces go one
 
 using Chart = std::vector<int32_t>;  // faces
 
-// Faces sharing an edge (manifold edges only: an edge of three faces joins none of them).
-std::vector<std::array<int32_t, 3>> FaceNeighbours(const TriangleMesh& m) {
-  std::map<std::pair<int32_t, int32_t>, std::vector<std::pair<int32_t, int>>> edges;
-  for (int f = 0; f < m.face_count(); ++f)
-    for (int k = 0; k < 3; ++k) edges[std::minmax(m.faces[f][k], m.faces[f][(k + 1) % 3])].push_back({f, k});
-  std::vector<std::array<int32_t, 3>> n(m.face_count(), {-1, -1, -1});
-  for (const auto& [e, faces] : edges)
-    if (faces.size() == 2) n[faces[0].first][faces[0].second] = faces[1].first, n[faces[1].first][faces[1].second] = faces[0].first;
-  return n;
-}
-
 // Connected groups of `faces` (through edges) whose `label` is the same.
 std::vector<Chart> Components(const Chart& faces, const std::vector<int>& label, const std::vector<std::array<int32_t, 3>>& nb,
                               std::vector<int>& mark, int stamp) {

@@ -15,7 +15,8 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 namespace SMP = CGAL::Surface_mesh_parameterization;
 
-std::vector<std::array<Eigen::Vector2d, 3>> FlattenByLscm(const TriangleMesh& m, const std::vector<int32_t>& chart) {
+std::vector<std::array<Eigen::Vector2d, 3>> FlattenByLscm(const TriangleMesh& m, const std::vector<int32_t>& chart,
+                                                          double folded_area_share) {
   if (chart.size() == 1) {  // one triangle: laid flat exactly
     const auto& t = m.faces[chart[0]];
     const Eigen::Vector3d a = m.positions[t[1]] - m.positions[t[0]], b = m.positions[t[2]] - m.positions[t[0]];
@@ -39,7 +40,7 @@ std::vector<std::array<Eigen::Vector2d, 3>> FlattenByLscm(const TriangleMesh& m,
   const auto border = CGAL::Polygon_mesh_processing::longest_border(sm).first;
   if (SMP::parameterize(sm, SMP::LSCM_parameterizer_3<SurfaceMesh>(), border, uv) != SMP::OK) return {};
   std::vector<std::array<Eigen::Vector2d, 3>> out;
-  int positive = 0, negative = 0;
+  double positive = 0, negative = 0;  // surface area of the faces laid flat either way round
   for (int32_t f : chart) {
     std::array<Eigen::Vector2d, 3> c;
     for (int k = 0; k < 3; ++k) {
@@ -49,11 +50,11 @@ std::vector<std::array<Eigen::Vector2d, 3>> FlattenByLscm(const TriangleMesh& m,
     }
     const Eigen::Vector2d a = c[1] - c[0], b = c[2] - c[0];
     const double area = a.x() * b.y() - a.y() * b.x();
-    (area > 0 ? positive : negative) += 1;
+    (area > 0 ? positive : negative) += m.FaceArea(f);
     out.push_back(c);
   }
-  if (positive && negative) return {};  // folded
-  if (negative)                          // mirrored as a whole
+  if (std::min(positive, negative) > folded_area_share * (positive + negative)) return {};  // folded
+  if (negative > positive)  // mirrored as a whole
     for (auto& c : out)
       for (auto& p : c) p.x() = -p.x();
   return out;

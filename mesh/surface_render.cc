@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/parallel.h"
+#include "mesh/surface_quilt.h"
 
 namespace mesocap {
 
@@ -72,6 +73,15 @@ std::vector<Eigen::Vector3f> ShadeVertices(const SurfaceAppearance& appearance, 
 SurfaceRender RenderSurface(const SurfaceScene& scene, const std::vector<Eigen::Vector3f>& vertex_colours,
                             const RenderCamera& camera, const RenderLight& light, int num_threads) {
   const TriangleMesh& mesh = scene.mesh();
+  return RenderSurface(scene, [&](int t, float u, float v, const Eigen::Vector3d&) {
+    const auto& f = mesh.faces[t];
+    return Eigen::Vector3f((1 - u - v) * vertex_colours[f[0]] + u * vertex_colours[f[1]] + v * vertex_colours[f[2]]);
+  }, camera, light, num_threads);
+}
+
+SurfaceRender RenderSurface(const SurfaceScene& scene, const PixelShader& shade, const RenderCamera& camera,
+                            const RenderLight& light, int num_threads) {
+  const TriangleMesh& mesh = scene.mesh();
   const int W = camera.width, H = camera.height;
   SurfaceRender r;
   r.colour = Image(W, H, 3);
@@ -88,7 +98,6 @@ SurfaceRender RenderSurface(const SurfaceScene& scene, const std::vector<Eigen::
       if (hit.triangle < 0) continue;
       const size_t i = size_t(y) * W + x;
       r.triangle[i] = hit.triangle, r.u[i] = hit.u, r.v[i] = hit.v;
-      const auto& f = mesh.faces[hit.triangle];
       const Eigen::Vector3d p = camera.eye + double(hit.t) * d;
       const Eigen::Vector3d l = light.DirectionFrom(p);
       Eigen::Vector3d n = mesh.FaceNormal(hit.triangle);
@@ -101,11 +110,51 @@ SurfaceRender RenderSurface(const SurfaceScene& scene, const std::vector<Eigen::
       const float far = light.point ? float((light.vector - o).norm()) : inf;
       if (scene.rays().Occluded(so, sd, 0.f, far)) continue;
       r.lit[i] = 1;
-      const Eigen::Vector3f c = (1 - hit.u - hit.v) * vertex_colours[f[0]] + hit.u * vertex_colours[f[1]] + hit.v * vertex_colours[f[2]];
+      const Eigen::Vector3f c = shade(hit.triangle, hit.u, hit.v, p);
       for (int k = 0; k < 3; ++k) r.colour.at(x, y, k) = c[k];
     }
   }, num_threads);
   return r;
+}
+
+bool LookUpAtlas(const TriangleMesh& mesh, const TangentFrames& frames, const Atlas& atlas, const SynthMap& map,
+                 double texel_size, int f, const Eigen::Vector3d& w, const Eigen::Vector3d& light_direction,
+                 const Eigen::Vector3d& view_direction, AtlasLookup* out) {
+  const auto& uv = atlas.corner_uv[f];
+  const Eigen::Vector2d a = w[0] * uv[0] + w[1] * uv[1] + w[2] * uv[2];
+  const int ax = std::clamp(int(std::floor(a.x())), 0, map.width - 1), ay = std::clamp(int(std::floor(a.y())), 0, map.height - 1);
+  if (!map.filled(ax, ay)) return false;
+  // The point's offset from the texel's centre, carried from the atlas onto the face.
+  const auto& c = mesh.faces[f];
+  Eigen::Matrix<double, 3, 2> E;
+  E.col(0) = mesh.positions[c[1]] - mesh.positions[c[0]], E.col(1) = mesh.positions[c[2]] - mesh.positions[c[0]];
+  Eigen::Matrix2d D;
+  D.col(0) = uv[1] - uv[0], D.col(1) = uv[2] - uv[0];
+  const Eigen::Vector3d offset = std::abs(D.determinant()) > 1e-18
+                                     ? Eigen::Vector3d(E * D.inverse() * (a - Eigen::Vector2d(ax + 0.5, ay + 0.5)))
+                                     : Eigen::Vector3d::Zero();
+  const LocalFrame fr = FaceFrame(mesh, frames, f, w);
+  const size_t i = map.index(ax, ay);
+  const Eigen::Vector2d s = ContinueAtlasCoordinate(map, i, fr.s, fr.t, offset, texel_size);
+  out->texel = Eigen::Vector2i(std::clamp(int(std::floor(s.x())), 0, map.sample_width - 1),
+                               std::clamp(int(std::floor(s.y())), 0, map.sample_height - 1));
+  const double r = map.rotation_deg[i] * M_PI / 180;
+  const Eigen::Vector3d x_axis = std::cos(r) * fr.s + std::sin(r) * fr.t, y_axis = -std::sin(r) * fr.s + std::cos(r) * fr.t;
+  out->light = Eigen::Vector3d(light_direction.dot(x_axis), light_direction.dot(y_axis), light_direction.dot(fr.n));
+  out->view = Eigen::Vector3d(view_direction.dot(x_axis), view_direction.dot(y_axis), view_direction.dot(fr.n));
+  return true;
+}
+
+PixelShader AtlasShader(const SurfaceAppearance& appearance, const TriangleMesh& mesh, const TangentFrames& frames,
+                        const Atlas& atlas, const SynthMap& atlas_map, double texel_size, const Eigen::Vector3d& eye,
+                        const RenderLight& light) {
+  return [&, eye, light, texel_size](int t, float u, float v, const Eigen::Vector3d& p) {
+    AtlasLookup look;
+    if (!LookUpAtlas(mesh, frames, atlas, atlas_map, texel_size, t, Eigen::Vector3d(1 - u - v, u, v), light.DirectionFrom(p),
+                     (eye - p).normalized(), &look))
+      return Eigen::Vector3f::Zero().eval();
+    return appearance.Lookup(look.texel.x(), look.texel.y(), look.light, look.view);
+  };
 }
 
 Image ToDisplay(const Image& linear, double exposure) {

@@ -7,6 +7,7 @@
 // vertex per rendered pixel for the texture to show at that size.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -14,11 +15,13 @@
 
 #include "core/image.h"
 #include "core/status.h"
+#include "mesh/atlas.h"
 #include "mesh/mesh_backend.h"
 #include "mesh/surface_shading.h"
 #include "mesh/surface_textons.h"
 #include "mesh/tangent_frames.h"
 #include "mesh/triangle_mesh.h"
+#include "synth/synth_map.h"
 
 namespace mesocap {
 
@@ -79,8 +82,31 @@ struct SurfaceRender {
   int width() const { return colour.width(); }
 };
 
+// What a lit pixel shows, from its hit: the triangle, the barycentric weights of its vertices 1
+// and 2, and the surface point.
+using PixelShader = std::function<Eigen::Vector3f(int triangle, float u, float v, const Eigen::Vector3d& point)>;
+
+SurfaceRender RenderSurface(const SurfaceScene& scene, const PixelShader& shade, const RenderCamera& camera,
+                            const RenderLight& light, int num_threads = -1);
+// Tong's per-vertex colours, blended across each triangle.
 SurfaceRender RenderSurface(const SurfaceScene& scene, const std::vector<Eigen::Vector3f>& vertex_colours,
                             const RenderCamera& camera, const RenderLight& light, int num_threads = -1);
+
+// Per pixel from a per-atlas-texel map (a quilt, mesh/surface_quilt.h): the pixel's atlas point,
+// the map's texel there with its coordinate continued to the point (ContinueAtlasCoordinate), and
+// the light and view in the frame at the point turned by the texel's rotation (the patch's axes).
+PixelShader AtlasShader(const SurfaceAppearance& appearance, const TriangleMesh& mesh, const TangentFrames& frames,
+                        const Atlas& atlas, const SynthMap& atlas_map, double texel_size, const Eigen::Vector3d& eye,
+                        const RenderLight& light);
+// The sample texel and local light and view AtlasShader uses at a surface point of face f
+// (barycentric weights w); false where the atlas point's texel holds no coordinate.
+struct AtlasLookup {
+  Eigen::Vector2i texel;
+  Eigen::Vector3d light, view;
+};
+bool LookUpAtlas(const TriangleMesh& mesh, const TangentFrames& frames, const Atlas& atlas, const SynthMap& atlas_map,
+                 double texel_size, int f, const Eigen::Vector3d& w, const Eigen::Vector3d& light_direction,
+                 const Eigen::Vector3d& view_direction, AtlasLookup* out);
 
 // Linear RGB to an 8-bit sRGB PNG-ready image (values clamped to [0, 1]).
 Image ToDisplay(const Image& linear, double exposure = 1.0);

@@ -99,4 +99,15 @@ Status CheckFieldMatchesMesh(const DirectionField& field, const TriangleMesh& me
   return Status::Ok();
 }
 
+LocalFrame FaceFrame(const TriangleMesh& m, const TangentFrames& frames, int f, const Eigen::Vector3d& w) {
+  const auto& c = m.faces[f];
+  Eigen::Vector3d n = w[0] * frames.n[c[0]] + w[1] * frames.n[c[1]] + w[2] * frames.n[c[2]];
+  n = n.norm() > 1e-12 ? n.normalized() : m.FaceNormal(f);
+  Eigen::Vector3d s = w[0] * frames.s[c[0]] + w[1] * frames.s[c[1]] + w[2] * frames.s[c[2]];
+  s -= s.dot(n) * n;
+  if (s.norm() < 1e-12) s = frames.s[c[0]] - frames.s[c[0]].dot(n) * n;
+  s.normalize();
+  return {s, n.cross(s), n};
+}
+
 }  // namespace mesocap

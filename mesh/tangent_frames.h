@@ -21,6 +21,14 @@ struct TangentFrames {
   Eigen::Vector3d ToLocal(int v, const Eigen::Vector3d& d) const { return {d.dot(s[v]), d.dot(t[v]), d.dot(n[v])}; }
 };
 
+// A frame at a point inside a face.
+struct LocalFrame {
+  Eigen::Vector3d s, t, n;
+};
+// The vertex frames of face f blended with barycentric weights `w`, s made tangent to the blended
+// normal.
+LocalFrame FaceFrame(const TriangleMesh& mesh, const TangentFrames& frames, int f, const Eigen::Vector3d& w);
+
 // User directions at points on or near the surface (docs/formats.md, `--field`):
 // {"points": [[x, y, z], ...], "directions": [[dx, dy, dz], ...]}.
 struct DirectionField {

@@ -258,4 +258,14 @@ VertexAdjacency VertexFaces(const TriangleMesh& mesh) {
   return FromPairs(mesh.vertex_count(), pairs);
 }
 
+std::vector<std::array<int32_t, 3>> FaceNeighbours(const TriangleMesh& m) {
+  std::map<std::pair<int32_t, int32_t>, std::vector<std::pair<int32_t, int>>> edges;
+  for (int f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) edges[std::minmax(m.faces[f][k], m.faces[f][(k + 1) % 3])].push_back({f, k});
+  std::vector<std::array<int32_t, 3>> n(m.face_count(), {-1, -1, -1});
+  for (const auto& [e, faces] : edges)
+    if (faces.size() == 2) n[faces[0].first][faces[0].second] = faces[1].first, n[faces[1].first][faces[1].second] = faces[0].first;
+  return n;
+}
+
 }  // namespace mesocap

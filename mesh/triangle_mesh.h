@@ -63,5 +63,8 @@ struct VertexAdjacency {
 };
 VertexAdjacency VertexNeighbours(const TriangleMesh& mesh);
 VertexAdjacency VertexFaces(const TriangleMesh& mesh);
+// Per face, the face across each edge k (corners k, k + 1), or -1: manifold edges only (an edge of
+// three faces joins none of them).
+std::vector<std::array<int32_t, 3>> FaceNeighbours(const TriangleMesh& mesh);
 
 }  // namespace mesocap
