@@ -7,12 +7,13 @@ namespace mesocap::app {
 CLI::App* AddDecorateOptions(CLI::App& app, DecorateArgs* args) {
   DecorateArgs& a = *args;
   CLI::App* sub = app.add_subcommand(
-      "decorate", "Dress a mesh in the material: a per-vertex surface texton map (Tong 2002 §5), previews and a report");
-  sub->add_option("--mesh", a.mesh, "Mesh file: OBJ, PLY, glTF/GLB or any format Assimp reads (UVs are ignored)")->required();
+      "decorate", "Dress a mesh in the material: a per-vertex surface texton map (Tong 2002 §5) or a graphcut quilt on an "
+                  "atlas (Zhou 2005 §III), previews, a glTF asset and a report");
+  sub->add_option("--mesh", a.mesh, "Mesh file: OBJ, PLY, glTF/GLB or any format Assimp reads (its UVs are not used: the atlas is made anew)")->required();
   sub->add_option("--input", a.input, "Exemplar: an image, a BTF folder, a session (its slices), or a .ptm")->required();
   sub->add_option("--out", a.out, "Output folder (must not exist or be empty)")->required();
-  sub->add_option("--method", a.method, "Synthesis on the surface: texton (per vertex)")
-      ->check(CLI::IsMember({"texton"}))
+  sub->add_option("--method", a.method, "Synthesis on the surface: texton (per vertex) or quilt (per atlas texel)")
+      ->check(CLI::IsMember({"texton", "quilt"}))
       ->capture_default_str();
   sub->add_option("--field", a.field, "Direction field, JSON {\"points\": [[x,y,z],...], \"directions\": [[dx,dy,dz],...]} "
                                       "(default: a relaxed smooth field)");
@@ -23,9 +24,11 @@ CLI::App* AddDecorateOptions(CLI::App& app, DecorateArgs* args) {
   sub->add_option("--neighbourhood", a.texton.neighbourhood, "N, the N x N template, spaced 2^level texels")->capture_default_str();
   sub->add_option("--passes", a.texton.passes, "Correction passes per level")->capture_default_str();
   sub->add_option("--levels", a.texton.levels, "Mesh pyramid levels (0: as many as the analysis and mesh allow)")->capture_default_str();
+  sub->add_option("--patch-radius", a.quilt.patch_radius, "quilt: work patch radius r_w in sample texels (0: 32, or what the sample holds)")
+      ->capture_default_str();
   sub->add_option("--textons", a.texton_analysis.textons, "n_t, textons at the finest level")->capture_default_str();
   sub->add_option("--preview-size", a.preview_size, "Preview renders, WxH")->capture_default_str();
-  sub->add_option("--atlas-size", a.atlas_size, "Texels a side of the glTF asset's texture atlas (e.g. 512, 1024)")
+  sub->add_option("--atlas-size", a.atlas_size, "Texels a side of the atlas: the glTF asset's textures, and quilt's dense mesh (Zhou: 512 or 1024)")
       ->check(CLI::Range(64, 8192))
       ->capture_default_str();
   sub->add_option("--board", a.board, "Session slices: the board to use (-1: the most head-on)")->capture_default_str();

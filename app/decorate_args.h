@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/surface_quilt.h"
 #include "mesh/surface_textons.h"
 #include "synth/texton_analysis.h"
 
@@ -23,6 +24,7 @@ struct DecorateArgs {
   std::string preview_size = "512x512";
   int atlas_size = 512;
   SurfaceTextonOptions texton;
+  SurfaceQuiltOptions quilt;
   TextonAnalysisOptions texton_analysis;
   int board = -1;
   uint32_t seed = 1;

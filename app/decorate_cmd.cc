@@ -23,14 +23,18 @@ int RunDecorate(DecorateArgs& a) {
   if (!ParseSize(a.preview_size, &request.preview_width, &request.preview_height))
     return Fail(kVerb, "--preview-size '" + a.preview_size + "' is not WxH", kExitUsage);
   request.mesh = a.mesh, request.field = a.field;
+  request.method = a.method;
   request.texton = a.texton, request.texton_analysis = a.texton_analysis;
+  request.quilt = a.quilt, request.quilt.texel_size = a.texton.texel_size, request.quilt.seed = a.seed;
+  request.quilt.num_threads = a.threads;
   request.texton.seed = a.seed, request.texton.num_threads = a.threads;
   request.texton_analysis.num_threads = a.threads, request.texton_analysis.seed = a.seed;
   request.atlas_size = a.atlas_size, request.threads = a.threads, request.progress = !a.no_progress;
   if (Status st = request.texton.Check(); !st.ok()) return Fail(kVerb, st.message(), kExitUsage);
 
   ExemplarOptions exemplar_options;
-  exemplar_options.features = false, exemplar_options.board = a.board, exemplar_options.num_threads = a.threads;
+  exemplar_options.features = a.method == "quilt";  // quilting matches features; textons analyse the slices
+  exemplar_options.board = a.board, exemplar_options.num_threads = a.threads;
   auto exemplar = LoadExemplar(a.input, exemplar_options);
   if (!exemplar.ok()) return Fail(kVerb, exemplar.status());
   Exemplar shown = *exemplar;  // a large BTF: its coarse-grid slices (analysis and previews read each one)

@@ -1,6 +1,7 @@
 // Dressing one mesh, as decorate and process's decorate stage share it: load and repair the mesh,
-// make its frames, analyse the exemplar's textons, synthesize the surface texton map, and write
-// into a folder (DecorateFolder): the map, the analysis, the glTF asset, previews and report.json.
+// make its frames and atlas, synthesize the surface map (texton: per vertex, from the exemplar's
+// texton analysis; quilt: per atlas texel, from its features), and write into a folder
+// (DecorateFolder): the map, the analysis or atlas map, the glTF asset, previews and report.json.
 #pragma once
 
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "core/session_layout.h"
 #include "core/status.h"
 #include "export/ggx_fit.h"
+#include "mesh/surface_quilt.h"
 #include "mesh/surface_shading.h"
 #include "mesh/surface_textons.h"
 #include "synth/exemplar.h"
@@ -20,7 +22,9 @@ namespace mesocap::app {
 
 struct DecorateRequest {
   std::filesystem::path mesh, field;  // field empty: a relaxed field
+  std::string method = "texton";      // or "quilt" (the exemplar must carry its features)
   SurfaceTextonOptions texton;
+  SurfaceQuiltOptions quilt;
   TextonAnalysisOptions texton_analysis;
   int preview_width = 512, preview_height = 512;
   int sweep_frames = 0;  // previews of a light circling the mesh (the report animates them)

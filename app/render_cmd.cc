@@ -52,6 +52,15 @@ int RunRender(RenderArgs& a) {
                            ": not a folder mesocap decorate wrote (--map takes decorate's --out)");
   auto dressed = ReadDressedMesh(map_folder.surface_map());
   if (!dressed.ok()) return Fail(kVerb, dressed.status());
+  if (dressed->has_atlas()) {  // a quilt: its per-texel map beside the mesh
+    auto atlas_map = ReadSynthMap(map_folder.atlas_map(), /*all_filled=*/false);
+    if (!atlas_map.ok()) return Fail(kVerb, atlas_map.status());
+    if (atlas_map->width != dressed->atlas.size || atlas_map->height != dressed->atlas.size ||
+        atlas_map->sample_width != dressed->map.sample_width || atlas_map->sample_height != dressed->map.sample_height)
+      return Fail(kVerb, map_folder.atlas_map().string() + ": does not match " + map_folder.surface_map().filename().string() +
+                             " (atlas or sample size)");
+    dressed->atlas_map = std::move(*atlas_map);
+  }
   if (!a.mesh.empty())
     if (Status st = CheckSameMesh(a.mesh, dressed->mesh); !st.ok()) return Fail(kVerb, st);
   ExemplarOptions exemplar_options;

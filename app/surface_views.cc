@@ -28,8 +28,12 @@ RenderLight SweepLight(const RenderCamera& camera, int k, int n) {
 Status RenderDressedToPng(const SurfaceScene& scene, const SurfaceAppearance& appearance, const DressedMesh& d,
                           const RenderCamera& camera, const RenderLight& light, double exposure,
                           const std::filesystem::path& path, int num_threads, double* lit_share) {
-  const auto colours = ShadeVertices(appearance, d.mesh, d.frames, d.map, camera.eye, light, num_threads);
-  const SurfaceRender r = RenderSurface(scene, colours, camera, light, num_threads);
+  const SurfaceRender r =
+      d.has_atlas()
+          ? RenderSurface(scene, AtlasShader(appearance, d.mesh, d.frames, d.atlas, d.atlas_map, d.map.texel_size, camera.eye, light),
+                          camera, light, num_threads)
+          : RenderSurface(scene, ShadeVertices(appearance, d.mesh, d.frames, d.map, camera.eye, light, num_threads), camera, light,
+                          num_threads);
   if (lit_share) {
     long surface = 0, lit = 0;
     for (size_t i = 0; i < r.lit.size(); ++i) surface += r.triangle[i] >= 0, lit += r.lit[i];

@@ -19,7 +19,7 @@ std::vector<RenderLight> PreviewLights(const RenderCamera& camera);
 // A light circling the view axis at 45 deg elevation: frame k of n.
 RenderLight SweepLight(const RenderCamera& camera, int k, int n);
 
-// Shades, renders and writes an 8-bit sRGB PNG; `lit_share` (optional) the share of the mesh's
+// Shades (per vertex, or per pixel through a quilt's atlas map), renders and writes an 8-bit sRGB PNG; `lit_share` (optional) the share of the mesh's
 // pixels the light reaches.
 Status RenderDressedToPng(const SurfaceScene& scene, const SurfaceAppearance& appearance, const DressedMesh& dressed,
                           const RenderCamera& camera, const RenderLight& light, double exposure,

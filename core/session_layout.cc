@@ -62,6 +62,7 @@ fs::path SynthFolder::report() const { return root / kReport; }
 
 fs::path DecorateFolder::surface_map() const { return root / "surface_map.ply"; }
 fs::path DecorateFolder::textons() const { return root / "textons.exr"; }
+fs::path DecorateFolder::atlas_map() const { return root / "atlas_map.exr"; }
 fs::path DecorateFolder::report() const { return root / kReport; }
 fs::path DecorateFolder::previews() const { return root / "previews"; }
 fs::path DecorateFolder::sweep_frame(int k) const { return previews() / ("sweep_" + Numbered(k, 2, "KK") + ".png"); }

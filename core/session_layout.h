@@ -72,7 +72,8 @@ struct SynthFolder {
 struct DecorateFolder {
   std::filesystem::path root;
   std::filesystem::path surface_map() const;  // surface_map.ply
-  std::filesystem::path textons() const;      // textons.exr
+  std::filesystem::path textons() const;      // textons.exr (texton maps)
+  std::filesystem::path atlas_map() const;    // atlas_map.exr (quilt maps: per atlas texel)
   std::filesystem::path report() const;
   std::filesystem::path previews() const;     // previews/
   std::filesystem::path preview_light(int k) const;  // previews/light_K.png

@@ -11,7 +11,8 @@ namespace {
 
 constexpr const char* kMagic = "comment mesocap surface map 1";
 constexpr int kVertexFloats = 11;  // x y z, nx ny nz, sx sy sz, source_x source_y (then an int label)
-constexpr size_t kVertexBytes = kVertexFloats * 4 + 4, kFaceBytes = 1 + 3 * 4;
+constexpr size_t kVertexBytes = kVertexFloats * 4 + 4, kFaceBytes = 1 + 3 * 4, kTexcoordBytes = 1 + 6 * 4;
+constexpr const char* kTexcoordProperty = "property list uchar float texcoord";  // MeshLab's per-corner UVs
 constexpr long kMaxElements = 1L << 28;
 
 const char* const kVertexProperties[] = {"x", "y", "z", "nx", "ny", "nz", "sx", "sy", "sz", "source_x", "source_y"};
@@ -27,9 +28,14 @@ Status WriteDressedMesh(const std::filesystem::path& path, const DressedMesh& d)
          << d.map.sample_width << " " << d.map.sample_height << "\n";
   char texel[64];
   std::snprintf(texel, sizeof texel, "%.17g", d.map.texel_size);
-  header << "comment texel_size " << texel << "\nelement vertex " << m.vertex_count() << "\n";
+  header << "comment texel_size " << texel << "\n";
+  const bool atlas = d.has_atlas();
+  if (atlas) header << "comment atlas_size " << d.atlas.size << "\n";
+  header << "element vertex " << m.vertex_count() << "\n";
   for (const char* name : kVertexProperties) header << "property float " << name << "\n";
-  header << "property int label\nelement face " << m.face_count() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  header << "property int label\nelement face " << m.face_count() << "\nproperty list uchar int vertex_indices\n";
+  if (atlas) header << kTexcoordProperty << "\n";
+  header << "end_header\n";
   std::string out = header.str();
   out.reserve(out.size() + m.positions.size() * kVertexBytes + m.faces.size() * kFaceBytes);
   for (int v = 0; v < m.vertex_count(); ++v) {
@@ -41,10 +47,16 @@ Status WriteDressedMesh(const std::filesystem::path& path, const DressedMesh& d)
     const int32_t label = d.map.label.empty() ? -1 : d.map.label[v];
     Put(out, &label, 4);
   }
-  for (const auto& f : m.faces) {
-    const uint8_t three = 3;
+  for (int f = 0; f < m.face_count(); ++f) {
+    const uint8_t three = 3, six = 6;
     Put(out, &three, 1);
-    Put(out, f.data(), 12);
+    Put(out, m.faces[f].data(), 12);
+    if (!atlas) continue;
+    Put(out, &six, 1);
+    for (const Eigen::Vector2d& uv : d.atlas.corner_uv[f]) {
+      const float t[2] = {float(uv.x() / d.atlas.size), float(uv.y() / d.atlas.size)};
+      Put(out, t, sizeof t);
+    }
   }
   return WriteTextAtomically(path, out);
 }
@@ -71,6 +83,7 @@ StatusOr<DressedMesh> ReadDressedMesh(const std::filesystem::path& path) {
     else if (a == "comment" && b == "method") words >> d.map.method;
     else if (a == "comment" && b == "sample_size") words >> d.map.sample_width >> d.map.sample_height;
     else if (a == "comment" && b == "texel_size") words >> d.map.texel_size;
+    else if (a == "comment" && b == "atlas_size") words >> d.atlas.size;
     else if (a == "element" && b == "vertex") words >> vertices;
     else if (a == "element" && b == "face") words >> faces;
     else if (a == "property") properties.push_back(line);
@@ -80,13 +93,16 @@ StatusOr<DressedMesh> ReadDressedMesh(const std::filesystem::path& path) {
   for (const char* name : kVertexProperties) expected.push_back(std::string("property float ") + name);
   expected.push_back("property int label");
   expected.push_back("property list uchar int vertex_indices");
+  const bool atlas = !properties.empty() && properties.back() == kTexcoordProperty;
+  if (atlas) expected.push_back(kTexcoordProperty);
   if (properties != expected) return bad("unexpected vertex or face properties");
+  if (atlas != (d.atlas.size > 0) || d.atlas.size < 0 || d.atlas.size > 16384) return bad("atlas size and texture coordinates do not match");
   if (vertices < 3 || faces < 1 || vertices > kMaxElements || faces > kMaxElements) return bad("vertex or face count out of range");
   if (d.map.sample_width < 1 || d.map.sample_height < 1 || d.map.sample_width > 32768 || d.map.sample_height > 32768)
     return bad("sample size out of range");
   if (!(d.map.texel_size > 0) || !std::isfinite(d.map.texel_size)) return bad("texel size is not a positive length");
   const size_t body = end + std::strlen("end_header\n");
-  if (data.size() != body + size_t(vertices) * kVertexBytes + size_t(faces) * kFaceBytes)
+  if (data.size() != body + size_t(vertices) * kVertexBytes + size_t(faces) * (kFaceBytes + (atlas ? kTexcoordBytes : 0)))
     return bad("the file's size does not match its counts");
   const char* p = data.data() + body;
   for (long v = 0; v < vertices; ++v) {
@@ -116,6 +132,18 @@ StatusOr<DressedMesh> ReadDressedMesh(const std::filesystem::path& path) {
     for (int32_t v : f)
       if (v < 0 || v >= vertices) return bad("face " + std::to_string(i) + " names a vertex the file does not have");
     d.mesh.faces.push_back(f);
+    if (!atlas) continue;
+    if (uint8_t(*p) != 6) return bad("face " + std::to_string(i) + " does not have three texture coordinates");
+    float t[6];
+    std::memcpy(t, p + 1, sizeof t);
+    p += kTexcoordBytes;
+    std::array<Eigen::Vector2d, 3> uv;
+    for (int k = 0; k < 3; ++k) {
+      if (!(t[2 * k] >= 0 && t[2 * k] <= 1 && t[2 * k + 1] >= 0 && t[2 * k + 1] <= 1))
+        return bad("face " + std::to_string(i) + "'s texture coordinates lie outside the atlas");
+      uv[k] = Eigen::Vector2d(t[2 * k], t[2 * k + 1]) * d.atlas.size;
+    }
+    d.atlas.corner_uv.push_back(uv);
   }
   return d;
 }

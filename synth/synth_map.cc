@@ -39,12 +39,13 @@ Eigen::Vector2d RotatedStep(double du, double dv, double rotation_deg) {
   return {c * du - s * dv, s * du + c * dv};
 }
 
-Status ValidateMap(const SynthMap& map) {
+Status ValidateMap(const SynthMap& map, bool all_filled) {
   if (map.width <= 0 || map.height <= 0 || map.sample_width <= 0 || map.sample_height <= 0)
     return Status::Error("map has no texels or no sample size");
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x) {
       const size_t i = map.index(x, y);
+      if (map.patch[i] < 0 && !all_filled) continue;
       if (map.patch[i] < 0) return Status::Error(Format("texel (%d, %d) is not filled", x, y));
       const float sx = map.source_x[i], sy = map.source_y[i];
       if (!(sx >= 0 && sx < map.sample_width && sy >= 0 && sy < map.sample_height) || !std::isfinite(map.rotation_deg[i]))
@@ -90,7 +91,7 @@ Status WriteSynthMap(const std::filesystem::path& path, const SynthMap& map) {
   return WriteImage(path, planes, options);
 }
 
-StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path) {
+StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path, bool all_filled) {
   ImageReadOptions read;
   read.linearize = false;
   read.max_channels = 64;
@@ -126,7 +127,7 @@ StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path) {
     const float id = p[column[3]];  // cast only what an int32 holds (a crafted file may hold anything)
     map.patch[i] = std::isfinite(id) && id >= -1.f && id < 2147483520.f ? int32_t(id) : -1;
   }
-  if (Status st = ValidateMap(map); !st.ok()) return Status::Error(path.string() + ": " + st.message());
+  if (Status st = ValidateMap(map, all_filled); !st.ok()) return Status::Error(path.string() + ": " + st.message());
   return map;
 }
 

@@ -46,8 +46,9 @@ struct SynthMap {
 // whose y runs up the slice, i.e. against the rows).
 Eigen::Vector2d RotatedStep(double du, double dv, double rotation_deg);
 
-// True when every filled texel's source lies inside the sample and every texel is filled.
-Status ValidateMap(const SynthMap& map);
+// True when every filled texel's source lies inside the sample and every texel is filled (or,
+// with all_filled false, as an atlas map leaves the texels beyond its charts' gutters, not all).
+Status ValidateMap(const SynthMap& map, bool all_filled = true);
 
 // Applies the map to one image of the sample (a slice, a colour image, PTM coefficient planes):
 // out(x, y) = sample(SourceTexel(x, y)), all channels. Unfilled texels stay zero.
@@ -56,7 +57,7 @@ Image ApplyMapToImage(const SynthMap& map, const Image& sample);
 // Float OpenEXR with channels source_x, source_y, rotation_deg, patch_id and attributes
 // mesocap:sample_width, mesocap:sample_height, mesocap:method (docs/formats.md).
 Status WriteSynthMap(const std::filesystem::path& path, const SynthMap& map);
-StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path);
+StatusOr<SynthMap> ReadSynthMap(const std::filesystem::path& path, bool all_filled = true);
 
 // Pictures for judging seams: each patch a random flat colour with cut edges drawn black.
 Image PatchPicture(const SynthMap& map);

@@ -70,6 +70,61 @@ TEST(DecorateCli, DressesAMeshAndRendersIt) {
   for (const char* f : {"s_0000.png", "s_0001.png", "s_0002.png"}) EXPECT_TRUE(fs::exists(dir / "sweep" / f)) << f;
 }
 
+// Quilting on the atlas through the CLI: the per-texel map and the atlas in the PLY, a valid
+// glTF asset whose base colour is the sample's colour at the map's texels, and renders through
+// the map (render reads the atlas map beside the PLY).
+TEST(DecorateCli, QuiltsOnTheAtlasAndRendersIt) {
+  const fs::path dir = testing::MakeTempDir(), sample = WriteSample(dir), mesh = dir / "torus.obj", out = dir / "quilted";
+  ASSERT_TRUE(WriteObj(mesh, testing::Torus(96, 32)).ok());
+  std::string log;
+  ASSERT_EQ(testing::RunMesocap("decorate --method quilt --mesh " + mesh.string() + " --input " + sample.string() + " --out " +
+                                    out.string() + " --texel-size 0.02 --atlas-size 256 --preview-size 96x96 --no-progress",
+                                &log),
+            0)
+      << log;
+  const DecorateFolder folder{out};
+  for (const fs::path& f : {folder.surface_map(), folder.atlas_map(), folder.report(), folder.preview_light(0)})
+    EXPECT_TRUE(fs::exists(f)) << f;
+  EXPECT_FALSE(fs::exists(folder.textons()));
+  auto report = ReadJsonFile(folder.report());
+  ASSERT_TRUE(report.ok());
+  EXPECT_EQ((*report)["method"], "quilt");
+  EXPECT_GT((*report)["quality"]["chart_crossing_patches"].get<int>(), 0);
+  EXPECT_GT((*report)["previews"][0]["lit_share"].get<double>(), 0.3);
+  auto dressed = ReadDressedMesh(folder.surface_map());
+  ASSERT_TRUE(dressed.ok()) << dressed.status().message();
+  ASSERT_TRUE(dressed->has_atlas());
+  EXPECT_EQ(dressed->atlas.size, 256);
+  auto map = ReadSynthMap(folder.atlas_map(), /*all_filled=*/false);
+  ASSERT_TRUE(map.ok()) << map.status().message();
+  ASSERT_EQ(testing::ValidateGltf(folder.gltf().material(), &log), 0) << log;
+  // The base colour at every texel inside a face is the sample's colour at the map's texel.
+  auto base = ReadImage(folder.gltf().base_color());
+  auto photo = ReadImage(sample);
+  ASSERT_TRUE(base.ok() && photo.ok());
+  long checked = 0;
+  for (int f = 0; f < dressed->mesh.face_count(); f += 7) {
+    const Eigen::Vector2d centre = (dressed->atlas.corner_uv[f][0] + dressed->atlas.corner_uv[f][1] + dressed->atlas.corner_uv[f][2]) / 3;
+    const int x = int(centre.x()), y = int(centre.y());
+    if (!map->filled(x, y)) continue;
+    const Eigen::Vector2i s = map->SourceTexel(x, y);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(base->at(x, y, c), photo->at(s.x(), s.y(), c), 1.0 / 255 + 1e-6) << "face " << f;
+    ++checked;
+  }
+  EXPECT_GT(checked, 500);
+  const fs::path png = dir / "render.png";
+  ASSERT_EQ(testing::RunMesocap("render --map " + out.string() + " --input " + sample.string() + " --mesh " + mesh.string() +
+                                    " --light 0,0.5,1 --size 120x90 --no-progress --out " + png.string(),
+                                &log),
+            0)
+      << log;
+  auto image = ReadImage(png);
+  ASSERT_TRUE(image.ok());
+  double sum = 0;
+  for (size_t i = 0; i < image->size(); ++i) sum += image->data()[i];
+  EXPECT_GT(sum, 0);
+}
+
 // Exit 1 with the file named, and no output folder, for: a mesh with no area, a file that is not
 // a mesh, a missing mesh, a field for another mesh, a malformed field; render with another
 // exemplar or another mesh; exit 2 for an unknown method.
