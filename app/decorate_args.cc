@@ -9,7 +9,7 @@ CLI::App* AddDecorateOptions(CLI::App& app, DecorateArgs* args) {
   CLI::App* sub = app.add_subcommand(
       "decorate", "Dress a mesh in the material: a per-vertex surface texton map (Tong 2002 §5) or a graphcut quilt on an "
                   "atlas (Zhou 2005 §III), previews, a glTF asset and a report");
-  sub->add_option("--mesh", a.mesh, "Mesh file: OBJ, PLY, glTF/GLB or any format Assimp reads (its UVs are not used: the atlas is made anew)")->required();
+  sub->add_option("--mesh", a.mesh, "Mesh file: OBJ, PLY, glTF/GLB or any format Assimp reads (its UVs, if they make an atlas, are the atlas)")->required();
   sub->add_option("--input", a.input, "Exemplar: an image, a BTF folder, a session (its slices), or a .ptm")->required();
   sub->add_option("--out", a.out, "Output folder (must not exist or be empty)")->required();
   sub->add_option("--method", a.method, "Synthesis on the surface: texton (per vertex) or quilt (per atlas texel)")

@@ -70,7 +70,15 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
 
   // The atlas first: quilting fills its texels, and the glTF asset bakes into it either way.
   const auto atlas_start = std::chrono::steady_clock::now();
-  auto atlas = BuildAtlas(*mesh, {a.atlas_size, kAtlasGutter});
+  // The mesh's own UVs where they make an atlas, else one made here (said among the repairs).
+  std::vector<std::string> repair_lines = repairs.Lines();
+  auto atlas = AtlasFromMeshUvs(*mesh, {a.atlas_size, kAtlasGutter});
+  const std::string atlas_source = atlas.ok() ? "mesh UVs" : "generated";
+  if (!atlas.ok()) {
+    if (!mesh->corner_uv.empty())
+      repair_lines.push_back("the mesh's UVs are not a usable atlas (" + atlas.status().message() + "): one was generated");
+    atlas = BuildAtlas(*mesh, {a.atlas_size, kAtlasGutter});
+  }
   if (!atlas.ok()) return atlas.status().WithContext(a.mesh.string() + ": ");
   const AtlasTexels texels = BuildAtlasTexels(*mesh, *atlas, a.threads);
   const double atlas_seconds = SecondsSince(atlas_start);
@@ -175,7 +183,7 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
   Json j = {
       {"method", a.method},
       {"mesh", {{"file", fs::absolute(a.mesh).string()}, {"vertices", dressed.mesh.vertex_count()},
-                {"faces", dressed.mesh.face_count()}, {"repairs", repairs.Lines()}}},
+                {"faces", dressed.mesh.face_count()}, {"repairs", repair_lines}}},
       {"exemplar", {{"file", fs::absolute(e.path).string()}, {"kind", ExemplarKindToString(e.kind)}, {"width", e.width},
                     {"height", e.height}}},
       {"field", a.field.empty() ? Json("relaxed") : Json(fs::absolute(a.field).string())},
@@ -183,7 +191,7 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
       {"quality", method_figures["quality"]},
       {"previews", previews},
       {"light_sweep", sweep},
-      {"gltf", {{"file", fs::relative(dir.gltf().material(), dir.root).string()}, {"atlas_size", gltf->atlas_size},
+      {"gltf", {{"file", fs::relative(dir.gltf().material(), dir.root).string()}, {"atlas", atlas_source}, {"atlas_size", gltf->atlas_size},
                 {"charts", gltf->charts}, {"atlas_fill", gltf->fill}, {"vertices", gltf->vertices},
                 {"index_bits", gltf->wide_indices ? 32 : 16}}},
       {"seconds", method_figures["seconds"]},
@@ -192,7 +200,7 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
   j["seconds"]["gltf"] = gltf_seconds, j["seconds"]["previews"] = SecondsSince(previews_start), j["seconds"]["total"] = SecondsSince(start);
   DecorateResult result;
   result.report = std::move(j);
-  result.repairs = repairs.Lines();
+  result.repairs = repair_lines;
   result.brief = a.mesh.filename().string() + " (" + std::to_string(dressed.mesh.vertex_count()) + " vertices) " + brief_figures;
   MESOCAP_RETURN_IF_ERROR(WriteTextAtomically(dir.report(), result.report.dump(2) + "\n"));
   return result;

@@ -1,5 +1,7 @@
 #include "app/decorate_stage.h"
 
+#include <algorithm>
+#include <optional>
 #include <set>
 
 #include "app/decorate_run.h"
@@ -10,17 +12,30 @@
 namespace mesocap::app {
 namespace fs = std::filesystem;
 
-std::string CheckDecorateMeshes(const std::vector<fs::path>& meshes) {
-  std::set<std::string> names;
+std::string CheckDecorateMeshes(const std::vector<fs::path>& meshes, const std::vector<std::string>& methods) {
+  std::set<std::string> names, seen;
+  if (methods.empty()) return "--decorate-method: none given";
+  for (const std::string& method : methods) {
+    if (method != "texton" && method != "quilt") return "--decorate-method " + method + ": texton or quilt";
+    if (!seen.insert(method).second) return "--decorate-method " + method + ": given twice";
+  }
   for (const fs::path& m : meshes)
-    if (!names.insert(m.stem().string()).second) return "--decorate: two meshes named '" + m.stem().string() + "' (each names its folder)";
+    for (const std::string& method : methods)
+      if (!names.insert(DecorateFolderName(m, method)).second)
+        return "--decorate: two meshes would share the folder '" + DecorateFolderName(m, method) + "' (mesh names name folders)";
   return "";
+}
+
+std::string DecorateFolderName(const fs::path& mesh, const std::string& method) {
+  return method == "texton" ? mesh.stem().string() : mesh.stem().string() + "-" + method;
 }
 
 StatusOr<StageSummary> RunDecorateStage(const fs::path& session, const DecorateStageOptions& options, int num_threads,
                                         bool progress) {
   const SessionLayout layout(session);
-  auto btf = StageExemplar(session, num_threads, /*features=*/false, /*progress=*/false);
+  const bool texton = std::count(options.methods.begin(), options.methods.end(), "texton") > 0;
+  const bool quilt = std::count(options.methods.begin(), options.methods.end(), "quilt") > 0;
+  auto btf = StageExemplar(session, num_threads, /*features=*/quilt, /*progress=*/false);  // quilting matches features
   if (!btf.ok()) return btf.status();
   Exemplar exemplar = *btf;  // the coarse-grid slices: analysis and rendering read each one
   exemplar.slices.clear();
@@ -29,32 +44,39 @@ StatusOr<StageSummary> RunDecorateStage(const fs::path& session, const DecorateS
   if (!material.ok()) return material.status().WithContext("the export stage's glTF material: ");
   auto staging = StagingFolder::Begin(layout.decorate_root());
   if (!staging.ok()) return staging.status();
-  TextonAnalysisOptions analysis_options;  // one analysis serves every mesh
-  analysis_options.seed = options.seed, analysis_options.num_threads = num_threads;
-  analysis_options.representative_slices = options.representative_slices;
-  auto analysis = AnalyseExemplarTextons(exemplar, analysis_options, progress);
-  if (!analysis.ok()) return analysis.status().WithContext(layout.btf().index().string() + ": ");
+  std::optional<TextonAnalysis> analysis;  // one analysis serves every mesh
+  if (texton) {
+    TextonAnalysisOptions analysis_options;
+    analysis_options.seed = options.seed, analysis_options.num_threads = num_threads;
+    analysis_options.representative_slices = options.representative_slices;
+    auto made = AnalyseExemplarTextons(exemplar, analysis_options, progress);
+    if (!made.ok()) return made.status().WithContext(layout.btf().index().string() + ": ");
+    analysis = std::move(*made);
+  }
   auto appearance = SurfaceAppearance::FromExemplar(exemplar);  // read once, rendered for every mesh
   if (!appearance.ok()) return appearance.status();
   StageSummary summary;
   Json meshes = Json::array();
-  for (const fs::path& mesh : options.meshes) {
-    DecorateRequest request;
-    request.mesh = mesh;
-    request.texton.seed = options.seed, request.texton.num_threads = num_threads;
-    request.preview_width = request.preview_height = options.preview_size;
-    request.sweep_frames = options.sweep_frames;
-    request.atlas_size = options.atlas_size;
-    request.threads = num_threads, request.progress = progress;
-    request.analysis = &*analysis, request.appearance = &*appearance;
-    const DecorateFolder folder{staging->path() / mesh.stem()};
-    fs::create_directories(folder.root);
-    auto result = DecorateInto(folder, request, exemplar, *material);
-    if (!result.ok()) return result.status();
-    for (const std::string& line : result->repairs) summary.warnings.push_back(mesh.string() + ": repaired: " + line);
-    summary.brief += (summary.brief.empty() ? "" : "; ") + result->brief;
-    meshes.push_back({{"name", mesh.stem().string()}, {"file", fs::absolute(mesh).string()}, {"brief", result->brief}});
-  }
+  for (const fs::path& mesh : options.meshes)
+    for (const std::string& method : options.methods) {
+      DecorateRequest request;
+      request.mesh = mesh, request.method = method;
+      request.texton.seed = request.quilt.seed = options.seed;
+      request.texton.num_threads = request.quilt.num_threads = num_threads;
+      request.preview_width = request.preview_height = options.preview_size;
+      request.sweep_frames = options.sweep_frames;
+      request.atlas_size = options.atlas_size;
+      request.threads = num_threads, request.progress = progress;
+      request.analysis = analysis ? &*analysis : nullptr, request.appearance = &*appearance;
+      const std::string name = DecorateFolderName(mesh, method);
+      const DecorateFolder folder{staging->path() / name};
+      fs::create_directories(folder.root);
+      auto result = DecorateInto(folder, request, exemplar, *material);
+      if (!result.ok()) return result.status();
+      for (const std::string& line : result->repairs) summary.warnings.push_back(mesh.string() + ": repaired: " + line);
+      summary.brief += (summary.brief.empty() ? "" : "; ") + result->brief;
+      meshes.push_back({{"name", name}, {"file", fs::absolute(mesh).string()}, {"method", method}, {"brief", result->brief}});
+    }
   MESOCAP_RETURN_IF_ERROR(staging->Publish(/*replace=*/true));
   summary.report = {{"meshes", meshes}, {"slices", exemplar.slices.size()}};
   return summary;

@@ -12,6 +12,9 @@ namespace mesocap::app {
 
 struct DecorateStageOptions {
   std::vector<std::filesystem::path> meshes;  // empty: no decorate stage
+  // Each mesh is dressed by each method: texton into decorate/<mesh name>/, quilt into
+  // decorate/<mesh name>-quilt/.
+  std::vector<std::string> methods = {"texton"};
   uint32_t seed = 1;
   int max_slices = 289;   // of the reconstructed BTF: those on the coarse grid first
   int preview_size = 384;
@@ -20,8 +23,12 @@ struct DecorateStageOptions {
   int representative_slices = 400;  // n_s of the texton analysis (Tong: 400); the demo takes fewer
 };
 
-// Mesh names (their file stems) must differ: each names its folder.
-std::string CheckDecorateMeshes(const std::vector<std::filesystem::path>& meshes);
+// Mesh names (their file stems) must differ: each names its folder; methods are texton or quilt,
+// each once. "" when all is well, else the problem.
+std::string CheckDecorateMeshes(const std::vector<std::filesystem::path>& meshes, const std::vector<std::string>& methods);
+
+// The folder name of a mesh dressed by a method (DecorateStageOptions::methods).
+std::string DecorateFolderName(const std::filesystem::path& mesh, const std::string& method);
 
 StatusOr<StageSummary> RunDecorateStage(const std::filesystem::path& session, const DecorateStageOptions& options,
                                         int num_threads, bool progress);

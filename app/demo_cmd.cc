@@ -258,7 +258,7 @@ int RunDemo(DemoArgs& a) {
   process.session = session_dir;
   process.progress = !a.no_progress;
   process.reconstruct.grid = "coarse";  // the demo scores the reconstruction itself, below
-  // A sphere and a torus dressed in the reconstructed BTF (SESSION/decorate/), with a light sweep
+  // A sphere and a torus dressed in the reconstructed BTF by both methods (SESSION/decorate/), with a light sweep
   // in the session's report; small meshes and 48 representative slices keep the demo in budget.
   const fs::path meshes = a.out / "meshes";
   fs::create_directories(meshes);
@@ -266,6 +266,7 @@ int RunDemo(DemoArgs& a) {
     if (Status st = WriteObj(meshes / name, mesh); !st.ok()) return Fail("demo", st);
     process.decorate.meshes.push_back(meshes / name);
   }
+  process.decorate.methods = {"texton", "quilt"};
   process.decorate.representative_slices = 48;
   process.decorate.preview_size = 256;
   clock.Stop();

@@ -213,7 +213,7 @@ std::vector<Stage> MakeStages(const ProcessOptions& a) {
     Json names = Json::array();
     for (const fs::path& m : a.decorate.meshes) names.push_back(m.filename().string());
     stages.push_back({"decorate", {"reconstruct", "export"}, a.decorate.meshes,
-                      {{"meshes", names}, {"method", "texton"}, {"seed", a.decorate.seed}, {"max_slices", a.decorate.max_slices},
+                      {{"meshes", names}, {"method", a.decorate.methods}, {"seed", a.decorate.seed}, {"max_slices", a.decorate.max_slices},
                        {"preview_size", a.decorate.preview_size}, {"sweep_frames", a.decorate.sweep_frames},
                        {"atlas_size", a.decorate.atlas_size}, {"representative_slices", a.decorate.representative_slices}},
                       {s.Relative(s.decorate_root())},
@@ -280,7 +280,7 @@ std::string ProcessOptions::Check() const {
     return "--stage " + only_stage + ": no such stage (calibrate, resample, fit-ptm, reconstruct, synth, export, decorate)";
   if (only_stage == "synth" && synth.method.empty()) return "--stage synth needs --synth METHOD";
   if (only_stage == "decorate" && decorate.meshes.empty()) return "--stage decorate needs --decorate MESH";
-  if (std::string problem = CheckDecorateMeshes(decorate.meshes); !problem.empty()) return problem;
+  if (std::string problem = CheckDecorateMeshes(decorate.meshes, decorate.methods); !problem.empty()) return problem;
   if ((shard || merge_shards != 0) && !is_one_of(only_stage, ShardableStageNames()))
     return "--shard and --merge need --stage naming a shardable stage (reconstruct, synth, export)";
   if (shard && merge_shards != 0) return "give --shard or --merge, not both";

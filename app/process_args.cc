@@ -33,8 +33,12 @@ CLI::App* AddProcessOptions(CLI::App& app, ProcessArgs* args) {
   sub->add_option("--synth-size", args->synth_size, "Size of the enlarged material, WxH texels")->capture_default_str();
   sub->add_option("--synth-seed", args->options.synth.seed, "Random seed of the synthesis")->capture_default_str();
   sub->add_option("--decorate", args->options.decorate.meshes,
-                  "Also dress this mesh (repeatable: OBJ, PLY, glTF, ...) in the reconstructed BTF by surface textons, after export (" +
+                  "Also dress this mesh (repeatable: OBJ, PLY, glTF, ...) in the reconstructed BTF, after export (" +
                       S.decorate_root().string() + "/<mesh name>/: the surface map, previews, a light sweep, a glTF asset)");
+  sub->add_option("--decorate-method", args->options.decorate.methods,
+                  "How --decorate dresses: texton (per vertex, <mesh name>/), quilt (per atlas texel, <mesh name>-quilt/), or both "
+                  "given twice")
+      ->capture_default_str();
   sub->add_option("--stage", args->options.only_stage,
                   "Run this one stage only, as the workflow does (its earlier stages must have run; docs/workflow.md)");
   sub->add_option("--shard", args->shard,

@@ -284,7 +284,8 @@ void SynthFiles(const fs::path& dir) {
   Check(WriteTextonAnalysis(dir / "textons.exr", analysis));
 }
 
-// A dressed icosahedron (a sample coordinate per vertex) and a two-point direction field.
+// A dressed icosahedron (a sample coordinate per vertex; and with an atlas, as quilts carry) and a
+// two-point direction field.
 void MeshFiles(const fs::path& dir) {
   DressedMesh d;
   d.mesh = IcoSphere(1);
@@ -293,6 +294,11 @@ void MeshFiles(const fs::path& dir) {
   for (int v = 0; v < d.mesh.vertex_count(); ++v)
     d.map.source_x.push_back(float(v % 16) + 0.5f), d.map.source_y.push_back(float(v / 16) + 0.5f), d.map.label.push_back(v % 5);
   Check(WriteDressedMesh(dir / "surface_map.ply", d));
+  // A quilt's: the same with an atlas (per-face texture coordinates).
+  auto atlas = BuildAtlas(d.mesh, {64, 2});
+  Check(atlas.status());
+  d.map.method = "quilt", d.atlas = *atlas;
+  Check(WriteDressedMesh(dir / "surface_map_quilt.ply", d));
   Check(WriteTextAtomically(dir / "field.json",
                             "{\"points\": [[1, 0, 0], [0, 0, 1]], \"directions\": [[0, 1, 0], [1, 0, 0]]}\n"));
 }

@@ -174,4 +174,77 @@ StatusOr<Atlas> BuildAtlas(const TriangleMesh& m, const AtlasOptions& o) {
   return atlas;
 }
 
+StatusOr<Atlas> AtlasFromMeshUvs(const TriangleMesh& m, const AtlasOptions& o) {
+  if (o.size < 16 || o.size > 16384) return Status::Error("the atlas size must be 16..16384 texels");
+  if (m.corner_uv.size() != m.faces.size() || m.faces.empty()) return Status::Error("the mesh has no UVs");
+  Atlas atlas;
+  atlas.size = o.size;
+  atlas.corner_uv.resize(m.face_count());
+  double uv_area = 0, area = 0;
+  for (int f = 0; f < m.face_count(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d& t = m.corner_uv[f][k];
+      if (!(t.x() >= 0 && t.x() <= 1 && t.y() >= 0 && t.y() <= 1))
+        return Status::Error("face " + std::to_string(f) + "'s UVs lie outside [0, 1] (a tiled texture, not an atlas)");
+      atlas.corner_uv[f][k] = Eigen::Vector2d(t.x() * o.size, (1 - t.y()) * o.size);
+    }
+    const Eigen::Vector2d a = atlas.corner_uv[f][1] - atlas.corner_uv[f][0], b = atlas.corner_uv[f][2] - atlas.corner_uv[f][0];
+    const double texels = 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    if (!(texels > 1e-6)) return Status::Error("face " + std::to_string(f) + " has no area in the UVs");
+    uv_area += texels, area += m.FaceArea(f);
+  }
+  // Charts: faces joined by an edge whose two corners have the same UVs on both sides.
+  const auto nb = FaceNeighbours(m);
+  atlas.face_chart.assign(m.face_count(), -1);
+  auto uv_of = [&](int f, int32_t v) {
+    for (int k = 0; k < 3; ++k)
+      if (m.faces[f][k] == v) return m.corner_uv[f][k];
+    return Eigen::Vector2d(-1, -1);
+  };
+  for (int f = 0; f < m.face_count(); ++f) {
+    if (atlas.face_chart[f] >= 0) continue;
+    std::vector<int32_t> stack{f};
+    atlas.face_chart[f] = atlas.charts;
+    while (!stack.empty()) {
+      const int g = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const int h = nb[g][k];
+        if (h < 0 || atlas.face_chart[h] >= 0) continue;
+        const int32_t a = m.faces[g][k], b = m.faces[g][(k + 1) % 3];
+        if ((uv_of(g, a) - uv_of(h, a)).norm() > 1e-6 || (uv_of(g, b) - uv_of(h, b)).norm() > 1e-6) continue;
+        atlas.face_chart[h] = atlas.charts;
+        stack.push_back(h);
+      }
+    }
+    ++atlas.charts;
+  }
+  // Overlap: texel centres strictly inside faces of two charts, or of one chart folded onto itself.
+  std::vector<int32_t> owner(size_t(o.size) * o.size, -1);
+  long covered = 0, overlapping = 0;
+  for (int f = 0; f < m.face_count(); ++f) {
+    const auto& c = atlas.corner_uv[f];
+    const Eigen::Vector2d e0 = c[1] - c[0], e1 = c[2] - c[0];
+    const double det = e0.x() * e1.y() - e1.x() * e0.y();
+    const int x0 = std::max(0, int(std::floor(std::min({c[0].x(), c[1].x(), c[2].x()})))),
+              x1 = std::min(o.size - 1, int(std::ceil(std::max({c[0].x(), c[1].x(), c[2].x()})))),
+              y0 = std::max(0, int(std::floor(std::min({c[0].y(), c[1].y(), c[2].y()})))),
+              y1 = std::min(o.size - 1, int(std::ceil(std::max({c[0].y(), c[1].y(), c[2].y()}))));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2d q = Eigen::Vector2d(x + 0.5, y + 0.5) - c[0];
+        const double w1 = (q.x() * e1.y() - e1.x() * q.y()) / det, w2 = (e0.x() * q.y() - q.x() * e0.y()) / det;
+        if (w1 <= 1e-6 || w2 <= 1e-6 || 1 - w1 - w2 <= 1e-6) continue;
+        int32_t& who = owner[size_t(y) * o.size + x];
+        if (who < 0) who = f, ++covered;
+        else ++overlapping;
+      }
+  }
+  if (overlapping > std::max(0L, covered / 1000))
+    return Status::Error("its UV charts overlap (" + std::to_string(overlapping) + " texels of " + std::to_string(o.size) + "^2 covered twice)");
+  atlas.fill = uv_area / (double(o.size) * o.size);
+  atlas.texels_per_unit = area > 0 ? std::sqrt(uv_area / area) : 0;
+  return atlas;
+}
+
 }  // namespace mesocap

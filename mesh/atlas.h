@@ -32,4 +32,10 @@ struct Atlas {
 
 StatusOr<Atlas> BuildAtlas(const TriangleMesh& mesh, const AtlasOptions& options = {});
 
+// The mesh's own UVs (TriangleMesh::corner_uv, v up) as an atlas of options.size texels (row 0 at
+// v = 1), its charts the groups of faces whose UVs join across their edges; an error saying why
+// when they do not make one: no UVs, UVs outside [0, 1], a face with no UV area, or charts that
+// overlap (a texel inside faces of two places of the surface: tiled or mirrored-and-stacked UVs).
+StatusOr<Atlas> AtlasFromMeshUvs(const TriangleMesh& mesh, const AtlasOptions& options = {});
+
 }  // namespace mesocap

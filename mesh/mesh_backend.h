@@ -20,6 +20,7 @@ namespace mesocap {
 struct MeshFileData {
   std::vector<float> positions;  // 3 per vertex
   std::vector<float> normals;    // 3 per vertex, or empty when the file has none
+  std::vector<float> uvs;        // 2 per vertex (the first UV set, v up), or empty unless every mesh has one
   std::vector<uint32_t> triangles;  // 3 per triangle (polygons triangulated, points and lines dropped)
   int meshes = 0;
   int dropped_primitives = 0;    // points and lines in the file

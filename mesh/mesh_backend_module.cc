@@ -67,7 +67,7 @@ class AssimpEmbreeBackend final : public MeshBackend {
     if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
       return Status::Error(path.string() + ": not a mesh file mesocap can read (" + importer.GetErrorString() + ")");
     MeshFileData data;
-    bool every_mesh_has_normals = true;
+    bool every_mesh_has_normals = true, every_mesh_has_uvs = true;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
       const aiMesh* mesh = scene->mMeshes[m];
       if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
@@ -75,6 +75,7 @@ class AssimpEmbreeBackend final : public MeshBackend {
         continue;
       }
       every_mesh_has_normals = every_mesh_has_normals && mesh->HasNormals();
+      every_mesh_has_uvs = every_mesh_has_uvs && mesh->HasTextureCoords(0);
     }
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
       const aiMesh* mesh = scene->mMeshes[m];
@@ -88,6 +89,7 @@ class AssimpEmbreeBackend final : public MeshBackend {
           const aiVector3D& n = mesh->mNormals[i];
           data.normals.insert(data.normals.end(), {n.x, n.y, n.z});
         }
+        if (every_mesh_has_uvs) data.uvs.insert(data.uvs.end(), {mesh->mTextureCoords[0][i].x, mesh->mTextureCoords[0][i].y});
       }
       for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
         const aiFace& face = mesh->mFaces[f];

@@ -83,6 +83,38 @@ TriangleMesh DoubleTorus(int cells) {
   return m;
 }
 
+TriangleMesh CubeSphere(int n, bool stacked) {
+  TriangleMesh m;
+  for (int face = 0; face < 6; ++face) {
+    const int axis = face / 2;
+    const double sign = face % 2 ? -1 : 1;
+    const int base = m.vertex_count();
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        Eigen::Vector3d p;
+        const double a = 2.0 * i / n - 1, b = 2.0 * j / n - 1;
+        p[axis] = sign, p[(axis + 1) % 3] = sign * a, p[(axis + 2) % 3] = b;
+        m.positions.push_back(p.normalized());
+      }
+    // The chart's cell of the UV square (3 x 2 cells, a margin inside each).
+    const double cell_u = stacked ? 0 : (face % 3) / 3.0, cell_v = stacked ? 0 : (face / 3) / 2.0;
+    const double width = stacked ? 1 : 1 / 3.0, height = stacked ? 1 : 0.5, margin = 0.02;
+    auto uv = [&](int i, int j) {
+      return Eigen::Vector2d(cell_u + margin * width + (1 - 2 * margin) * width * i / n,
+                             cell_v + margin * height + (1 - 2 * margin) * height * j / n);
+    };
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int32_t v00 = base + j * (n + 1) + i, v10 = v00 + 1, v01 = v00 + n + 1, v11 = v01 + 1;
+        m.faces.push_back({v00, v10, v11}), m.corner_uv.push_back({uv(i, j), uv(i + 1, j), uv(i + 1, j + 1)});
+        m.faces.push_back({v00, v11, v01}), m.corner_uv.push_back({uv(i, j), uv(i + 1, j + 1), uv(i, j + 1)});
+      }
+  }
+  MeshRepairReport report;
+  RepairMesh(m, &report);  // welds the cube's edges; the UVs stay per corner
+  return m;
+}
+
 Image PhotoCrop(const std::string& name, int size) {
   const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
   auto photo = ReadImage(path, {true, 3});

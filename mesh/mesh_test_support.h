@@ -18,6 +18,11 @@ TriangleMesh Torus(int major, int minor, double major_radius = 1.0, double minor
 // tetrahedra on a grid of `cells` along x: no global parameterisation exists.
 TriangleMesh DoubleTorus(int cells);
 
+// A unit sphere from a cube's six faces (n x n quads each, pushed onto the sphere) with its own
+// UVs: each cube face a chart in a 3 x 2 layout of the UV square with margins; with `stacked`,
+// every face's UVs on the same square instead (overlapping charts).
+TriangleMesh CubeSphere(int n, bool stacked = false);
+
 // A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
 Image PhotoCrop(const std::string& name, int size);
 // The virtual rig's `material` as a true BTF of 9 views x 13 lights per view, `size` texels a side,

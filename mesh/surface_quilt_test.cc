@@ -1,6 +1,9 @@
 // Graphcut quilting on a dense atlas mesh (mesh/surface_quilt.h), on meshes written here: a
 // UV-less sphere, a torus and a genus-2 surface (atlases of many charts, made by mesh/atlas.h).
 // - Every atlas texel inside a chart gets a coordinate inside the sample; patches cross charts.
+// - Orientation: with a user field, the texture follows it (planks on a torus, two fields).
+// - The mesh's own UVs make the atlas where they form one (a cube-sphere's six charts), and are
+//   refused where charts overlap.
 // - Renders (per pixel through the atlas map) under three lights, from six directions, against a
 //   naive planar projection of the sample carried onto the same atlas: over pixel pairs lit and
 //   unshadowed with their neighbourhoods and away from silhouettes, the colour step between pixels
@@ -9,6 +12,7 @@
 //   to the sample below the projection's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "mesh/atlas_bake.h"
@@ -30,9 +34,11 @@ struct Quilted {
   SurfaceQuiltReport report;
 };
 
-Quilted Quilt(const TriangleMesh& mesh, const TangentFrames& frames, const Image& features, int atlas_size, double texel_size) {
+// Quilts on the mesh's own UVs (own_uvs) or on a generated atlas.
+Quilted Quilt(const TriangleMesh& mesh, const TangentFrames& frames, const Image& features, int atlas_size, double texel_size,
+              bool own_uvs = false) {
   Quilted q;
-  auto atlas = BuildAtlas(mesh, {atlas_size, 2});
+  auto atlas = own_uvs ? AtlasFromMeshUvs(mesh, {atlas_size, 2}) : BuildAtlas(mesh, {atlas_size, 2});
   EXPECT_TRUE(atlas.ok()) << atlas.status().message();
   q.atlas = std::move(*atlas);
   q.texels = BuildAtlasTexels(mesh, q.atlas);
@@ -67,6 +73,73 @@ TEST(SurfaceQuilt, EveryAtlasTexelGetsAValidCoordinate) {
       ASSERT_GE(q.map.patch[i], 0) << "texel " << d;
       ASSERT_TRUE(q.map.source_x[i] >= 0 && q.map.source_x[i] < kSample && q.map.source_y[i] >= 0 && q.map.source_y[i] < kSample);
       ASSERT_TRUE(std::isfinite(q.map.rotation_deg[i]));
+    }
+  }
+}
+
+// The dominant orientation (deg, mod 180) of a structure tensor summed from gradients (gs, gt).
+double Orientation(double jss, double jtt, double jst) { return 0.5 * std::atan2(2 * jst, jss - jtt) * 180 / M_PI; }
+
+double AngleBetween(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 180.0);
+  return std::min(d, 180 - d);
+}
+
+// Orientation: planks (structure-tensor coherence 0.82 on the crop) quilted on a torus's atlas with
+// a user field along the tube, then around it. In each of 8 sectors of the torus, the texture's
+// dominant orientation in the atlas texels' tangent planes (a structure tensor of the gradients
+// fitted over each texel's neighbours, in (s, t)) is the sample's own (in (x, -y)) within 10 deg.
+TEST(SurfaceQuilt, TextureOrientationFollowsTheUserField) {
+  const Image sample = testing::PhotoCrop("planks", kSample);
+  auto luminance = [&](int x, int y) {
+    const float* p = sample.pixel(std::clamp(x, 0, kSample - 1), std::clamp(y, 0, kSample - 1));
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+  };
+  double sxx = 0, syy = 0, sxy = 0;
+  for (int y = 0; y < kSample; ++y)
+    for (int x = 0; x < kSample; ++x) {
+      const double gx = 0.5 * (luminance(x + 1, y) - luminance(x - 1, y)), gt = -0.5 * (luminance(x, y + 1) - luminance(x, y - 1));
+      sxx += gx * gx, syy += gt * gt, sxy += gx * gt;
+    }
+  const double sample_orientation = Orientation(sxx, syy, sxy);
+  const TriangleMesh torus = testing::Torus(240, 80);
+  for (bool along_tube : {true, false}) {
+    DirectionField field;
+    for (int i = 0; i < 36; ++i) {
+      const double u = 2 * M_PI * i / 36;
+      for (int j = 0; j < 4; ++j) {
+        const double v = 2 * M_PI * j / 4;
+        const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+        field.points.push_back(Eigen::Vector3d(std::cos(u), std::sin(u), 0) + 0.35 * n);
+        field.directions.push_back(along_tube ? Eigen::Vector3d(-std::sin(u), std::cos(u), 0)
+                                              : Eigen::Vector3d(-std::sin(v) * std::cos(u), -std::sin(v) * std::sin(u), std::cos(v)));
+      }
+    }
+    const TangentFrames frames = FieldFrames(torus, field);
+    const Quilted q = Quilt(torus, frames, sample, 256, 0);
+    std::vector<Eigen::Vector3d> sector(8, Eigen::Vector3d::Zero());  // jss, jtt, jst
+    for (int d = 0; d < q.texels.count(); ++d) {
+      const LocalFrame f = FaceFrame(torus, frames, q.texels.face[d], q.texels.weights[d].cast<double>());
+      const Eigen::Vector2i td = q.map.SourceTexel(q.texels.x[d], q.texels.y[d]);
+      Eigen::Matrix2d a = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d b = Eigen::Vector2d::Zero();
+      for (const int32_t* e = q.texels.neighbours.begin(d); e != q.texels.neighbours.end(d); ++e) {
+        const Eigen::Vector3d o = (q.texels.position[*e] - q.texels.position[d]) / q.report.texel_size;
+        const Eigen::Vector2d o2(o.dot(f.s), o.dot(f.t));
+        const Eigen::Vector2i te = q.map.SourceTexel(q.texels.x[*e], q.texels.y[*e]);
+        a += o2 * o2.transpose(), b += o2 * (luminance(te.x(), te.y()) - luminance(td.x(), td.y()));
+      }
+      if (std::abs(a.determinant()) < 1e-12) continue;
+      const Eigen::Vector2d g = a.ldlt().solve(b);
+      const Eigen::Vector3d& p = q.texels.position[d];
+      const int k = int(std::floor((std::atan2(p.y(), p.x()) + M_PI) / (2 * M_PI) * 8)) % 8;
+      sector[k] += Eigen::Vector3d(g.x() * g.x(), g.y() * g.y(), g.x() * g.y());
+    }
+    for (int k = 0; k < 8; ++k) {
+      const double found = Orientation(sector[k].x(), sector[k].y(), sector[k].z());
+      std::printf("field %s, sector %d: %.1f deg, the sample's %.1f\n", along_tube ? "along the tube" : "around it", k, found,
+                  sample_orientation);
+      EXPECT_LT(AngleBetween(found, sample_orientation), 10.0) << "sector " << k;
     }
   }
 }
@@ -158,11 +231,26 @@ Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const Quilte
   return j;
 }
 
-class SurfaceQuiltQuality : public ::testing::TestWithParam<std::string> {};
+// The mesh's own UVs make its atlas when they can: six charts of a cube-sphere do; the same
+// charts stacked on one square are refused as overlapping.
+TEST(SurfaceQuilt, TheMeshsOwnUvsMakeItsAtlasUnlessTheyOverlap) {
+  auto own = AtlasFromMeshUvs(testing::CubeSphere(24), {512, 2});
+  ASSERT_TRUE(own.ok()) << own.status().message();
+  EXPECT_EQ(own->charts, 6);
+  EXPECT_GT(own->fill, 0.5);
+  auto stacked = AtlasFromMeshUvs(testing::CubeSphere(24, /*stacked=*/true), {512, 2});
+  ASSERT_FALSE(stacked.ok());
+  EXPECT_NE(stacked.status().message().find("overlap"), std::string::npos) << stacked.status().message();
+  EXPECT_FALSE(AtlasFromMeshUvs(testing::IcoSphere(3), {512, 2}).ok());  // no UVs
+}
+
+// (exemplar, mesh): the sphere with a generated atlas of 6 charts, the cube-sphere with its own.
+class SurfaceQuiltQuality : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
 
 TEST_P(SurfaceQuiltQuality, SeamsAndStatisticsBeatAPlanarProjection) {
-  const Exemplar e = GetParam() == "rig" ? testing::RigGridBtf("stones", kSample)
-                                         : ImageExemplar(testing::PhotoCrop(GetParam(), kSample));
+  const std::string name = GetParam().first;
+  const bool own_uvs = GetParam().second == "cube-sphere";
+  const Exemplar e = name == "rig" ? testing::RigGridBtf("stones", kSample) : ImageExemplar(testing::PhotoCrop(name, kSample));
   auto appearance = SurfaceAppearance::FromExemplar(e);
   ASSERT_TRUE(appearance.ok()) << appearance.status().message();
   Image head_on(kSample, kSample, 3);  // the sample as a head-on light and view show it
@@ -171,11 +259,11 @@ TEST_P(SurfaceQuiltQuality, SeamsAndStatisticsBeatAPlanarProjection) {
       const Eigen::Vector3f c = appearance->Lookup(x, y, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ());
       for (int k = 0; k < 3; ++k) head_on.at(x, y, k) = c[k];
     }
-  const Image features = GetParam() == "rig" ? head_on : e.features;
-  const TriangleMesh sphere = testing::IcoSphere(5);
+  const Image features = name == "rig" ? head_on : e.features;
+  const TriangleMesh sphere = own_uvs ? testing::CubeSphere(40) : testing::IcoSphere(5);
   const TangentFrames frames = RelaxedFrames(sphere);
   const double texel_size = MeanEdgeLength(testing::IcoSphere(6));  // the texton test's scale
-  const Quilted q = Quilt(sphere, frames, features, kAtlas, texel_size);
+  const Quilted q = Quilt(sphere, frames, features, kAtlas, texel_size, own_uvs);
   const SynthMap planar = PlanarProjection(sphere, frames, q, texel_size);
   auto scene = SurfaceScene::Build(sphere);
   ASSERT_TRUE(scene.ok());
@@ -190,8 +278,8 @@ TEST_P(SurfaceQuiltQuality, SeamsAndStatisticsBeatAPlanarProjection) {
     return std::abs(planar.source_x[a] - planar.source_x[b]) > kSample / 2 ||
            std::abs(planar.source_y[a] - planar.source_y[b]) > kSample / 2;
   });
-  std::printf("%s: seams quilt %.3f (%ld/%ld pairs across/inside), projection %.3f (%ld/%ld); subband quilt %.4f, projection %.4f\n",
-              GetParam().c_str(), quilt.steps.ratio(), quilt.steps.across_pairs, quilt.steps.inside_pairs,
+  std::printf("%s on the %s: seams quilt %.3f (%ld/%ld pairs across/inside), projection %.3f (%ld/%ld); subband quilt %.4f, projection %.4f\n",
+              name.c_str(), GetParam().second.c_str(), quilt.steps.ratio(), quilt.steps.across_pairs, quilt.steps.inside_pairs,
               projection.steps.ratio(), projection.steps.across_pairs, projection.steps.inside_pairs, quilt.subband,
               projection.subband);
   EXPECT_LE(quilt.steps.ratio(), 1.2);
@@ -199,7 +287,10 @@ TEST_P(SurfaceQuiltQuality, SeamsAndStatisticsBeatAPlanarProjection) {
   EXPECT_LT(quilt.subband, projection.subband);
 }
 
-INSTANTIATE_TEST_SUITE_P(Exemplars, SurfaceQuiltQuality, ::testing::Values("brick", "rig"));
+INSTANTIATE_TEST_SUITE_P(Exemplars, SurfaceQuiltQuality,
+                         ::testing::Values(std::pair<std::string, std::string>{"brick", "sphere"},
+                                           std::pair<std::string, std::string>{"rig", "sphere"},
+                                           std::pair<std::string, std::string>{"brick", "cube-sphere"}));
 
 }  // namespace
 }  // namespace mesocap

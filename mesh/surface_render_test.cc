@@ -1,6 +1,6 @@
 // The renderer (mesh/surface_render.h) against independent references written here: brute-force
 // ray casts for visibility and cast shadows, and a lookup of the exemplar's slices for the
-// consistency of the mesostructure under any light.
+// consistency of the mesostructure under any light (per-vertex maps and per-atlas-texel maps).
 #include "mesh/surface_render.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include "capture/true_btf_folder.h"
 #include "core/directions.h"
 #include "core/image_io.h"
+#include "mesh/atlas_bake.h"
 #include "mesh/mesh_test_support.h"
 #include "synth/synth_test_support.h"
 #include "tests/testing.h"
@@ -171,6 +172,62 @@ TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
       const Eigen::Vector3f blend = (1 - r.u[i] - r.v[i]) * colours[f[0]] + r.u[i] * colours[f[1]] + r.v[i] * colours[f[2]];
       const int x = int(i % 160), y = int(i / 160);
       for (int c = 0; c < 3; ++c) ASSERT_NEAR(r.colour.at(x, y, c), blend[c], 1e-5);
+    }
+  }
+  EXPECT_GT(checked, 300);
+}
+
+// The same for a per-atlas-texel map (a quilt's): at sampled lit pixels the rendered value is the
+// exemplar's BTF at the sample texel the pixel's atlas texel names and the light and view in the
+// frame at the pixel's point, turned by the texel's rotation, all recomputed here.
+TEST(SurfaceRender, AtlasMapPixelsAreTheExemplarsAtTheMappedCoordinates) {
+  const Exemplar btf = testing::RigGridBtf("stones", 32);
+  std::vector<Image> slices;
+  for (size_t k = 0; k < btf.slices.size(); ++k) slices.push_back(*btf.ReadSlice(int(k)));
+  auto appearance = SurfaceAppearance::FromExemplar(btf);
+  ASSERT_TRUE(appearance.ok()) << appearance.status().message();
+  const TriangleMesh torus = testing::Torus(120, 40);
+  const TangentFrames frames = RelaxedFrames(torus);
+  auto atlas = BuildAtlas(torus, {256, 2});
+  ASSERT_TRUE(atlas.ok());
+  const AtlasTexels texels = BuildAtlasTexels(torus, *atlas);
+  SynthMap map(256, 256, 32, 32, "quilt");  // any map: a scatter of texel centres, three turns
+  for (int d = 0; d < texels.count(); ++d)
+    map.Set(texels.x[d], texels.y[d], float((d * 7) % 32) + 0.5f, float((d * 13 / 5) % 32) + 0.5f, float(25 * (d % 3) - 25), d);
+  FillAtlasGutter(&map, 2);
+  // Sample texels 8 atlas texels wide: the continuation from a texel's centre stays inside its texel.
+  const double texel_size = 8 / atlas->texels_per_unit;
+  auto scene = SurfaceScene::Build(torus);
+  ASSERT_TRUE(scene.ok());
+  const RenderCamera camera = FramingCamera(torus, 160, 120);
+  long checked = 0;
+  for (const Eigen::Vector3d& to_light : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0.3, 0.6), Eigen::Vector3d(-0.5, 0.8, 0.4)}) {
+    RenderLight light;
+    light.vector = to_light.normalized();
+    const SurfaceRender r =
+        RenderSurface(*scene, AtlasShader(*appearance, torus, frames, *atlas, map, texel_size, camera.eye, light), camera, light);
+    for (size_t i = 0; i < r.lit.size(); i += 7) {
+      if (!r.lit[i]) continue;
+      const int f = r.triangle[i];
+      const double w[3] = {1.0 - r.u[i] - r.v[i], r.u[i], r.v[i]};
+      Eigen::Vector2d a = Eigen::Vector2d::Zero();
+      Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = p, s = p;
+      for (int k = 0; k < 3; ++k) {
+        const int32_t v = torus.faces[f][k];
+        a += w[k] * atlas->corner_uv[f][k], p += w[k] * torus.positions[v], n += w[k] * frames.n[v], s += w[k] * frames.s[v];
+      }
+      n.normalize();
+      s = (s - s.dot(n) * n).normalized();
+      const Eigen::Vector3d t = n.cross(s);
+      const size_t texel = map.index(int(a.x()), int(a.y()));
+      const double turn = map.rotation_deg[texel] * M_PI / 180;
+      const Eigen::Vector3d x_axis = std::cos(turn) * s + std::sin(turn) * t, y_axis = -std::sin(turn) * s + std::cos(turn) * t;
+      auto local = [&](const Eigen::Vector3d& d) { return Eigen::Vector3d(d.dot(x_axis), d.dot(y_axis), d.dot(n)); };
+      const Eigen::Vector3f ref = ReferenceLookup(btf, slices, int(map.source_x[texel]), int(map.source_y[texel]),
+                                                  local(light.vector), local((camera.eye - p).normalized()));
+      const int x = int(i % 160), y = int(i / 160);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(r.colour.at(x, y, c), ref[c], 1.0 / 255) << "pixel " << x << ", " << y;
+      ++checked;
     }
   }
   EXPECT_GT(checked, 300);

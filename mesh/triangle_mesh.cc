@@ -52,6 +52,8 @@ void Weld(TriangleMesh& mesh, MeshRepairReport* report) {
 
 void DropBadFaces(TriangleMesh& mesh, MeshRepairReport* report) {
   std::vector<std::array<int32_t, 3>> kept;
+  std::vector<std::array<Eigen::Vector2d, 3>> kept_uv;
+  const bool uvs = mesh.corner_uv.size() == mesh.faces.size();
   std::unordered_map<PositionKey, int, PositionHash> seen;  // sorted vertex triple as a key
   const double diagonal = BoundingDiagonal(mesh);
   const double min_area = 1e-14 * diagonal * diagonal;
@@ -68,8 +70,10 @@ void DropBadFaces(TriangleMesh& mesh, MeshRepairReport* report) {
       continue;
     }
     kept.push_back(t);
+    if (uvs) kept_uv.push_back(mesh.corner_uv[f]);
   }
   mesh.faces = std::move(kept);
+  mesh.corner_uv = std::move(kept_uv);
 }
 
 void DropUnreferenced(TriangleMesh& mesh, MeshRepairReport* report) {
@@ -179,8 +183,14 @@ StatusOr<TriangleMesh> LoadMesh(const std::filesystem::path& path, MeshRepairRep
     for (size_t i = 0; i < n; ++i)
       mesh.normals[i] = Eigen::Vector3d(data->normals[3 * i], data->normals[3 * i + 1], data->normals[3 * i + 2]);
   }
-  for (size_t f = 0; f + 2 < data->triangles.size(); f += 3)
+  const bool uvs = data->uvs.size() == 2 * n;
+  for (size_t f = 0; f + 2 < data->triangles.size(); f += 3) {
     mesh.faces.push_back({int32_t(data->triangles[f]), int32_t(data->triangles[f + 1]), int32_t(data->triangles[f + 2])});
+    if (!uvs) continue;
+    std::array<Eigen::Vector2d, 3> uv;
+    for (int k = 0; k < 3; ++k) uv[k] = Eigen::Vector2d(data->uvs[2 * data->triangles[f + k]], data->uvs[2 * data->triangles[f + k] + 1]);
+    mesh.corner_uv.push_back(uv);
+  }
   MeshRepairReport local;
   if (!report) report = &local;
   *report = MeshRepairReport();
@@ -202,13 +212,21 @@ Status WriteObj(const std::filesystem::path& path, const TriangleMesh& mesh) {
     std::snprintf(line, sizeof line, "vn %.7g %.7g %.7g\n", n.x(), n.y(), n.z());
     text += line;
   }
-  const bool normals = mesh.normals.size() == mesh.positions.size();
-  for (const auto& f : mesh.faces) {
-    if (normals)
-      std::snprintf(line, sizeof line, "f %d//%d %d//%d %d//%d\n", f[0] + 1, f[0] + 1, f[1] + 1, f[1] + 1, f[2] + 1, f[2] + 1);
-    else
-      std::snprintf(line, sizeof line, "f %d %d %d\n", f[0] + 1, f[1] + 1, f[2] + 1);
-    text += line;
+  const bool normals = mesh.normals.size() == mesh.positions.size(), uvs = mesh.corner_uv.size() == mesh.faces.size();
+  if (uvs)
+    for (const auto& corners : mesh.corner_uv)
+      for (const auto& uv : corners) {
+        std::snprintf(line, sizeof line, "vt %.9g %.9g\n", uv.x(), uv.y());
+        text += line;
+      }
+  for (int i = 0; i < mesh.face_count(); ++i) {
+    text += "f";
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.faces[i][k] + 1;
+      const std::string uv = uvs ? std::to_string(3 * i + k + 1) : "";
+      text += " " + std::to_string(v) + (normals ? "/" + uv + "/" + std::to_string(v) : uvs ? "/" + uv : "");
+    }
+    text += "\n";
   }
   return WriteTextAtomically(path, text);
 }

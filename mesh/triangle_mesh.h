@@ -20,6 +20,9 @@ struct TriangleMesh {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3d> normals;  // unit, per vertex
   std::vector<std::array<int32_t, 3>> faces;
+  // Per face, its corners' UVs as the file gives them (v up), or empty: a file's UV seams split
+  // vertices that welding joins, so they are kept per corner.
+  std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;
 
   int vertex_count() const { return int(positions.size()); }
   int face_count() const { return int(faces.size()); }
@@ -47,7 +50,7 @@ Status RepairMesh(TriangleMesh& mesh, MeshRepairReport* report);
 // Reads and repairs a mesh file; the error names the file and what is wrong.
 StatusOr<TriangleMesh> LoadMesh(const std::filesystem::path& path, MeshRepairReport* report = nullptr);
 
-// A Wavefront OBJ with normals (the meshes tests write and the formats every tool reads).
+// A Wavefront OBJ with normals and corner UVs where the mesh has them (the meshes tests write).
 Status WriteObj(const std::filesystem::path& path, const TriangleMesh& mesh);
 
 double MeanEdgeLength(const TriangleMesh& mesh);

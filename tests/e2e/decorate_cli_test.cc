@@ -125,6 +125,29 @@ TEST(DecorateCli, QuiltsOnTheAtlasAndRendersIt) {
   EXPECT_GT(sum, 0);
 }
 
+// A mesh file's own UVs (OBJ texture coordinates, read by Assimp) make the atlas when they form
+// one; overlapping ones are replaced by a generated atlas, and the report says so.
+TEST(DecorateCli, UsesTheMeshsOwnUvsOrSaysWhyNot) {
+  const fs::path dir = testing::MakeTempDir(), sample = WriteSample(dir);
+  for (bool stacked : {false, true}) {
+    const fs::path mesh = dir / (stacked ? "stacked.obj" : "charts.obj"), out = dir / (stacked ? "stacked" : "charts");
+    ASSERT_TRUE(WriteObj(mesh, testing::CubeSphere(12, stacked)).ok());
+    std::string log;
+    ASSERT_EQ(testing::RunMesocap("decorate --method quilt --mesh " + mesh.string() + " --input " + sample.string() + " --out " +
+                                      out.string() + " --atlas-size 128 --preview-size 32x32 --no-progress",
+                                  &log),
+              0)
+        << log;
+    auto report = ReadJsonFile(DecorateFolder{out}.report());
+    ASSERT_TRUE(report.ok());
+    EXPECT_EQ((*report)["gltf"]["atlas"], stacked ? "generated" : "mesh UVs");
+    if (!stacked) {
+      EXPECT_EQ((*report)["gltf"]["charts"].get<int>(), 6);
+    }
+    EXPECT_EQ(log.find("not a usable atlas") != std::string::npos, stacked) << log;
+  }
+}
+
 // Exit 1 with the file named, and no output folder, for: a mesh with no area, a file that is not
 // a mesh, a missing mesh, a field for another mesh, a malformed field; render with another
 // exemplar or another mesh; exit 2 for an unknown method.
