@@ -52,6 +52,26 @@ void Rasterise(const Atlas& atlas, std::vector<int32_t>* face_of, std::vector<Ei
         }
     }
   }, num_threads);
+  // Texels no face holds the centre of but a face's edge crosses (the whole of a sliver, thinner
+  // than a texel, lies in such texels) take the first such face, extended to the texel's centre
+  // (weights a little outside [0, 1]), so a texel's value is the one at its centre: every point
+  // of every face lies in a dense texel or beside one, so renders have no holes.
+  for (int f = 0; f < int(atlas.corner_uv.size()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d a = atlas.corner_uv[f][k], b = atlas.corner_uv[f][(k + 1) % 3];
+      const int steps = 1 + int(std::ceil(2 * (b - a).norm()));
+      for (int i = 0; i <= steps; ++i) {
+        const double s = double(i) / steps;
+        const Eigen::Vector2d q = (1 - s) * a + s * b;
+        const int x = int(std::floor(q.x())), y = int(std::floor(q.y()));
+        if (x < 0 || y < 0 || x >= n || y >= n || (*face_of)[size_t(y) * n + x] >= 0) continue;
+        // A sliver's plane carries the centre far off the surface: its crossing point instead.
+        Eigen::Vector3d w = AtlasWeights(atlas, f, Eigen::Vector2d(x + 0.5, y + 0.5));
+        if (w.minCoeff() < -0.5 || w.maxCoeff() > 1.5) w = Eigen::Vector3d::Zero(), w[k] = 1 - s, w[(k + 1) % 3] = s;
+        (*face_of)[size_t(y) * n + x] = f;
+        (*weights_of)[size_t(y) * n + x] = w.cast<float>();
+      }
+    }
 }
 
 struct CellKey {

@@ -19,7 +19,7 @@ struct AtlasTexels {
   int size = 0;                          // the atlas' side
   std::vector<int32_t> index;            // per atlas texel (row-major): its dense index, or -1
   std::vector<int32_t> x, y, face;       // per dense texel
-  std::vector<Eigen::Vector3f> weights;  // per dense texel: barycentric weights of its face's corners
+  std::vector<Eigen::Vector3f> weights;  // per dense texel: barycentric weights of its centre in its face
   std::vector<Eigen::Vector3d> position;
   VertexAdjacency neighbours;            // per dense texel
   double spacing = 0;                    // surface length between neighbouring texels (the atlas' 1 / density)
@@ -29,7 +29,8 @@ struct AtlasTexels {
 };
 
 // Every texel whose centre lies in a face's atlas triangle (the first face, in face order, where
-// triangles touch), with its neighbours.
+// triangles touch), then every other texel a face's edge crosses (its weights those of its centre
+// in the face's plane, a little outside the face), with their neighbours.
 AtlasTexels BuildAtlasTexels(const TriangleMesh& mesh, const Atlas& atlas, int num_threads = -1);
 
 // The barycentric weights of atlas point `uv` in face f's atlas triangle (outside when any is

@@ -2,6 +2,7 @@
 
 #include "mesh/mesh_shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <filesystem>
@@ -152,6 +153,82 @@ TextonAnalysis AnalyseImage(const Image& sample) {
   auto analysis = AnalyzeTextons(AppearanceImageCount(e), [&](int k) { return AppearanceLuminance(e, k); }, {});
   MESOCAP_CHECK(analysis.ok(), analysis.status().message());
   return std::move(*analysis);
+}
+
+double TensorOrientation(double jss, double jtt, double jst) { return 0.5 * std::atan2(2 * jst, jss - jtt) * 180 / M_PI; }
+
+double AngleBetweenOrientations(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 180.0);
+  return std::min(d, 180 - d);
+}
+
+double SampleLuminance(const Image& sample, int x, int y) {
+  const float* p = sample.pixel(std::clamp(x, 0, sample.width() - 1), std::clamp(y, 0, sample.height() - 1));
+  return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+}
+
+double SampleOrientation(const Image& sample) {
+  double sxx = 0, syy = 0, sxy = 0;
+  for (int y = 0; y < sample.height(); ++y)
+    for (int x = 0; x < sample.width(); ++x) {
+      const double gx = 0.5 * (SampleLuminance(sample, x + 1, y) - SampleLuminance(sample, x - 1, y));
+      const double gt = -0.5 * (SampleLuminance(sample, x, y + 1) - SampleLuminance(sample, x, y - 1));
+      sxx += gx * gx, syy += gt * gt, sxy += gx * gt;
+    }
+  return TensorOrientation(sxx, syy, sxy);
+}
+
+DirectionField TorusField(bool along_tube) {
+  DirectionField field;
+  for (int i = 0; i < 36; ++i) {
+    const double u = 2 * M_PI * i / 36;
+    for (int j = 0; j < 4; ++j) {
+      const double v = 2 * M_PI * j / 4;
+      const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+      field.points.push_back(Eigen::Vector3d(std::cos(u), std::sin(u), 0) + 0.35 * n);
+      field.directions.push_back(along_tube ? Eigen::Vector3d(-std::sin(u), std::cos(u), 0)
+                                            : Eigen::Vector3d(-std::sin(v) * std::cos(u), -std::sin(v) * std::sin(u), std::cos(v)));
+    }
+  }
+  return field;
+}
+
+Image HeadOnSample(const SurfaceAppearance& appearance) {
+  Image head_on(appearance.width(), appearance.height(), 3);
+  for (int y = 0; y < head_on.height(); ++y)
+    for (int x = 0; x < head_on.width(); ++x) {
+      const Eigen::Vector3f c = appearance.Lookup(x, y, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ());
+      for (int k = 0; k < 3; ++k) head_on.at(x, y, k) = c[k];
+    }
+  return head_on;
+}
+
+void ForSixViewsThreeLights(const TriangleMesh& mesh, int size,
+                            const std::function<SurfaceRender(const RenderCamera&, const RenderLight&)>& render,
+                            const std::function<void(const SurfaceRender&, const RenderCamera&, bool head_on)>& judge) {
+  for (const Eigen::Vector3d& view : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0),
+                                      Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0.2, 0), Eigen::Vector3d(0.3, -1, 0)}) {
+    const RenderCamera camera = FramingCamera(mesh, size, size, view);
+    const CameraFrame f = camera.Frame();
+    const Eigen::Vector3d back = -f.forward;
+    bool head_on = true;
+    for (const Eigen::Vector3d& l : {back, Eigen::Vector3d(-0.5 * f.right + 0.6 * f.up + 0.6 * back),
+                                     Eigen::Vector3d(0.8 * f.right + 0.2 * f.up + 0.5 * back)}) {
+      RenderLight light;
+      light.vector = l.normalized();
+      judge(render(camera, light), camera, head_on);
+      head_on = false;
+    }
+  }
+}
+
+Image CentralWindow(const Image& colour, int size) {
+  Image window(size, size, 3);
+  const int ox = (colour.width() - size) / 2, oy = (colour.height() - size) / 2;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int c = 0; c < 3; ++c) window.at(x, y, c) = colour.at(x + ox, y + oy, c);
+  return window;
 }
 
 }  // namespace mesocap::testing

@@ -1,9 +1,12 @@
 // Meshes the mesh tests write: made here in closed form, so each test knows its surface exactly.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/image.h"
+#include "mesh/surface_render.h"
+#include "mesh/tangent_frames.h"
 #include "mesh/triangle_mesh.h"
 #include "synth/exemplar.h"
 #include "synth/texton_analysis.h"
@@ -30,5 +33,25 @@ Image PhotoCrop(const std::string& name, int size);
 Exemplar RigGridBtf(const std::string& material, int size);
 // The texton analysis of an image exemplar, default options.
 TextonAnalysis AnalyseImage(const Image& sample);
+
+// Orientation tests: the dominant orientation (deg, mod 180) of a structure tensor summed from
+// gradients (gs, gt); the angle between two orientations; a sample texel's luminance (clamped);
+// the sample's own orientation in (x, -y) (s runs along its x, t up its rows); and a user field on
+// Torus(): along the tube or around it (36 x 4 points).
+double TensorOrientation(double jss, double jtt, double jst);
+double AngleBetweenOrientations(double a, double b);
+double SampleLuminance(const Image& sample, int x, int y);
+double SampleOrientation(const Image& sample);
+DirectionField TorusField(bool along_tube);
+
+// Rendering tests: the sample as a head-on light and view show it; each of six views of the mesh
+// (framed, size x size) under three lights (head-on, from the upper left, grazing from the right),
+// rendered by `render` and handed to `judge` with whether the light is head-on; the central
+// window of a render.
+Image HeadOnSample(const SurfaceAppearance& appearance);
+void ForSixViewsThreeLights(const TriangleMesh& mesh, int size,
+                            const std::function<SurfaceRender(const RenderCamera&, const RenderLight&)>& render,
+                            const std::function<void(const SurfaceRender&, const RenderCamera&, bool head_on)>& judge);
+Image CentralWindow(const Image& colour, int size);
 
 }  // namespace mesocap::testing

@@ -98,27 +98,15 @@ Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const Surfac
              const SurfaceScene& scene, const Image& sample_head_on, bool planar) {
   Judged j;
   const std::vector<char> cut = CutTriangles(mesh, frames, map, planar);
-  for (const Eigen::Vector3d& view : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0),
-                                      Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0.2, 0), Eigen::Vector3d(0.3, -1, 0)}) {
-    const RenderCamera camera = FramingCamera(mesh, kRender, kRender, view);
-    const Eigen::Vector3d back = (camera.eye - camera.target).normalized();
-    const Eigen::Vector3d right = camera.up.cross(back).normalized(), up = back.cross(right);
-    for (const Eigen::Vector3d& l : {back, Eigen::Vector3d(-0.5 * right + 0.6 * up + 0.6 * back), Eigen::Vector3d(0.8 * right + 0.2 * up + 0.5 * back)}) {
-      RenderLight light;
-      light.vector = l.normalized();
-      const auto colours = ShadeVertices(appearance, mesh, frames, map, camera.eye, light);
-      const SurfaceRender r = RenderSurface(scene, colours, camera, light);
-      AddSteps(r, mesh, camera, cut, &j.steps);
-      if (l == back) {  // the central window, head-on light
-        Image window(kWindow, kWindow, 3);
-        const int o = (kRender - kWindow) / 2;
-        for (int y = 0; y < kWindow; ++y)
-          for (int x = 0; x < kWindow; ++x)
-            for (int c = 0; c < 3; ++c) window.at(x, y, c) = r.colour.at(x + o, y + o, c);
-        j.subband += SubbandDistance(window, sample_head_on);
-      }
-    }
-  }
+  testing::ForSixViewsThreeLights(
+      mesh, kRender,
+      [&](const RenderCamera& camera, const RenderLight& light) {
+        return RenderSurface(scene, ShadeVertices(appearance, mesh, frames, map, camera.eye, light), camera, light);
+      },
+      [&](const SurfaceRender& r, const RenderCamera& camera, bool head_on) {
+        AddSteps(r, mesh, camera, cut, &j.steps);
+        if (head_on) j.subband += SubbandDistance(testing::CentralWindow(r.colour, kWindow), sample_head_on);
+      });
   return j;
 }
 
@@ -130,12 +118,7 @@ TEST_P(SurfaceQuality, SeamsAndStatisticsBeatAPlanarProjection) {
   ASSERT_TRUE(analysis.ok()) << analysis.status().message();
   auto appearance = SurfaceAppearance::FromExemplar(e);
   ASSERT_TRUE(appearance.ok()) << appearance.status().message();
-  Image head_on(kSample, kSample, 3);  // the sample as a head-on light and view show it
-  for (int y = 0; y < kSample; ++y)
-    for (int x = 0; x < kSample; ++x) {
-      const Eigen::Vector3f c = appearance->Lookup(x, y, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ());
-      for (int k = 0; k < 3; ++k) head_on.at(x, y, k) = c[k];
-    }
+  const Image head_on = testing::HeadOnSample(*appearance);
   const TriangleMesh sphere = testing::IcoSphere(6);  // 40962 vertices: one per rendered pixel or more
   const TangentFrames frames = RelaxedFrames(sphere);
   SurfaceTextonOptions o;

@@ -344,14 +344,14 @@ class SurfaceQuilter {
   int PlaceAround(int v) {
     WorkPatch wp;
     int r = rep_.patch_radius;
-    bool flat = false;
-    while (!flat) {
-      flat = MakeWorkPatch(v, r, &wp);
-      if (flat) break;
+    while (!MakeWorkPatch(v, r, &wp)) {
       ++rep_.rejected_flattenings;
-      if (r > o_.min_patch_radius) r = std::max(o_.min_patch_radius, int(r * o_.shrink));
-      else flat = MakeWorkPatch(v, 0, &wp);  // v's own face, laid flat exactly
-      MESOCAP_CHECK(flat || r >= o_.min_patch_radius, "a single face could not be laid flat");
+      if (r > o_.min_patch_radius) {
+        r = std::max(o_.min_patch_radius, int(r * o_.shrink));
+        continue;
+      }
+      if (MakeWorkPatch(v, 0, &wp)) break;  // v's own face, laid flat exactly
+      return FillAlone(v);                  // a face too thin to lay flat in floating point
     }
     while (true) {
       const WorkImage wi = Rasterise(wp, r);
@@ -381,6 +381,16 @@ class SurfaceQuilter {
       rep_.chart_crossing_patches += wp.crosses_charts;
       return Commit(wp, wi, patch, cut);
     }
+  }
+
+  // v alone, from a random texel of the sample (a face with no area in floating point).
+  int FillAlone(int v) {
+    const float sx = float(std::uniform_int_distribution<int>(0, sample_.width() - 1)(rng_)) + 0.5f;
+    const float sy = float(std::uniform_int_distribution<int>(0, sample_.height() - 1)(rng_)) + 0.5f;
+    map_.Set(tx_.x[v], tx_.y[v], sx, sy, 0.f, next_patch_++);
+    filled_[v] = 1;
+    for (const int32_t* e = tx_.neighbours.begin(v); e != tx_.neighbours.end(v); ++e) ++constrained_[*e];
+    return 1;
   }
 
   // Every dense texel of the patch's faces whose cell took the new patch copies the sample under

@@ -77,44 +77,17 @@ TEST(SurfaceQuilt, EveryAtlasTexelGetsAValidCoordinate) {
   }
 }
 
-// The dominant orientation (deg, mod 180) of a structure tensor summed from gradients (gs, gt).
-double Orientation(double jss, double jtt, double jst) { return 0.5 * std::atan2(2 * jst, jss - jtt) * 180 / M_PI; }
-
-double AngleBetween(double a, double b) {
-  const double d = std::fmod(std::abs(a - b), 180.0);
-  return std::min(d, 180 - d);
-}
-
 // Orientation: planks (structure-tensor coherence 0.82 on the crop) quilted on a torus's atlas with
 // a user field along the tube, then around it. In each of 8 sectors of the torus, the texture's
 // dominant orientation in the atlas texels' tangent planes (a structure tensor of the gradients
 // fitted over each texel's neighbours, in (s, t)) is the sample's own (in (x, -y)) within 10 deg.
 TEST(SurfaceQuilt, TextureOrientationFollowsTheUserField) {
   const Image sample = testing::PhotoCrop("planks", kSample);
-  auto luminance = [&](int x, int y) {
-    const float* p = sample.pixel(std::clamp(x, 0, kSample - 1), std::clamp(y, 0, kSample - 1));
-    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-  };
-  double sxx = 0, syy = 0, sxy = 0;
-  for (int y = 0; y < kSample; ++y)
-    for (int x = 0; x < kSample; ++x) {
-      const double gx = 0.5 * (luminance(x + 1, y) - luminance(x - 1, y)), gt = -0.5 * (luminance(x, y + 1) - luminance(x, y - 1));
-      sxx += gx * gx, syy += gt * gt, sxy += gx * gt;
-    }
-  const double sample_orientation = Orientation(sxx, syy, sxy);
+  auto luminance = [&](int x, int y) { return testing::SampleLuminance(sample, x, y); };
+  const double sample_orientation = testing::SampleOrientation(sample);
   const TriangleMesh torus = testing::Torus(240, 80);
   for (bool along_tube : {true, false}) {
-    DirectionField field;
-    for (int i = 0; i < 36; ++i) {
-      const double u = 2 * M_PI * i / 36;
-      for (int j = 0; j < 4; ++j) {
-        const double v = 2 * M_PI * j / 4;
-        const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
-        field.points.push_back(Eigen::Vector3d(std::cos(u), std::sin(u), 0) + 0.35 * n);
-        field.directions.push_back(along_tube ? Eigen::Vector3d(-std::sin(u), std::cos(u), 0)
-                                              : Eigen::Vector3d(-std::sin(v) * std::cos(u), -std::sin(v) * std::sin(u), std::cos(v)));
-      }
-    }
+    const DirectionField field = testing::TorusField(along_tube);
     const TangentFrames frames = FieldFrames(torus, field);
     const Quilted q = Quilt(torus, frames, sample, 256, 0);
     std::vector<Eigen::Vector3d> sector(8, Eigen::Vector3d::Zero());  // jss, jtt, jst
@@ -136,10 +109,10 @@ TEST(SurfaceQuilt, TextureOrientationFollowsTheUserField) {
       sector[k] += Eigen::Vector3d(g.x() * g.x(), g.y() * g.y(), g.x() * g.y());
     }
     for (int k = 0; k < 8; ++k) {
-      const double found = Orientation(sector[k].x(), sector[k].y(), sector[k].z());
+      const double found = testing::TensorOrientation(sector[k].x(), sector[k].y(), sector[k].z());
       std::printf("field %s, sector %d: %.1f deg, the sample's %.1f\n", along_tube ? "along the tube" : "around it", k, found,
                   sample_orientation);
-      EXPECT_LT(AngleBetween(found, sample_orientation), 10.0) << "sector " << k;
+      EXPECT_LT(testing::AngleBetweenOrientations(found, sample_orientation), 10.0) << "sector " << k;
     }
   }
 }
@@ -206,28 +179,15 @@ struct Judged {
 Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const Quilted& q, const SynthMap& map, double texel_size,
              const SurfaceAppearance& appearance, const SurfaceScene& scene, const Image& sample_head_on, const CutTest& cut) {
   Judged j;
-  for (const Eigen::Vector3d& view : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0),
-                                      Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0.2, 0), Eigen::Vector3d(0.3, -1, 0)}) {
-    const RenderCamera camera = FramingCamera(mesh, kRender, kRender, view);
-    const CameraFrame cf = camera.Frame();
-    const Eigen::Vector3d back = -cf.forward;
-    for (const Eigen::Vector3d& l : {back, Eigen::Vector3d(-0.5 * cf.right + 0.6 * cf.up + 0.6 * back),
-                                     Eigen::Vector3d(0.8 * cf.right + 0.2 * cf.up + 0.5 * back)}) {
-      RenderLight light;
-      light.vector = l.normalized();
-      const SurfaceRender r =
-          RenderSurface(scene, AtlasShader(appearance, mesh, frames, q.atlas, map, texel_size, camera.eye, light), camera, light);
-      AddSteps(r, mesh, q.atlas, camera, cut, &j.steps);
-      if (l == back) {  // the central window, head-on light
-        Image window(kWindow, kWindow, 3);
-        const int o = (kRender - kWindow) / 2;
-        for (int y = 0; y < kWindow; ++y)
-          for (int x = 0; x < kWindow; ++x)
-            for (int c = 0; c < 3; ++c) window.at(x, y, c) = r.colour.at(x + o, y + o, c);
-        j.subband += SubbandDistance(window, sample_head_on);
-      }
-    }
-  }
+  testing::ForSixViewsThreeLights(
+      mesh, kRender,
+      [&](const RenderCamera& camera, const RenderLight& light) {
+        return RenderSurface(scene, AtlasShader(appearance, mesh, frames, q.atlas, map, texel_size, camera.eye, light), camera, light);
+      },
+      [&](const SurfaceRender& r, const RenderCamera& camera, bool head_on) {
+        AddSteps(r, mesh, q.atlas, camera, cut, &j.steps);
+        if (head_on) j.subband += SubbandDistance(testing::CentralWindow(r.colour, kWindow), sample_head_on);
+      });
   return j;
 }
 
@@ -253,12 +213,7 @@ TEST_P(SurfaceQuiltQuality, SeamsAndStatisticsBeatAPlanarProjection) {
   const Exemplar e = name == "rig" ? testing::RigGridBtf("stones", kSample) : ImageExemplar(testing::PhotoCrop(name, kSample));
   auto appearance = SurfaceAppearance::FromExemplar(e);
   ASSERT_TRUE(appearance.ok()) << appearance.status().message();
-  Image head_on(kSample, kSample, 3);  // the sample as a head-on light and view show it
-  for (int y = 0; y < kSample; ++y)
-    for (int x = 0; x < kSample; ++x) {
-      const Eigen::Vector3f c = appearance->Lookup(x, y, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ());
-      for (int k = 0; k < 3; ++k) head_on.at(x, y, k) = c[k];
-    }
+  const Image head_on = testing::HeadOnSample(*appearance);
   const Image features = name == "rig" ? head_on : e.features;
   const TriangleMesh sphere = own_uvs ? testing::CubeSphere(40) : testing::IcoSphere(5);
   const TangentFrames frames = RelaxedFrames(sphere);

@@ -70,14 +70,6 @@ INSTANTIATE_TEST_SUITE_P(Meshes, SurfaceTextons,
 namespace mesocap {
 namespace {
 
-// The dominant orientation (deg, mod 180) of a structure tensor summed from gradients (gs, gt).
-double Orientation(double jss, double jtt, double jst) { return 0.5 * std::atan2(2 * jst, jss - jtt) * 180 / M_PI; }
-
-double AngleBetween(double a, double b) {
-  double d = std::fmod(std::abs(a - b), 180.0);
-  return std::min(d, 180 - d);
-}
-
 // Orientation: planks (a strongly oriented photograph: structure-tensor coherence 0.82 on the
 // crop; woodgrain's wavy grain, 0.47, varies by 20 deg across its crop) on a torus with a user field along the
 // tube, then around it. In each of 8 sectors of the torus, the synthesized texture's dominant
@@ -86,30 +78,11 @@ double AngleBetween(double a, double b) {
 TEST(SurfaceTextons, TextureOrientationFollowsTheUserField) {
   const Image sample = Crop("planks");
   const TextonAnalysis analysis = Analyse(sample);
-  auto luminance = [&](int x, int y) {
-    const float* p = sample.pixel(std::clamp(x, 0, kSample - 1), std::clamp(y, 0, kSample - 1));
-    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-  };
-  double sxx = 0, syy = 0, sxy = 0;
-  for (int y = 0; y < kSample; ++y)
-    for (int x = 0; x < kSample; ++x) {
-      const double gx = 0.5 * (luminance(x + 1, y) - luminance(x - 1, y)), gt = -0.5 * (luminance(x, y + 1) - luminance(x, y - 1));
-      sxx += gx * gx, syy += gt * gt, sxy += gx * gt;
-    }
-  const double sample_orientation = Orientation(sxx, syy, sxy);
+  auto luminance = [&](int x, int y) { return testing::SampleLuminance(sample, x, y); };
+  const double sample_orientation = testing::SampleOrientation(sample);
   const TriangleMesh torus = testing::Torus(240, 80);
   for (bool along_tube : {true, false}) {
-    DirectionField field;
-    for (int i = 0; i < 36; ++i) {
-      const double u = 2 * M_PI * i / 36;
-      for (int j = 0; j < 4; ++j) {
-        const double v = 2 * M_PI * j / 4;
-        const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
-        field.points.push_back(Eigen::Vector3d(std::cos(u), std::sin(u), 0) + 0.35 * n);
-        field.directions.push_back(along_tube ? Eigen::Vector3d(-std::sin(u), std::cos(u), 0)
-                                              : Eigen::Vector3d(-std::sin(v) * std::cos(u), -std::sin(v) * std::sin(u), std::cos(v)));
-      }
-    }
+    const DirectionField field = testing::TorusField(along_tube);
     const TangentFrames frames = FieldFrames(torus, field);
     SurfaceTextonOptions o;
     o.seed = testing::SeedFromTestName();
@@ -159,10 +132,10 @@ TEST(SurfaceTextons, TextureOrientationFollowsTheUserField) {
       sector[k] += Eigen::Vector3d(g.x() * g.x(), g.y() * g.y(), g.x() * g.y());
     }
     for (int k = 0; k < 8; ++k) {
-      const double found = Orientation(sector[k].x(), sector[k].y(), sector[k].z());
+      const double found = testing::TensorOrientation(sector[k].x(), sector[k].y(), sector[k].z());
       std::printf("field %s, sector %d: %.1f deg, the sample's %.1f\n", along_tube ? "along the tube" : "around it", k, found,
                   sample_orientation);
-      EXPECT_LT(AngleBetween(found, sample_orientation), 10.0) << "sector " << k;
+      EXPECT_LT(testing::AngleBetweenOrientations(found, sample_orientation), 10.0) << "sector " << k;
     }
   }
 }
