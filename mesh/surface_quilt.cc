@@ -379,7 +379,7 @@ class SurfaceQuilter {
       rep_.mean_seam_cost = seam_edges_ ? seam_cost_ / seam_edges_ : 0;
       ++rep_.patches;
       rep_.chart_crossing_patches += wp.crosses_charts;
-      return Commit(wp, wi, patch, cut);
+      return Commit(v, wp, wi, patch, cut);
     }
   }
 
@@ -395,7 +395,7 @@ class SurfaceQuilter {
 
   // Every dense texel of the patch's faces whose cell took the new patch copies the sample under
   // its own position in the work image.
-  int Commit(const WorkPatch& wp, const WorkImage& wi, const PlacedPatch& patch, const CutResult& cut) {
+  int Commit(int v, const WorkPatch& wp, const WorkImage& wi, const PlacedPatch& patch, const CutResult& cut) {
     const int32_t id = next_patch_++;
     const Eigen::Vector2d origin = patch.copy->origin;
     int filled = 0;
@@ -406,7 +406,10 @@ class SurfaceQuilter {
         const Eigen::Vector2d p = w[0] * wp.corners[i][0] + w[1] * wp.corners[i][1] + w[2] * wp.corners[i][2];
         const Eigen::Vector2d c = CellOf(p, wi.radius);
         const int cx = int(std::lround(c.x())), cy = int(std::lround(c.y()));
-        if (cx < 0 || cy < 0 || cx >= wi.side || cy >= wi.side || !cut.take_new[size_t(cy) * wi.side + cx]) continue;
+        // v always takes the patch (its centre may lie just off its face, under a cell another
+        // face's texel keeps): each patch fills at least v.
+        const bool inside = cx >= 0 && cy >= 0 && cx < wi.side && cy < wi.side;
+        if (*d != v && (!inside || !cut.take_new[size_t(cy) * wi.side + cx])) continue;
         const double sx = std::clamp(origin.x() + patch.u0 + c.x(), 0.0, sample_.width() - 1e-3);
         const double sy = std::clamp(origin.y() + patch.v0 + c.y(), 0.0, sample_.height() - 1e-3);
         map_.Set(tx_.x[*d], tx_.y[*d], float(sx), float(sy), float(-wp.field_angle[i] * 180 / M_PI), id);
