@@ -162,17 +162,11 @@ class SurfaceQuilter {
     return faces;
   }
 
-  // The work patch for a window of radius r around v, or false when its faces are not a disk or
-  // the flattening stretches a face's area beyond T_d.
-  bool MakeWorkPatch(int v, int r, WorkPatch* wp) {
-    const auto start = std::chrono::steady_clock::now();
-    const double reach = (r + 1) * h_ * std::sqrt(2.0) + tx_.spacing;
-    wp->faces = r > 0 ? FacesAround(v, reach) : std::vector<int32_t>{tx_.face[v]};
-    wp->corners = FlattenByLscm(m_, wp->faces, kFoldedAreaShare);
-    wp->radius = r;
-    rep_.seconds_flattening += SecondsSince(start);
-    if (wp->corners.empty()) return false;
-    // Scale to surface units (the patch's area kept) and measure each face's area stretch.
+  // Scales a work patch's flat corners to surface units (the patch's area kept), counter-clockwise,
+  // v at the origin; false when they fold or stretch a face's area by more than T_d (slivers of at
+  // most kFoldedAreaShare of the area left out of the measure: a marched surface's slivers flatten
+  // wildly).
+  bool ToSurfaceUnits(int v, WorkPatch* wp) const {
     double area3 = 0, area2 = 0;
     std::vector<double> a3(wp->faces.size()), a2(wp->faces.size());
     for (size_t i = 0; i < wp->faces.size(); ++i) {
@@ -181,10 +175,14 @@ class SurfaceQuilter {
       a2[i] = 0.5 * ((q[1] - q[0]).x() * (q[2] - q[0]).y() - (q[1] - q[0]).y() * (q[2] - q[0]).x());
       area3 += a3[i], area2 += a2[i];
     }
+    if (area2 < 0) {  // laid flat clockwise (an atlas' rows run down): mirror
+      for (auto& q : wp->corners)
+        for (auto& p : q) p.y() = -p.y();
+      for (double& a : a2) a = -a;
+      area2 = -area2;
+    }
     if (!(area2 > 0) || !(area3 > 0)) return false;
     const double scale = std::sqrt(area3 / area2);
-    // The area distortion: the largest stretch either way, once slivers of at most
-    // kFoldedAreaShare of the area are left out (a marched surface's slivers flatten wildly).
     std::vector<std::pair<double, double>> stretch(wp->faces.size());  // distortion, surface area
     for (size_t i = 0; i < wp->faces.size(); ++i) {
       const double s = a2[i] * scale * scale / std::max(a3[i], 1e-300);
@@ -197,26 +195,47 @@ class SurfaceQuilter {
       if (distortion > o_.max_area_distortion) return false;
       break;
     }
-    // v at the origin, surface units.
-    const int vf = tx_.face[v];
-    const size_t vi = size_t(std::find(wp->faces.begin(), wp->faces.end(), vf) - wp->faces.begin());
+    const size_t vi = size_t(std::find(wp->faces.begin(), wp->faces.end(), tx_.face[v]) - wp->faces.begin());
     const Eigen::Vector3d vw = tx_.weights[v].cast<double>();
     const Eigen::Vector2d origin = vw[0] * wp->corners[vi][0] + vw[1] * wp->corners[vi][1] + vw[2] * wp->corners[vi][2];
     for (auto& q : wp->corners)
       for (auto& p : q) p = scale * (p - origin);
+    return true;
+  }
+
+  // The work patch for a window of radius r around v, or false when its faces are not a disk or
+  // the flattening stretches a face's area beyond T_d. Inside one chart the atlas already lays the
+  // faces flat (Zhou takes the chart's own sub-image there); across charts, or where the chart
+  // stretches more than T_d, LSCM lays them flat.
+  bool MakeWorkPatch(int v, int r, WorkPatch* wp) {
+    const auto start = std::chrono::steady_clock::now();
+    const double reach = (r + 1) * h_ + tx_.spacing;  // a disk of radius r_w, as Zhou pictures the work patch
+    wp->faces = r > 0 ? FacesAround(v, reach) : std::vector<int32_t>{tx_.face[v]};
+    wp->radius = r;
+    const int32_t chart = atlas_.face_chart[tx_.face[v]];
+    wp->crosses_charts = std::any_of(wp->faces.begin(), wp->faces.end(), [&](int32_t f) { return atlas_.face_chart[f] != chart; });
+    bool flat = false;
+    if (!wp->crosses_charts) {
+      wp->corners.resize(wp->faces.size());
+      for (size_t i = 0; i < wp->faces.size(); ++i) wp->corners[i] = atlas_.corner_uv[wp->faces[i]];
+      flat = ToSurfaceUnits(v, wp);
+    }
+    if (!flat) {
+      wp->corners = FlattenByLscm(m_, wp->faces, kFoldedAreaShare);
+      flat = !wp->corners.empty() && ToSurfaceUnits(v, wp);
+    }
+    rep_.seconds_flattening += SecondsSince(start);
+    if (!flat) return false;
     // The field's mean direction, weighted by area and nearness to v; t must come out to its left.
     Eigen::Vector2d mean_s = Eigen::Vector2d::Zero(), mean_t = Eigen::Vector2d::Zero();
-    const int32_t chart = atlas_.face_chart[vf];
-    wp->crosses_charts = false;
     std::vector<Eigen::Vector2d> s2(wp->faces.size());
     for (size_t i = 0; i < wp->faces.size(); ++i) {
       const int f = wp->faces[i];
-      wp->crosses_charts |= atlas_.face_chart[f] != chart;
       const LocalFrame fr = FaceFrame(m_, frames_, f, Eigen::Vector3d::Constant(1.0 / 3));
       s2[i] = FlatDirection(m_, f, wp->corners[i], fr.s);
       const Eigen::Vector2d t2 = FlatDirection(m_, f, wp->corners[i], fr.t);
       const Eigen::Vector2d centre = (wp->corners[i][0] + wp->corners[i][1] + wp->corners[i][2]) / 3;
-      const double weight = a3[i] * std::exp(-centre.squaredNorm() / (reach * reach));
+      const double weight = m_.FaceArea(f) * std::exp(-centre.squaredNorm() / (reach * reach));
       if (s2[i].norm() > 0) mean_s += weight * s2[i].normalized();
       if (t2.norm() > 0) mean_t += weight * t2.normalized();
     }
