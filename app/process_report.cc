@@ -174,11 +174,17 @@ void AddDressedMeshes(const SessionLayout& session, Report* report) {
       continue;
     }
     try {
-      report->Paragraph(Format("%s/: %s (%d vertices) dressed in the reconstructed BTF by surface textons: %.1f%% of its edges "
-                               "inside patches, %.2f%% repeats; a glTF asset in %s.",
+      const Json& q = (*j)["quality"];
+      const std::string how =
+          (*j)["method"] == "quilt"
+              ? Format("by graphcut quilting on its %d texel atlas (%s): %d patches, %d of them across charts",
+                       (*j)["gltf"]["atlas_size"].get<int>(), (*j)["gltf"]["atlas"].get<std::string>().c_str(),
+                       q["patches"].get<int>(), q["chart_crossing_patches"].get<int>())
+              : Format("by surface textons: %.1f%% of its edges inside patches, %.2f%% repeats",
+                       100 * q["coherent_edges"].get<double>(), 100 * q["repeats"].get<double>());
+      report->Paragraph(Format("%s/: %s (%d vertices) dressed in the reconstructed BTF %s; a glTF asset in %s.",
                                session.Relative(root).c_str(), root.filename().string().c_str(), (*j)["mesh"]["vertices"].get<int>(),
-                               100 * (*j)["quality"]["coherent_edges"].get<double>(), 100 * (*j)["quality"]["repeats"].get<double>(),
-                               session.Relative(folder.gltf().material()).c_str()));
+                               how.c_str(), session.Relative(folder.gltf().material()).c_str()));
     } catch (const std::exception& e) {
       SayUnreadable(Status::Error(folder.report().string() + ": " + e.what()), report);
       continue;

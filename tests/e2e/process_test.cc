@@ -413,7 +413,7 @@ TEST_F(ProcessTest, SynthesisWhenAskedEnlargesTheBtfAndItsGltfMaterial) {
 
 // --decorate: each mesh dressed after export into decorate/<name>/ (map, previews, a light sweep
 // the report animates, a glTF asset that validates); cached like every stage: a rerun skips it,
-// a changed mesh file reruns it.
+// a changed mesh file reruns it; --decorate-method quilt adds decorate/<name>-quilt/.
 TEST_F(ProcessTest, DecorateWhenAskedDressesEachMeshAfterExport) {
   const fs::path s = FreshSession(), meshes = testing::MakeTempDir();
   ASSERT_EQ(Process(s), kAllRan);
@@ -435,6 +435,18 @@ TEST_F(ProcessTest, DecorateWhenAskedDressesEachMeshAfterExport) {
   EXPECT_EQ(Process(s, decorate).at("decorate"), "skipped");
   ASSERT_TRUE(WriteObj(meshes / "ring.obj", Torus(40, 16)).ok());
   EXPECT_EQ(Process(s, decorate).at("decorate"), "ran");
+  // Both methods: quilts beside the texton maps, in the report too; the methods are in the key.
+  const std::string both = decorate + " --decorate-method texton --decorate-method quilt";
+  EXPECT_EQ(Process(s, both).at("decorate"), "ran");
+  for (const char* name : {"ball-quilt", "ring-quilt"}) {
+    const fs::path d = s / "decorate" / name;
+    for (const char* f : {"surface_map.ply", "atlas_map.exr", "previews/sweep_11.png", "gltf/base_color.png"})
+      EXPECT_TRUE(fs::exists(d / f)) << name << " " << f;
+  }
+  EXPECT_TRUE(fs::exists(s / "decorate" / "ring" / "textons.exr"));
+  html = ReadTextFile(s / "report.html");
+  ASSERT_TRUE(html.ok());
+  EXPECT_NE(html->find("decorate/ring-quilt/previews/sweep_00.png"), std::string::npos);
 }
 
 TEST_F(ProcessTest, TheReportRelightsInAHeadlessBrowserWithoutErrors) {
