@@ -269,6 +269,7 @@ int RunDemo(DemoArgs& a) {
   process.decorate.methods = {"texton", "quilt"};
   process.decorate.representative_slices = 48;
   process.decorate.preview_size = 256;
+  process.decorate.atlas_size = 256;  // the previews are 256 pixels: a 256 texel atlas shows all a quilt holds
   clock.Stop();
   auto outcomes = RunProcess(process);
   if (!outcomes.ok()) return Fail("demo", outcomes.status());
