@@ -1,6 +1,7 @@
 #include "mesh/atlas.h"
 
 #include "mesh/lscm.h"
+#include "mesh/triangle_raster.h"
 
 #include <algorithm>
 #include <cmath>
@@ -222,24 +223,13 @@ StatusOr<Atlas> AtlasFromMeshUvs(const TriangleMesh& m, const AtlasOptions& o) {
   // Overlap: texel centres strictly inside faces of two charts, or of one chart folded onto itself.
   std::vector<int32_t> owner(size_t(o.size) * o.size, -1);
   long covered = 0, overlapping = 0;
-  for (int f = 0; f < m.face_count(); ++f) {
-    const auto& c = atlas.corner_uv[f];
-    const Eigen::Vector2d e0 = c[1] - c[0], e1 = c[2] - c[0];
-    const double det = e0.x() * e1.y() - e1.x() * e0.y();
-    const int x0 = std::max(0, int(std::floor(std::min({c[0].x(), c[1].x(), c[2].x()})))),
-              x1 = std::min(o.size - 1, int(std::ceil(std::max({c[0].x(), c[1].x(), c[2].x()})))),
-              y0 = std::max(0, int(std::floor(std::min({c[0].y(), c[1].y(), c[2].y()})))),
-              y1 = std::min(o.size - 1, int(std::ceil(std::max({c[0].y(), c[1].y(), c[2].y()}))));
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        const Eigen::Vector2d q = Eigen::Vector2d(x + 0.5, y + 0.5) - c[0];
-        const double w1 = (q.x() * e1.y() - e1.x() * q.y()) / det, w2 = (e0.x() * q.y() - q.x() * e0.y()) / det;
-        if (w1 <= 1e-6 || w2 <= 1e-6 || 1 - w1 - w2 <= 1e-6) continue;
-        int32_t& who = owner[size_t(y) * o.size + x];
-        if (who < 0) who = f, ++covered;
-        else ++overlapping;
-      }
-  }
+  const double strictly_inside = std::nextafter(1e-6, 1.0);
+  for (int f = 0; f < m.face_count(); ++f)
+    ForEachGridPointIn(atlas.corner_uv[f], o.size, 0, o.size, 0.5, strictly_inside, [&](int x, int y, const Eigen::Vector3d&) {
+      int32_t& who = owner[size_t(y) * o.size + x];
+      if (who < 0) who = f, ++covered;
+      else ++overlapping;
+    });
   if (overlapping > std::max(0L, covered / 1000))
     return Status::Error("its UV charts overlap (" + std::to_string(overlapping) + " texels of " + std::to_string(o.size) + "^2 covered twice)");
   atlas.fill = uv_area / (double(o.size) * o.size);

@@ -5,17 +5,11 @@
 #include <unordered_map>
 
 #include "core/parallel.h"
+#include "mesh/triangle_raster.h"
 
 namespace mesocap {
 
-Eigen::Vector3d AtlasWeights(const Atlas& atlas, int f, const Eigen::Vector2d& q) {
-  const auto& uv = atlas.corner_uv[f];
-  const Eigen::Vector2d e0 = uv[1] - uv[0], e1 = uv[2] - uv[0], r = q - uv[0];
-  const double det = e0.x() * e1.y() - e1.x() * e0.y();
-  if (std::abs(det) < 1e-18) return Eigen::Vector3d(-1, -1, -1);
-  const double w1 = (r.x() * e1.y() - e1.x() * r.y()) / det, w2 = (e0.x() * r.y() - r.x() * e0.y()) / det;
-  return {1 - w1 - w2, w1, w2};
-}
+Eigen::Vector3d AtlasWeights(const Atlas& atlas, int f, const Eigen::Vector2d& q) { return Barycentric(atlas.corner_uv[f], q); }
 
 namespace {
 
@@ -35,22 +29,14 @@ void Rasterise(const Atlas& atlas, std::vector<int32_t>* face_of, std::vector<Ei
     for (int b = std::max(0, int(lo) / rows); b <= std::min(bands - 1, int(hi) / rows); ++b) band_faces[b].push_back(f);
   }
   ParallelFor(0, bands, [&](int b) {
-    for (int32_t f : band_faces[b]) {
-      const auto& uv = atlas.corner_uv[f];
-      const int x0 = std::max(0, int(std::floor(std::min({uv[0].x(), uv[1].x(), uv[2].x()})))),
-                x1 = std::min(n - 1, int(std::ceil(std::max({uv[0].x(), uv[1].x(), uv[2].x()})))),
-                y0 = std::max(b * rows, int(std::floor(std::min({uv[0].y(), uv[1].y(), uv[2].y()})))),
-                y1 = std::min({(b + 1) * rows - 1, n - 1, int(std::ceil(std::max({uv[0].y(), uv[1].y(), uv[2].y()})))});
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const size_t i = size_t(y) * n + x;
-          if ((*face_of)[i] >= 0) continue;
-          const Eigen::Vector3d w = AtlasWeights(atlas, f, Eigen::Vector2d(x + 0.5, y + 0.5));
-          if (w.minCoeff() < kInside) continue;
-          (*face_of)[i] = f;
-          (*weights_of)[i] = w.cast<float>();
-        }
-    }
+    for (int32_t f : band_faces[b])
+      ForEachGridPointIn(atlas.corner_uv[f], n, b * rows, std::min(n, (b + 1) * rows), 0.5, kInside,
+                         [&](int x, int y, const Eigen::Vector3d& w) {
+                           const size_t i = size_t(y) * n + x;
+                           if ((*face_of)[i] >= 0) return;
+                           (*face_of)[i] = f;
+                           (*weights_of)[i] = w.cast<float>();
+                         });
   }, num_threads);
   // Texels no face holds the centre of but a face's edge crosses (the whole of a sliver, thinner
   // than a texel, lies in such texels) take the first such face, extended to the texel's centre

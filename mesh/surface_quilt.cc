@@ -9,6 +9,7 @@
 #include "core/progress.h"
 #include "core/text_format.h"
 #include "mesh/lscm.h"
+#include "mesh/triangle_raster.h"
 #include "synth/graphcut_fit.h"
 #include "synth/patch_matching.h"
 
@@ -49,7 +50,6 @@ struct WorkPatch {
   std::vector<int32_t> faces;
   std::vector<std::array<Eigen::Vector2d, 3>> corners;
   std::vector<double> field_angle;  // radians
-  int radius = 0;                   // the window it was made for (serves smaller ones)
   bool crosses_charts = false;
 };
 
@@ -211,7 +211,6 @@ class SurfaceQuilter {
     const auto start = std::chrono::steady_clock::now();
     const double reach = (r + 1) * h_ + tx_.spacing;  // a disk of radius r_w, as Zhou pictures the work patch
     wp->faces = r > 0 ? FacesAround(v, reach) : std::vector<int32_t>{tx_.face[v]};
-    wp->radius = r;
     const int32_t chart = atlas_.face_chart[tx_.face[v]];
     wp->crosses_charts = std::any_of(wp->faces.begin(), wp->faces.end(), [&](int32_t f) { return atlas_.face_chart[f] != chart; });
     bool flat = false;
@@ -274,30 +273,18 @@ class SurfaceQuilter {
     wi.patch_face.assign(wi.texel.size(), -1);
     wi.point.assign(wi.texel.size(), Eigen::Vector3d::Zero());
     for (size_t i = 0; i < wp.faces.size(); ++i) {
-      std::array<Eigen::Vector2d, 3> c;
-      for (int k = 0; k < 3; ++k) c[k] = CellOf(wp.corners[i][k], r);
-      const int x0 = std::max(0, int(std::ceil(std::min({c[0].x(), c[1].x(), c[2].x()})))),
-                x1 = std::min(wi.side - 1, int(std::floor(std::max({c[0].x(), c[1].x(), c[2].x()})))),
-                y0 = std::max(0, int(std::ceil(std::min({c[0].y(), c[1].y(), c[2].y()})))),
-                y1 = std::min(wi.side - 1, int(std::floor(std::max({c[0].y(), c[1].y(), c[2].y()}))));
-      const Eigen::Vector2d e0 = c[1] - c[0], e1 = c[2] - c[0];
-      const double det = e0.x() * e1.y() - e1.x() * e0.y();
-      if (std::abs(det) < 1e-18) continue;
+      std::array<Eigen::Vector2d, 3> cells;
+      for (int k = 0; k < 3; ++k) cells[k] = CellOf(wp.corners[i][k], r);
       const int f = wp.faces[i];
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const size_t k = size_t(y) * wi.side + x;
-          if (wi.patch_face[k] >= 0) continue;
-          const Eigen::Vector2d q = Eigen::Vector2d(x, y) - c[0];
-          const double w1 = (q.x() * e1.y() - e1.x() * q.y()) / det, w2 = (e0.x() * q.y() - q.x() * e0.y()) / det;
-          if (w1 < -1e-9 || w2 < -1e-9 || 1 - w1 - w2 < -1e-9) continue;
-          wi.patch_face[k] = int32_t(i);
-          const auto& corner = m_.faces[f];
-          wi.point[k] = (1 - w1 - w2) * m_.positions[corner[0]] + w1 * m_.positions[corner[1]] + w2 * m_.positions[corner[2]];
-          const auto& uv = atlas_.corner_uv[f];
-          const Eigen::Vector2d a = (1 - w1 - w2) * uv[0] + w1 * uv[1] + w2 * uv[2];
-          wi.texel[k] = NearestTexel(a, atlas_.face_chart[f]);
-        }
+      ForEachGridPointIn(cells, wi.side, 0, wi.side, 0.0, -1e-9, [&](int x, int y, const Eigen::Vector3d& w) {
+        const size_t k = size_t(y) * wi.side + x;
+        if (wi.patch_face[k] >= 0) return;
+        wi.patch_face[k] = int32_t(i);
+        const auto& corner = m_.faces[f];
+        wi.point[k] = w[0] * m_.positions[corner[0]] + w[1] * m_.positions[corner[1]] + w[2] * m_.positions[corner[2]];
+        const auto& uv = atlas_.corner_uv[f];
+        wi.texel[k] = NearestTexel(w[0] * uv[0] + w[1] * uv[1] + w[2] * uv[2], atlas_.face_chart[f]);
+      });
     }
     return wi;
   }
