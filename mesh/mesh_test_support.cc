@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <filesystem>
 #include <map>
@@ -229,6 +230,41 @@ Image CentralWindow(const Image& colour, int size) {
     for (int x = 0; x < size; ++x)
       for (int c = 0; c < 3; ++c) window.at(x, y, c) = colour.at(x + ox, y + oy, c);
   return window;
+}
+
+int TorusEighth(const Eigen::Vector3d& p) { return int(std::floor((std::atan2(p.y(), p.x()) + M_PI) / (2 * M_PI) * 8)) % 8; }
+
+double WorstEighth(const std::vector<Eigen::Vector3d>& tensors, double sample_orientation, const std::string& label) {
+  double worst = 0;
+  for (size_t k = 0; k < tensors.size(); ++k) {
+    const double found = TensorOrientation(tensors[k].x(), tensors[k].y(), tensors[k].z());
+    std::printf("field %s, sector %zu: %.1f deg, the sample's %.1f\n", label.c_str(), k, found, sample_orientation);
+    worst = std::max(worst, AngleBetweenOrientations(found, sample_orientation));
+  }
+  return worst;
+}
+
+void AddSeamSteps(const SurfaceRender& r, const TriangleMesh& mesh, const RenderCamera& camera,
+                  const std::function<bool(size_t, size_t)>& across, SeamSteps* s) {
+  const int W = r.width(), H = r.colour.height();
+  auto usable = [&](int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= W || yy >= H || !r.lit[size_t(yy) * W + xx]) return false;
+      }
+    return std::abs(mesh.FaceNormal(r.triangle[size_t(y) * W + x]).dot(camera.RayDirection(x, y))) > 0.3;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        if (x + dx >= W || y + dy >= H || !usable(x, y) || !usable(x + dx, y + dy)) continue;
+        double step = 0;
+        for (int c = 0; c < 3; ++c) step += std::abs(r.colour.at(x, y, c) - r.colour.at(x + dx, y + dy, c));
+        const bool cut = across(size_t(y) * W + x, size_t(y + dy) * W + x + dx);
+        (cut ? s->across : s->inside) += step;
+        ++(cut ? s->across_pairs : s->inside_pairs);
+      }
 }
 
 }  // namespace mesocap::testing

@@ -43,6 +43,10 @@ double AngleBetweenOrientations(double a, double b);
 double SampleLuminance(const Image& sample, int x, int y);
 double SampleOrientation(const Image& sample);
 DirectionField TorusField(bool along_tube);
+// The eighth of Torus() (by angle about z) a point lies in; each eighth's orientation from its
+// summed tensor (jss, jtt, jst), printed beside the sample's, and the largest difference.
+int TorusEighth(const Eigen::Vector3d& p);
+double WorstEighth(const std::vector<Eigen::Vector3d>& tensors, double sample_orientation, const std::string& label);
 
 // Rendering tests: the sample as a head-on light and view show it; each of six views of the mesh
 // (framed, size x size) under three lights (head-on, from the upper left, grazing from the right),
@@ -53,5 +57,16 @@ void ForSixViewsThreeLights(const TriangleMesh& mesh, int size,
                             const std::function<SurfaceRender(const RenderCamera&, const RenderLight&)>& render,
                             const std::function<void(const SurfaceRender&, const RenderCamera&, bool head_on)>& judge);
 Image CentralWindow(const Image& colour, int size);
+
+// Seams in renders: over neighbouring pixel pairs both lit with their 3 x 3 neighbourhoods and on
+// triangles facing the camera (|n.v| > 0.3: away from silhouettes), the mean colour step of the
+// pairs `across` says straddle a cut (pixel indices) over that of the others.
+struct SeamSteps {
+  double across = 0, inside = 0;
+  long across_pairs = 0, inside_pairs = 0;
+  double ratio() const { return (across / across_pairs) / (inside / inside_pairs); }
+};
+void AddSeamSteps(const SurfaceRender& r, const TriangleMesh& mesh, const RenderCamera& camera,
+                  const std::function<bool(size_t pixel_a, size_t pixel_b)>& across, SeamSteps* steps);
 
 }  // namespace mesocap::testing

@@ -58,39 +58,8 @@ std::vector<char> CutTriangles(const TriangleMesh& mesh, const TangentFrames& fr
   return cut;
 }
 
-struct Steps {
-  double across = 0, inside = 0;
-  long across_pairs = 0, inside_pairs = 0;
-  double ratio() const { return (across / across_pairs) / (inside / inside_pairs); }
-};
-
-// Adds a render's pixel pairs: both pixels lit with their 3 x 3 neighbourhoods, both on triangles
-// facing the camera (|n.v| > 0.3: away from silhouettes).
-void AddSteps(const SurfaceRender& r, const TriangleMesh& mesh, const RenderCamera& camera, const std::vector<char>& cut, Steps* s) {
-  const int W = r.width(), H = r.colour.height();
-  auto usable = [&](int x, int y) {
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int xx = x + dx, yy = y + dy;
-        if (xx < 0 || yy < 0 || xx >= W || yy >= H || !r.lit[size_t(yy) * W + xx]) return false;
-      }
-    const int f = r.triangle[size_t(y) * W + x];
-    return std::abs(mesh.FaceNormal(f).dot(camera.RayDirection(x, y))) > 0.3;
-  };
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
-        if (x + dx >= W || y + dy >= H || !usable(x, y) || !usable(x + dx, y + dy)) continue;
-        double step = 0;
-        for (int c = 0; c < 3; ++c) step += std::abs(r.colour.at(x, y, c) - r.colour.at(x + dx, y + dy, c));
-        const bool across = cut[r.triangle[size_t(y) * W + x]] || cut[r.triangle[size_t(y + dy) * W + x + dx]];
-        (across ? s->across : s->inside) += step;
-        ++(across ? s->across_pairs : s->inside_pairs);
-      }
-}
-
 struct Judged {
-  Steps steps;
+  testing::SeamSteps steps;
   double subband = 0;
 };
 
@@ -104,7 +73,8 @@ Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const Surfac
         return RenderSurface(scene, ShadeVertices(appearance, mesh, frames, map, camera.eye, light), camera, light);
       },
       [&](const SurfaceRender& r, const RenderCamera& camera, bool head_on) {
-        AddSteps(r, mesh, camera, cut, &j.steps);
+        testing::AddSeamSteps(r, mesh, camera, [&](size_t a, size_t b) { return cut[r.triangle[a]] || cut[r.triangle[b]]; },
+                              &j.steps);
         if (head_on) j.subband += SubbandDistance(testing::CentralWindow(r.colour, kWindow), sample_head_on);
       });
   return j;

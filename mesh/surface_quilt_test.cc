@@ -104,16 +104,9 @@ TEST(SurfaceQuilt, TextureOrientationFollowsTheUserField) {
       }
       if (std::abs(a.determinant()) < 1e-12) continue;
       const Eigen::Vector2d g = a.ldlt().solve(b);
-      const Eigen::Vector3d& p = q.texels.position[d];
-      const int k = int(std::floor((std::atan2(p.y(), p.x()) + M_PI) / (2 * M_PI) * 8)) % 8;
-      sector[k] += Eigen::Vector3d(g.x() * g.x(), g.y() * g.y(), g.x() * g.y());
+      sector[testing::TorusEighth(q.texels.position[d])] += Eigen::Vector3d(g.x() * g.x(), g.y() * g.y(), g.x() * g.y());
     }
-    for (int k = 0; k < 8; ++k) {
-      const double found = testing::TensorOrientation(sector[k].x(), sector[k].y(), sector[k].z());
-      std::printf("field %s, sector %d: %.1f deg, the sample's %.1f\n", along_tube ? "along the tube" : "around it", k, found,
-                  sample_orientation);
-      EXPECT_LT(testing::AngleBetweenOrientations(found, sample_orientation), 10.0) << "sector " << k;
-    }
+    EXPECT_LT(testing::WorstEighth(sector, sample_orientation, along_tube ? "along the tube" : "around it"), 10.0);
   }
 }
 
@@ -134,45 +127,18 @@ SynthMap PlanarProjection(const TriangleMesh& mesh, const TangentFrames& frames,
   return map;
 }
 
-struct Steps {
-  double across = 0, inside = 0;
-  long across_pairs = 0, inside_pairs = 0;
-  double ratio() const { return (across / across_pairs) / (inside / inside_pairs); }
-};
-
-// Whether two pixels' atlas lookups belong to different patches (for the projection: a wrap).
+// Whether two pixels' atlas texels belong to different patches (for the projection: a wrap).
 using CutTest = std::function<bool(size_t texel_a, size_t texel_b)>;
 
-void AddSteps(const SurfaceRender& r, const TriangleMesh& mesh, const Atlas& atlas, const RenderCamera& camera, const CutTest& cut,
-              Steps* s) {
-  const int W = r.width(), H = r.colour.height();
-  auto usable = [&](int x, int y) {
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int xx = x + dx, yy = y + dy;
-        if (xx < 0 || yy < 0 || xx >= W || yy >= H || !r.lit[size_t(yy) * W + xx]) return false;
-      }
-    return std::abs(mesh.FaceNormal(r.triangle[size_t(y) * W + x]).dot(camera.RayDirection(x, y))) > 0.3;
-  };
-  auto texel = [&](size_t i) {
-    const auto& uv = atlas.corner_uv[r.triangle[i]];
-    const Eigen::Vector2d a = (1 - r.u[i] - r.v[i]) * uv[0] + r.u[i] * uv[1] + r.v[i] * uv[2];
-    return size_t(std::floor(a.y())) * atlas.size + size_t(std::floor(a.x()));
-  };
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
-        if (x + dx >= W || y + dy >= H || !usable(x, y) || !usable(x + dx, y + dy)) continue;
-        double step = 0;
-        for (int c = 0; c < 3; ++c) step += std::abs(r.colour.at(x, y, c) - r.colour.at(x + dx, y + dy, c));
-        const bool across = cut(texel(size_t(y) * W + x), texel(size_t(y + dy) * W + x + dx));
-        (across ? s->across : s->inside) += step;
-        ++(across ? s->across_pairs : s->inside_pairs);
-      }
+// The atlas texel a render's pixel shows.
+size_t PixelTexel(const SurfaceRender& r, const Atlas& atlas, size_t i) {
+  const auto& uv = atlas.corner_uv[r.triangle[i]];
+  const Eigen::Vector2d a = (1 - r.u[i] - r.v[i]) * uv[0] + r.u[i] * uv[1] + r.v[i] * uv[2];
+  return size_t(std::floor(a.y())) * atlas.size + size_t(std::floor(a.x()));
 }
 
 struct Judged {
-  Steps steps;
+  testing::SeamSteps steps;
   double subband = 0;
 };
 
@@ -185,7 +151,9 @@ Judged Judge(const TriangleMesh& mesh, const TangentFrames& frames, const Quilte
         return RenderSurface(scene, AtlasShader(appearance, mesh, frames, q.atlas, map, texel_size, camera.eye, light), camera, light);
       },
       [&](const SurfaceRender& r, const RenderCamera& camera, bool head_on) {
-        AddSteps(r, mesh, q.atlas, camera, cut, &j.steps);
+        testing::AddSeamSteps(
+            r, mesh, camera, [&](size_t a, size_t b) { return cut(PixelTexel(r, q.atlas, a), PixelTexel(r, q.atlas, b)); },
+            &j.steps);
         if (head_on) j.subband += SubbandDistance(testing::CentralWindow(r.colour, kWindow), sample_head_on);
       });
   return j;

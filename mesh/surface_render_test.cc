@@ -134,17 +134,38 @@ Eigen::Vector3f ReferenceLookup(const Exemplar& e, const std::vector<Image>& sli
   return c.cast<float>();
 }
 
+// What both lookup tests compare: the rig's stones BTF (32 texels) with its slices read whole, and
+// a torus with a relaxed field.
+struct RigOnTorus {
+  Exemplar btf;
+  std::vector<Image> slices;
+  SurfaceAppearance appearance;
+  TriangleMesh torus;
+  TangentFrames frames;
+};
+
+RigOnTorus MakeRigOnTorus() {
+  RigOnTorus r;
+  r.btf = testing::RigGridBtf("stones", 32);
+  for (size_t k = 0; k < r.btf.slices.size(); ++k) r.slices.push_back(*r.btf.ReadSlice(int(k)));
+  auto appearance = SurfaceAppearance::FromExemplar(r.btf);
+  MESOCAP_CHECK(appearance.ok(), appearance.status().message());
+  r.appearance = std::move(*appearance);
+  r.torus = testing::Torus(120, 40);
+  r.frames = RelaxedFrames(r.torus);
+  return r;
+}
+
 // Consistent mesostructure: at sampled lit vertices under several lights the rendered value is the
 // exemplar's BTF at the vertex's mapped texel and local directions; every lit pixel is the blend
 // of its triangle's vertex values.
 TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
-  const Exemplar btf = testing::RigGridBtf("stones", 32);
-  std::vector<Image> slices;
-  for (size_t k = 0; k < btf.slices.size(); ++k) slices.push_back(*btf.ReadSlice(int(k)));
-  auto appearance = SurfaceAppearance::FromExemplar(btf);
-  ASSERT_TRUE(appearance.ok()) << appearance.status().message();
-  const TriangleMesh torus = testing::Torus(120, 40);
-  const TangentFrames frames = RelaxedFrames(torus);
+  const RigOnTorus rig = MakeRigOnTorus();
+  const Exemplar& btf = rig.btf;
+  const std::vector<Image>& slices = rig.slices;
+  const SurfaceAppearance& appearance = rig.appearance;
+  const TriangleMesh& torus = rig.torus;
+  const TangentFrames& frames = rig.frames;
   SurfaceMap map;  // any map: here a deterministic scatter of texels
   map.sample_width = map.sample_height = 32, map.texel_size = MeanEdgeLength(torus);
   for (int v = 0; v < torus.vertex_count(); ++v)
@@ -156,7 +177,7 @@ TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
   for (const Eigen::Vector3d& to_light : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0.3, 0.6), Eigen::Vector3d(-0.5, 0.8, 0.4)}) {
     RenderLight light;
     light.vector = to_light.normalized();
-    const auto colours = ShadeVertices(*appearance, torus, frames, map, camera.eye, light);
+    const auto colours = ShadeVertices(appearance, torus, frames, map, camera.eye, light);
     for (int v = 0; v < torus.vertex_count(); v += 11) {
       const Eigen::Vector3d& p = torus.positions[v];
       const Eigen::Vector3d l = frames.ToLocal(v, light.vector), w = frames.ToLocal(v, (camera.eye - p).normalized());
@@ -181,13 +202,12 @@ TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
 // exemplar's BTF at the sample texel the pixel's atlas texel names and the light and view in the
 // frame at the pixel's point, turned by the texel's rotation, all recomputed here.
 TEST(SurfaceRender, AtlasMapPixelsAreTheExemplarsAtTheMappedCoordinates) {
-  const Exemplar btf = testing::RigGridBtf("stones", 32);
-  std::vector<Image> slices;
-  for (size_t k = 0; k < btf.slices.size(); ++k) slices.push_back(*btf.ReadSlice(int(k)));
-  auto appearance = SurfaceAppearance::FromExemplar(btf);
-  ASSERT_TRUE(appearance.ok()) << appearance.status().message();
-  const TriangleMesh torus = testing::Torus(120, 40);
-  const TangentFrames frames = RelaxedFrames(torus);
+  const RigOnTorus rig = MakeRigOnTorus();
+  const Exemplar& btf = rig.btf;
+  const std::vector<Image>& slices = rig.slices;
+  const SurfaceAppearance& appearance = rig.appearance;
+  const TriangleMesh& torus = rig.torus;
+  const TangentFrames& frames = rig.frames;
   auto atlas = BuildAtlas(torus, {256, 2});
   ASSERT_TRUE(atlas.ok());
   const AtlasTexels texels = BuildAtlasTexels(torus, *atlas);
@@ -205,7 +225,7 @@ TEST(SurfaceRender, AtlasMapPixelsAreTheExemplarsAtTheMappedCoordinates) {
     RenderLight light;
     light.vector = to_light.normalized();
     const SurfaceRender r =
-        RenderSurface(*scene, AtlasShader(*appearance, torus, frames, *atlas, map, texel_size, camera.eye, light), camera, light);
+        RenderSurface(*scene, AtlasShader(appearance, torus, frames, *atlas, map, texel_size, camera.eye, light), camera, light);
     for (size_t i = 0; i < r.lit.size(); i += 7) {
       if (!r.lit[i]) continue;
       const int f = r.triangle[i];

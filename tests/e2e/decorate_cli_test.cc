@@ -31,6 +31,13 @@ fs::path WriteMesh(const fs::path& dir) {
   return path;
 }
 
+// `mesocap render` of a dressed mesh, 120x90, lit from the front and above.
+int RenderFrontLit(const fs::path& map, const fs::path& sample, const fs::path& mesh, const fs::path& png, std::string* log) {
+  return testing::RunMesocap("render --map " + map.string() + " --input " + sample.string() + " --mesh " + mesh.string() +
+                                 " --light 0,0.5,1 --size 120x90 --no-progress --out " + png.string(),
+                             log);
+}
+
 TEST(DecorateCli, DressesAMeshAndRendersIt) {
   const fs::path dir = testing::MakeTempDir(), sample = WriteSample(dir), mesh = WriteMesh(dir), out = dir / "dressed";
   std::string log;
@@ -53,11 +60,7 @@ TEST(DecorateCli, DressesAMeshAndRendersIt) {
   EXPECT_GT((*report)["previews"][0]["lit_share"].get<double>(), 0.3);
 
   const fs::path png = dir / "render.png";
-  ASSERT_EQ(testing::RunMesocap("render --map " + out.string() + " --input " + sample.string() + " --mesh " + mesh.string() +
-                                    " --light 0,0.5,1 --size 120x90 --no-progress --out " + png.string(),
-                                &log),
-            0)
-      << log;
+  ASSERT_EQ(RenderFrontLit(out, sample, mesh, png, &log), 0) << log;
   auto image = ReadImage(png);
   ASSERT_TRUE(image.ok());
   EXPECT_EQ(image->width(), 120);
@@ -113,11 +116,7 @@ TEST(DecorateCli, QuiltsOnTheAtlasAndRendersIt) {
   }
   EXPECT_GT(checked, 500);
   const fs::path png = dir / "render.png";
-  ASSERT_EQ(testing::RunMesocap("render --map " + out.string() + " --input " + sample.string() + " --mesh " + mesh.string() +
-                                    " --light 0,0.5,1 --size 120x90 --no-progress --out " + png.string(),
-                                &log),
-            0)
-      << log;
+  ASSERT_EQ(RenderFrontLit(out, sample, mesh, png, &log), 0) << log;
   auto image = ReadImage(png);
   ASSERT_TRUE(image.ok());
   double sum = 0;
