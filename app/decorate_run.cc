@@ -61,7 +61,7 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
                                       const GgxMaterialMaps& material) {
   const auto start = std::chrono::steady_clock::now();
   if (a.method != "texton" && a.method != "quilt") return Status::Error("unknown surface method '" + a.method + "'");
-  MESOCAP_RETURN_IF_ERROR(a.method == "quilt" ? a.quilt.Check(e.width, e.height) : a.texton.Check());
+  MESOCAP_RETURN_IF_ERROR(a.method == "quilt" ? a.quilt.Check(e.width, e.height).WithContext(e.path.string() + ": ") : a.texton.Check());
   MeshRepairReport repairs;
   auto mesh = LoadMesh(a.mesh, &repairs);
   if (!mesh.ok()) return mesh.status();
