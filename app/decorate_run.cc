@@ -115,8 +115,13 @@ StatusOr<DecorateResult> DecorateInto(const DecorateFolder& dir, const DecorateR
                   atlas->size, report.seconds, report.patches, report.chart_crossing_patches);
     brief_figures = line;
   } else {
-    auto analysis = a.analysis ? StatusOr<TextonAnalysis>(*a.analysis) : AnalyseExemplarTextons(e, a.texton_analysis, a.progress);
-    if (!analysis.ok()) return analysis.status();
+    std::optional<TextonAnalysis> made_here;
+    const TextonAnalysis* analysis = a.analysis;  // the caller's, not a copy: shared lists belong to it
+    if (!analysis) {
+      auto made = AnalyseExemplarTextons(e, a.texton_analysis, a.progress);
+      if (!made.ok()) return made.status();
+      analysis = &made_here.emplace(std::move(*made));
+    }
     SurfaceTextonReport report;
     StatusOr<SurfaceMap> map = Status::Error("");
     {

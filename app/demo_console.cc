@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <future>
 #include <regex>
 #include <thread>
 
@@ -28,13 +29,14 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kCalibrationShots = 10, kFlashShots = 20;
+constexpr int kEarlyShot = 5, kMidwayShot = 15;  // the flash shots after which the page is photographed
 
 // `mesocap console` as a child, its output in `log`; its pid, or an error.
 StatusOr<pid_t> SpawnConsole(const fs::path& session, const fs::path& log) {
   std::error_code ec;
   std::vector<std::string> args = {
       fs::read_symlink("/proc/self/exe", ec).string(), "console", session.string(), "--camera", "virtual", "--port",
-      "virtual:seed=7,width=1200,height=800,shots=60,calib-shots=10,follow-error=0.02", "--listen", "127.0.0.1:0",
+      "virtual:seed=7,width=900,height=600,shots=60,calib-shots=10,follow-error=0.02", "--listen", "127.0.0.1:0",
       "--follow-guide", "--guide-after", "5", "--process-args", "--slice-size 64 --btf-size 32 --btf-grid coarse"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -107,13 +109,12 @@ bool Screenshot(int port, const fs::path& file) {
   return code == 0 && fs::exists(file);
 }
 
-}  // namespace
-
-Status AddConsoleToDemo(const fs::path& out, Report* report) {
-  const fs::path session = out / "console_session", log = out / "console.log";
-  std::fprintf(stderr, "demo: the capture console (%d checkerboard and %d flash shots, the demo as the operator)\n",
-               kCalibrationShots, kFlashShots);
-  auto pid = SpawnConsole(session, log);
+StatusOr<ConsoleRecording> RecordConsoleSession(const fs::path& out) {
+  const auto started = Clock::now();
+  ConsoleRecording rec;
+  rec.session = out / "console_session";
+  const fs::path log = out / "console.log";
+  auto pid = SpawnConsole(rec.session, log);
   if (!pid.ok()) return pid.status();
   const auto stop = [&] {
     ::kill(*pid, SIGTERM);
@@ -125,45 +126,56 @@ Status AddConsoleToDemo(const fs::path& out, Report* report) {
     return Status::Error("the console did not start (see " + log.string() + ")");
   }
   Operator op(port);
-  std::vector<std::pair<std::string, std::string>> pictures;  // file, caption
-  std::vector<double> percents;
   const auto shoot = [&](const std::string& path, const std::string& kind, size_t count) {
     return op.Press(path) && !op.WaitFor([&](const Json& s) { return Analysed(s, kind) == count; }, 60).is_null();
   };
   const auto picture = [&](const std::string& name, const std::string& caption) {
-    if (Screenshot(port, out / name)) pictures.push_back({name, caption});
+    if (Screenshot(port, out / name)) rec.pictures.push_back({name, caption});
   };
   bool ok = true;
   for (size_t i = 1; ok && i <= size_t(kCalibrationShots); ++i) ok = shoot("/api/calibration-shot", "calib", i);
   for (size_t i = 1; ok && i <= size_t(kFlashShots); ++i) {
     ok = shoot("/api/shot", "shot", i);
     const Json state = op.State();
-    if (ok && !state["coverage"].is_null()) percents.push_back(state["coverage"]["percent"].get<double>());
-    if (i == 5) picture("console_early.png", "After 5 flash shots: the boards and balls are located, the guidance starts");
-    if (i == 15) picture("console_midway.png", "After 15 flash shots, each held where the page said (within 2 cm)");
+    if (ok && !state["coverage"].is_null()) rec.coverage_percents.push_back(state["coverage"]["percent"].get<double>());
+    if (i == kEarlyShot)
+      picture("console_early.png", Format("After %d flash shots: the boards and balls are located, the guidance starts", kEarlyShot));
+    if (i == kMidwayShot) picture("console_midway.png", Format("After %d flash shots, each held where the page said (within 2 cm)", kMidwayShot));
   }
   const auto t_finish = Clock::now();
   ok = ok && op.Press("/api/undo") && op.Press("/api/finish");
   const Json done = ok ? op.WaitFor([](const Json& s) { return s["process"]["state"] == "done" || s["process"]["state"] == "failed"; }, 600)
                        : Json();
-  const double finish_s = std::chrono::duration<double>(Clock::now() - t_finish).count();
+  rec.finish_seconds = std::chrono::duration<double>(Clock::now() - t_finish).count();
   if (ok) picture("console_finished.png", "Finished: `mesocap process` ran from the page, which links its report");
   stop();
   if (!ok || done.is_null() || done["process"]["state"] != "done")
     return Status::Error("the console session did not complete (see " + log.string() + ")");
+  rec.seconds = std::chrono::duration<double>(Clock::now() - started).count();
+  return rec;
+}
 
+}  // namespace
+
+std::future<StatusOr<ConsoleRecording>> StartConsoleRecording(const fs::path& out) {
+  std::fprintf(stderr, "demo: the capture console, alongside (%d checkerboard and %d flash shots, the demo as the operator)\n",
+               kCalibrationShots, kFlashShots);
+  return std::async(std::launch::async, [out] { return RecordConsoleSession(out); });
+}
+
+void AddConsoleToReport(const ConsoleRecording& rec, Report* report) {
+  const std::vector<double>& percents = rec.coverage_percents;
   report->Heading("Capture console");
   report->Paragraph(Format(
-      "`mesocap console` ran a tethered session on the virtual camera; the demo was the operator, pressing the page's "
-      "buttons through its API (docs/console.md) while the virtual photographer held the flash where the page said, "
-      "missing by 2 cm: %d checkerboard shots, %d flash shots, the coverage of the reachable light directions rising "
-      "from %.0f%% to %.0f%%, one undo, then finish, which ran `mesocap process` under the console's lock (%.0f s). "
-      "The session: %s/.",
-      kCalibrationShots, kFlashShots, percents.empty() ? 0.0 : percents.front(), percents.empty() ? 0.0 : percents.back(),
-      finish_s, session.filename().string().c_str()));
-  if (pictures.empty()) report->Paragraph("(No screenshots: headless Chromium is not installed.)");
-  for (const auto& [file, caption] : pictures) report->Picture(file, caption);
-  return Status::Ok();
+      "`mesocap console` ran a tethered session on the virtual camera, alongside the stages above (%.0f s); the demo was "
+      "the operator, pressing the page's buttons through its API (docs/console.md) while the virtual photographer held "
+      "the flash where the page said, missing by 2 cm: %d checkerboard shots, %d flash shots, the coverage of the "
+      "reachable light directions rising from %.0f%% to %.0f%%, one undo, then finish, which ran `mesocap process` under "
+      "the console's lock (%.0f s). The session: %s/.",
+      rec.seconds, kCalibrationShots, kFlashShots, percents.empty() ? 0.0 : percents.front(), percents.empty() ? 0.0 : percents.back(),
+      rec.finish_seconds, rec.session.filename().string().c_str()));
+  if (rec.pictures.empty()) report->Paragraph("(No screenshots: headless Chromium is not installed.)");
+  for (const auto& [file, caption] : rec.pictures) report->Picture(file, caption);
 }
 
 }  // namespace mesocap::app

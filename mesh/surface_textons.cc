@@ -266,11 +266,12 @@ StatusOr<SurfaceMap> SurfaceTextonSynthesis(const TriangleMesh& mesh, const Tang
   const auto pyramid_done = std::chrono::steady_clock::now();
 
   // Per level: the sample's side (labels, lists) and the mesh's (frames, templates).
-  std::vector<SampleLevel> samples(levels);
-  for (int l = 0; l < levels; ++l) {
-    samples[l] = MakeSampleLevel(analysis.levels[l], o.neighbourhood);
-    if (!BuildNearestLists(samples[l], o.k, o.num_threads)) return Status::Cancelled();
-  }
+  StatusOr<std::vector<SampleLevel>> made_here = std::vector<SampleLevel>();
+  if (!o.sample_levels) made_here = MakeSampleLevels(analysis, levels, o.neighbourhood, o.k, o.num_threads);
+  else if (!SampleLevelsFit(*o.sample_levels, analysis, levels, o.neighbourhood, o.k))
+    return Status::Error("the shared sample levels were made from another analysis or with other options");
+  if (!made_here.ok()) return made_here.status();
+  const std::vector<SampleLevel>& samples = o.sample_levels ? *o.sample_levels : *made_here;
   const auto lists_done = std::chrono::steady_clock::now();
   const std::vector<Offset> offsets = samples[0].slots;
   std::vector<Level> L(levels);

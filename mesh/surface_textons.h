@@ -44,6 +44,7 @@
 #include "mesh/tangent_frames.h"
 #include "mesh/triangle_mesh.h"
 #include "synth/texton_analysis.h"
+#include "synth/texton_sample.h"
 
 namespace mesocap {
 
@@ -63,6 +64,9 @@ struct SurfaceTextonOptions {
   SlotTextons slot_textons = SlotTextons::kNearestVertex;
   uint32_t seed = 1;
   int num_threads = -1;
+  // The sample's levels and lists made once (MakeSampleLevels with this analysis, neighbourhood
+  // and k) for several meshes; null: made here.
+  const std::vector<SampleLevel>* sample_levels = nullptr;
   Status Check() const;
 };
 

@@ -201,4 +201,23 @@ bool BuildNearestLists(SampleLevel& s, int k, int num_threads) {
   return !CancelRequested();
 }
 
+StatusOr<std::vector<SampleLevel>> MakeSampleLevels(const TextonAnalysis& analysis, int levels, int n, int k, int num_threads) {
+  std::vector<SampleLevel> samples(std::min<size_t>(size_t(std::max(levels, 0)), analysis.levels.size()));
+  for (size_t l = 0; l < samples.size(); ++l) {
+    samples[l] = MakeSampleLevel(analysis.levels[l], n);
+    if (k > 0 && !BuildNearestLists(samples[l], k, num_threads)) return Status::Cancelled();
+  }
+  return samples;
+}
+
+bool SampleLevelsFit(const std::vector<SampleLevel>& samples, const TextonAnalysis& analysis, int levels, int n, int k) {
+  if (int(samples.size()) < levels || levels > int(analysis.levels.size())) return false;
+  for (int l = 0; l < levels; ++l) {
+    const SampleLevel& s = samples[size_t(l)];
+    if (s.level != &analysis.levels[size_t(l)] || s.slot_count() != n * n - 1) return false;
+    if (k > 0 && s.list_length != std::max(1, std::min(k, s.texels()))) return false;
+  }
+  return true;
+}
+
 }  // namespace mesocap

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/status.h"
 #include "synth/texton_analysis.h"
 
 namespace mesocap {
@@ -77,5 +78,13 @@ Query SampleQuery(const SampleLevel& s, int t);
 // finest its direct neighbours, which would stretch it across the output.
 // Returns false when cancelled (core/cancel.h: each block checks, so Ctrl-C stops it within a block).
 bool BuildNearestLists(SampleLevel& s, int k, int num_threads);
+
+// Levels 0..levels-1 of `analysis` over n x n templates, with their lists when k > 0. They depend
+// on nothing else, so one set serves every synthesis from the analysis with the same n and k (a
+// decorate stage's meshes: the lists are most of a small mesh's time). Status::Cancelled on Ctrl-C.
+StatusOr<std::vector<SampleLevel>> MakeSampleLevels(const TextonAnalysis& analysis, int levels, int n, int k, int num_threads);
+
+// Whether `samples` were made by MakeSampleLevels from `analysis` with n and k, for `levels` levels.
+bool SampleLevelsFit(const std::vector<SampleLevel>& samples, const TextonAnalysis& analysis, int levels, int n, int k);
 
 }  // namespace mesocap

@@ -245,12 +245,9 @@ StatusOr<SynthMap> TextonSynthesis(const TextonAnalysis& analysis, const TextonS
   out_w[0] = o.width, out_h[0] = o.height;
   for (int l = 1; l < levels; ++l) out_w[l] = (out_w[l - 1] + 1) / 2, out_h[l] = (out_h[l - 1] + 1) / 2;
 
-  std::vector<SampleLevel> samples(levels);
-  for (int l = 0; l < levels; ++l) {
-    samples[l] = MakeSampleLevel(analysis.levels[l], o.neighbourhood);
-    if (o.search == TextonSearch::kCoherence && !BuildNearestLists(samples[l], o.k, o.num_threads))
-      return Status::Cancelled();
-  }
+  auto made = MakeSampleLevels(analysis, levels, o.neighbourhood, o.search == TextonSearch::kCoherence ? o.k : 0, o.num_threads);
+  if (!made.ok()) return made.status();
+  const std::vector<SampleLevel>& samples = *made;
   const auto lists_done = std::chrono::steady_clock::now();
 
   long total_rows = 0;
