@@ -17,7 +17,7 @@
 //                            [--seeds 3] [--sheet OUT.png|.jpg] [--peer resynth_fill_serial]
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
-//                            [--randomness 0] [--patch-radius 0]   (quilt)
+//                            [--randomness 0] [--patch-radius 0] [--whole-sample 1]   (quilt)
 //                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.1] (block)
 //                            [--ptm] [--relief 4]
 #include <chrono>
@@ -170,6 +170,7 @@ int main(int argc, char** argv) {
     else if (arg == "--peer") a.peer = next();
     else if (arg == "--randomness") a.quilt.randomness = std::atof(next().c_str());
     else if (arg == "--patch-radius") a.quilt.patch_radius = std::atoi(next().c_str());
+    else if (arg == "--whole-sample") a.quilt.whole_sample = std::atoi(next().c_str()) != 0;
     else if (arg == "--block") a.block.block = std::atoi(next().c_str());
     else if (arg == "--overlap") a.block.overlap = std::atoi(next().c_str());
     else if (arg == "--exclusion") a.block.continuation_exclusion = std::atoi(next().c_str());

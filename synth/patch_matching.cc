@@ -63,7 +63,9 @@ struct PatchMatcher::Impl {
   fftwf_plan forward = nullptr, inverse = nullptr;
   int channels = 0;
   bool constrained = false;
-  // Per copy: channel spectra, spectrum of |S|^2, of ms and of ms^2.
+  bool leaving = false;  // placements may leave the copy (options.max_window > 0)
+  // Per copy: channel spectra, spectrum of |S|^2, then of ms and of ms^2 (constrained) or of the
+  // copy's indicator V (leaving).
   std::vector<std::vector<ComplexBuffer>> copy_spectra;
 
   void Forward(float* plane, Complex* out) const {
@@ -86,17 +88,22 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
   m.copies = &copies;
   m.options = options;
   m.channels = copies[0].features.channels();
+  m.leaving = options.max_window > 0;
+  MESOCAP_CHECK(!(m.leaving && options.constraint_weight > 0), "placements leaving the copy take no constraint term");
   m.constrained = options.constraint_weight > 0 && !copies[0].constraint.empty();
   for (const auto& c : copies) {
     m.px = std::max(m.px, c.size_x);
     m.py = std::max(m.py, c.size_y);
   }
+  // Leaving placements correlate over offsets -(w - 1) .. size - 1: a plane this much wider keeps
+  // the circular correlation from wrapping onto the copy.
+  if (m.leaving) m.px += options.max_window - 1, m.py += options.max_window - 1;
   m.spectrum = size_t(m.py) * (m.px / 2 + 1);
   const RealFftPlans& plans = RealFftPlansFor(m.px, m.py);
   m.forward = plans.forward;
   m.inverse = plans.inverse;
   m.copy_spectra.resize(copies.size());
-  const int per_copy = m.channels + 1 + (m.constrained ? 2 : 0);
+  const int per_copy = m.channels + 1 + (m.constrained ? 2 : 0) + (m.leaving ? 1 : 0);
   for (auto& list : m.copy_spectra)
     for (int j = 0; j < per_copy; ++j) list.emplace_back(0);
   ParallelFor(0, int(copies.size()) * per_copy, [&](int job) {
@@ -112,6 +119,8 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
         for (int i = 0; i < c.features.channels(); ++i) s += f[i] * f[i];
         return s;
       };
+    } else if (m.leaving) {
+      value = [](int, int) { return 1.f; };
     } else if (j == m.channels + 1) {
       value = [&c](int x, int y) { return c.constraint.at(x, y); };
     } else {
@@ -127,6 +136,7 @@ struct PatchMatcher::WindowSpectra {
   std::vector<ComplexBuffer> masked_features;  // F(M O_c), per channel
   ComplexBuffer mask{0};                       // F(M)
   ComplexBuffer target{0}, box{0};             // F(m0 over the window), F(window indicator)
+  ComplexBuffer masked_norms{0};               // F(M |O|^2), for placements leaving the copy
   double masked_norm = 0, target_norm = 0;     // sum M |O|^2, sum m0^2
   double overlap = 0, area = 0;
   bool use_constraint = false;
@@ -135,7 +145,7 @@ struct PatchMatcher::WindowSpectra {
 std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWindow& w) const {
   const Impl& m = *impl_;
   // A window larger than every copy has no placement, and would overflow the FFT planes.
-  if (w.width > m.px || w.height > m.py) return nullptr;
+  if (m.leaving ? std::max(w.width, w.height) > m.options.max_window : w.width > m.px || w.height > m.py) return nullptr;
   const Image& out = *w.features;
   const std::vector<uint8_t>& syn = *w.synthesized;
   auto masked = [&](int x, int y) { return syn[size_t(y) * out.width() + x] != 0; };
@@ -152,7 +162,7 @@ std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWi
   if (ws->use_constraint)
     for (int y = 0; y < w.height; ++y)
       for (int x = 0; x < w.width; ++x) ws->target_norm += std::pow(double(w.target_constraint->at(w.x0 + x, w.y0 + y)), 2);
-  const int jobs = m.channels + 1 + (ws->use_constraint ? 2 : 0);
+  const int jobs = m.channels + 1 + (ws->use_constraint ? 2 : 0) + (m.leaving ? 1 : 0);
   for (int c = 0; c < m.channels; ++c) ws->masked_features.emplace_back(0);
   ParallelFor(0, jobs, [&](int j) {
     std::function<float(int, int)> value;
@@ -160,6 +170,14 @@ std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWi
       value = [&, j](int x, int y) { return masked(x, y) ? out.at(x, y, j) : 0.f; };
     else if (j == m.channels)
       value = [&](int x, int y) { return masked(x, y) ? 1.f : 0.f; };
+    else if (m.leaving)
+      value = [&](int x, int y) {
+        if (!masked(x, y)) return 0.f;
+        const float* f = out.pixel(x, y);
+        float n = 0;
+        for (int c = 0; c < m.channels; ++c) n += f[c] * f[c];
+        return n;
+      };
     else if (j == m.channels + 1)
       value = [&](int x, int y) { return w.target_constraint->at(x, y); };
     else
@@ -167,6 +185,7 @@ std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWi
     ComplexBuffer s = m.SpectrumOf(value, w.width, w.height, w.x0, w.y0);
     if (j < m.channels) ws->masked_features[j] = std::move(s);
     else if (j == m.channels) ws->mask = std::move(s);
+    else if (m.leaving) ws->masked_norms = std::move(s);
     else if (j == m.channels + 1) ws->target = std::move(s);
     else ws->box = std::move(s);
   }, m.options.num_threads);
@@ -174,8 +193,10 @@ std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWi
 }
 
 std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpectra& ws, int copy_index, int* valid_w,
-                                           int* valid_h) const {
+                                           int* valid_h, int* u_min, int* v_min) const {
   const Impl& m = *impl_;
+  if (m.leaving) return LeavingCostsFor(w, ws, copy_index, valid_w, valid_h, u_min, v_min);
+  *u_min = *v_min = 0;
   const RotatedSample& copy = (*m.copies)[copy_index];
   *valid_w = copy.size_x - w.width + 1;
   *valid_h = copy.size_y - w.height + 1;
@@ -208,13 +229,51 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
   return costs;
 }
 
-std::vector<double> PatchMatcher::Costs(const MatchWindow& w, int copy_index, int* valid_w, int* valid_h) const {
+// SSD(t) = sum_p M V(p + t) |O|^2 - 2 sum_p M O.S(p + t) + sum_p M |S|^2(p + t) over the covered
+// count sum_p M V(p + t), S and |S|^2 being 0 off the copy: a fourth correlation with the copy's
+// indicator V, and a fifth for the count.
+std::vector<double> PatchMatcher::LeavingCostsFor(const MatchWindow& w, const WindowSpectra& ws, int copy_index, int* valid_w,
+                                                  int* valid_h, int* u_min, int* v_min) const {
+  const Impl& m = *impl_;
+  const RotatedSample& copy = (*m.copies)[copy_index];
+  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
+  *u_min = -ax, *v_min = -ay, *valid_w = copy.size_x, *valid_h = copy.size_y;
+  const auto& spectra = m.copy_spectra[copy_index];
+  const ComplexBuffer& indicator = spectra[m.channels + 1];
+  ComplexBuffer numerator(m.spectrum), count(m.spectrum);
+  for (size_t i = 0; i < m.spectrum; ++i) {
+    Complex cross(0);
+    for (int c = 0; c < m.channels; ++c) cross += spectra[c].data[i] * std::conj(ws.masked_features[c].data[i]);
+    numerator.data[i] = spectra[m.channels].data[i] * std::conj(ws.mask.data[i]) - 2.f * cross +
+                        indicator.data[i] * std::conj(ws.masked_norms.data[i]);
+    count.data[i] = indicator.data[i] * std::conj(ws.mask.data[i]);
+  }
+  FloatBuffer ssd(size_t(m.px) * m.py), covered(size_t(m.px) * m.py);
+  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(numerator.data), ssd.data);
+  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(count.data), covered.data);
+  const double scale = 1.0 / (double(m.px) * m.py);
+  std::vector<double> costs(size_t(*valid_w) * *valid_h, std::numeric_limits<double>::infinity());
+  for (int j = 0; j < *valid_h; ++j)
+    for (int i = 0; i < *valid_w; ++i) {
+      const int u = *u_min + i, v = *v_min + j;
+      const size_t at = size_t((v + m.py) % m.py) * m.px + size_t((u + m.px) % m.px);
+      const double n = std::round(covered.data[at] * scale);
+      if (n > 0 && n >= kMinCoveredOverlap * ws.overlap) costs[size_t(j) * *valid_w + i] = std::max(0.0, ssd.data[at] * scale / n);
+    }
+  return costs;
+}
+
+std::vector<double> PatchMatcher::Costs(const MatchWindow& w, int copy_index, int* valid_w, int* valid_h, int* u_min,
+                                        int* v_min) const {
+  int ignored_u = 0, ignored_v = 0;
+  if (!u_min) u_min = &ignored_u;
+  if (!v_min) v_min = &ignored_v;
   const auto ws = Prepare(w);
   if (!ws) {
-    *valid_w = *valid_h = 0;
+    *valid_w = *valid_h = *u_min = *v_min = 0;
     return {};
   }
-  return CostsFor(w, *ws, copy_index, valid_w, valid_h);
+  return CostsFor(w, *ws, copy_index, valid_w, valid_h, u_min, v_min);
 }
 
 MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperature, double uniform) const {
@@ -223,13 +282,16 @@ MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperat
   const auto ws = Prepare(window);
   if (!ws) return {};
   std::vector<std::vector<double>> costs(n);
-  std::vector<int> widths(n), heights(n);
-  ParallelFor(0, n, [&](int k) { costs[k] = CostsFor(window, *ws, k, &widths[k], &heights[k]); }, n > 1 ? m.options.num_threads : 1);
+  std::vector<int> widths(n), heights(n), u_min(n), v_min(n);
+  ParallelFor(0, n, [&](int k) { costs[k] = CostsFor(window, *ws, k, &widths[k], &heights[k], &u_min[k], &v_min[k]); },
+              n > 1 ? m.options.num_threads : 1);
+  const auto at = [&](int k, size_t i) {
+    return MatchResult{k, u_min[k] + int(i % widths[k]), v_min[k] + int(i / widths[k]), costs[k][i], true};
+  };
   MatchResult best;  // the first copy and texel win ties: independent of the thread count
   for (int k = 0; k < n; ++k)
     for (size_t i = 0; i < costs[k].size(); ++i)
-      if (!best.found || costs[k][i] < best.cost)
-        best = {k, int(i % widths[k]), int(i / widths[k]), costs[k][i], true};
+      if (std::isfinite(costs[k][i]) && (!best.found || costs[k][i] < best.cost)) best = at(k, i);
   if (!best.found || temperature <= 0) return best;
   double total = 0;
   for (const auto& c : costs)
@@ -238,7 +300,7 @@ MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperat
   for (int k = 0; k < n; ++k)
     for (size_t i = 0; i < costs[k].size(); ++i) {
       target -= std::exp(-(costs[k][i] - best.cost) / temperature);
-      if (target <= 0) return {k, int(i % widths[k]), int(i / widths[k]), costs[k][i], true};
+      if (target <= 0) return at(k, i);
     }
   return best;
 }
@@ -270,6 +332,34 @@ std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow
           if (use_constraint) constraint += std::pow(double(w.target_constraint->at(ox, oy)) - copy.constraint.at(u + x, v + y), 2);
         }
       costs[size_t(v) * *valid_w + u] = (overlap > 0 ? ssd / overlap : 0) + (use_constraint ? constraint_weight * constraint / area : 0);
+    }
+  return costs;
+}
+
+std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& w, int* valid_w, int* valid_h,
+                                           int* u_min, int* v_min) {
+  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
+  *u_min = -ax, *v_min = -ay, *valid_w = copy.size_x, *valid_h = copy.size_y;
+  const Image& out = *w.features;
+  auto synthesized = [&](int x, int y) { return (*w.synthesized)[size_t(w.y0 + y) * out.width() + w.x0 + x] != 0; };
+  double overlap = 0;
+  for (int y = 0; y < w.height; ++y)
+    for (int x = 0; x < w.width; ++x) overlap += synthesized(x, y);
+  std::vector<double> costs(size_t(*valid_w) * *valid_h, std::numeric_limits<double>::infinity());
+  for (int j = 0; j < *valid_h; ++j)
+    for (int i = 0; i < *valid_w; ++i) {
+      const int u = *u_min + i, v = *v_min + j;
+      double ssd = 0, n = 0;
+      for (int y = 0; y < w.height; ++y)
+        for (int x = 0; x < w.width; ++x) {
+          const int cu = u + x, cv = v + y;
+          if (!synthesized(x, y) || cu < 0 || cv < 0 || cu >= copy.size_x || cv >= copy.size_y) continue;
+          const float* a = out.pixel(w.x0 + x, w.y0 + y);
+          const float* b = copy.features.pixel(cu, cv);
+          for (int c = 0; c < out.channels(); ++c) ssd += double(a[c] - b[c]) * (a[c] - b[c]);
+          n += 1;
+        }
+      if (n > 0 && n >= kMinCoveredOverlap * overlap) costs[size_t(j) * *valid_w + i] = ssd / n;
     }
   return costs;
 }

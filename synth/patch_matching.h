@@ -42,11 +42,14 @@ struct MatchWindow {
   const Image* target_constraint = nullptr;  // whole output, 1 channel, or null
   int x0 = 0, y0 = 0;                 // window origin in the output
   double constraint_scale = 1;        // multiplies the matcher's constraint weight for this window
+  // With placements that may leave the copy (PatchMatcherOptions::max_window): the window texel
+  // that must land on the copy (-1: the window's centre).
+  int anchor_x = -1, anchor_y = -1;
 };
 
 struct MatchResult {
   int rotation = 0;      // index into the rotated copies
-  int u = 0, v = 0;      // the copy's texel under the window's origin
+  int u = 0, v = 0;      // the copy's texel under the window's origin (negative: the window starts off the copy)
   double cost = 0;       // normalised SSD (+ constraint term)
   bool found = false;
 };
@@ -54,7 +57,18 @@ struct MatchResult {
 struct PatchMatcherOptions {
   double constraint_weight = 0;  // lambda of the constraint term (0: no constraint term)
   int num_threads = -1;
+  // 0: every placement keeps the whole window on the copy (Kwatra, Zhou). > 0: a placement only
+  // needs the window's anchor texel on the copy, for windows up to this many texels a side; the
+  // SSD is then over the synthesized texels the copy covers, normalised by their count, and a
+  // placement covering fewer than half of the window's synthesized texels is not taken. A window
+  // kept on the copy puts a sample texel under its anchor only that far from the border, so the
+  // border band of a small sample is drawn on less than its centre: quilting a 96-texel sample with
+  // 49-texel windows drifted to the centre's statistics. Not with a constraint term (painting).
+  int max_window = 0;
 };
+
+// The share of a window's synthesized texels a placement that leaves the copy must still cover.
+inline constexpr double kMinCoveredOverlap = 0.5;
 
 class PatchMatcher {
  public:
@@ -71,8 +85,11 @@ class PatchMatcher {
   // Kwatra's stochastic choice: placement t with probability proportional to
   // exp(-(C(t) - C_min) / temperature), drawn with `uniform` in [0, 1); temperature 0: the least cost.
   MatchResult ChooseMatch(const MatchWindow& window, double temperature, double uniform) const;
-  // All costs for one copy (row-major over valid (u, v)), for tests and the brute-force comparison.
-  std::vector<double> Costs(const MatchWindow& window, int copy, int* valid_w, int* valid_h) const;
+  // All costs for one copy (row-major over valid (u, v), from (u_min, v_min): 0, 0 unless
+  // placements may leave the copy; infinite where too little is covered), for tests and the
+  // brute-force comparison.
+  std::vector<double> Costs(const MatchWindow& window, int copy, int* valid_w, int* valid_h, int* u_min = nullptr,
+                            int* v_min = nullptr) const;
 
  private:
   struct Impl;
@@ -80,7 +97,9 @@ class PatchMatcher {
   // Null for a window larger than every copy.
   std::unique_ptr<WindowSpectra> Prepare(const MatchWindow& window) const;
   std::vector<double> CostsFor(const MatchWindow& window, const WindowSpectra& spectra, int copy, int* valid_w,
-                               int* valid_h) const;
+                               int* valid_h, int* u_min, int* v_min) const;
+  std::vector<double> LeavingCostsFor(const MatchWindow& window, const WindowSpectra& spectra, int copy, int* valid_w,
+                                      int* valid_h, int* u_min, int* v_min) const;
   std::unique_ptr<Impl> impl_;
 };
 
@@ -88,5 +107,8 @@ class PatchMatcher {
 // path is tested and benchmarked against.
 std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow& window, double constraint_weight,
                                     int* valid_w, int* valid_h);
+// The same for placements that may leave the copy (max_window > 0), from (u_min, v_min).
+std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& window, int* valid_w, int* valid_h,
+                                           int* u_min, int* v_min);
 
 }  // namespace mesocap

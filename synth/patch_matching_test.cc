@@ -1,6 +1,8 @@
 #include "synth/patch_matching.h"
 
+#include <cmath>
 #include <random>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -40,6 +42,52 @@ TEST(PatchMatching, FftCostsEqualBruteForceWithRotationsAndConstraint) {
       for (size_t i = 0; i < fft.size(); ++i) EXPECT_NEAR(fft[i], brute[i], 1e-4 * (1 + brute[i])) << "copy " << k << " at " << i;
     }
   }
+}
+
+// Placements that leave the copy (the window's anchor on it): the FFT costs over the covered
+// synthesized texels equal direct sums, the same placements too little covers are refused by both,
+// and the least cost is where the window's content came from even with the window hanging off the
+// sample's corner.
+TEST(PatchMatching, LeavingPlacementsEqualBruteForceAndFindAPlantedCornerCopy) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  Image sample = RandomImage(40, 36, 4, rng);
+  Image output = RandomImage(50, 45, 4, rng);
+  std::vector<uint8_t> synthesized(50 * 45);
+  for (auto& s : synthesized) s = rng() % 3 != 0;
+  // The output's window (17..27, 23..31) holds the sample from (-2, -2): its top-left 2 x 2 off it.
+  for (int y = 2; y < 9; ++y)
+    for (int x = 2; x < 11; ++x) std::copy_n(sample.pixel(x - 2, y - 2), 4, output.pixel(17 + x, 23 + y));
+  std::vector<RotatedSample> copies;
+  for (double r : {0.0, 30.0}) copies.push_back(MakeRotatedSample(sample, Image(), r));
+  PatchMatcherOptions options;
+  options.max_window = 15;
+  PatchMatcher matcher(copies, options);
+  MatchWindow window{11, 9, &output, &synthesized, nullptr, 17, 23};
+  window.anchor_x = 6, window.anchor_y = 5;
+  int refused = 0;
+  for (int k = 0; k < int(copies.size()); ++k) {
+    int fw = 0, fh = 0, fu = 0, fv = 0, bw = 0, bh = 0, bu = 0, bv = 0;
+    const auto fft = matcher.Costs(window, k, &fw, &fh, &fu, &fv);
+    const auto brute = BruteForceLeavingCosts(copies[k], window, &bw, &bh, &bu, &bv);
+    ASSERT_EQ(std::tie(fw, fh, fu, fv), std::tie(bw, bh, bu, bv));
+    EXPECT_EQ(fu, -6);
+    EXPECT_EQ(fv, -5);
+    ASSERT_EQ(fft.size(), brute.size());
+    for (size_t i = 0; i < fft.size(); ++i) {
+      ASSERT_EQ(std::isfinite(fft[i]), std::isfinite(brute[i])) << "copy " << k << " at " << i;
+      if (std::isfinite(brute[i])) {
+        EXPECT_NEAR(fft[i], brute[i], 1e-4 * (1 + brute[i])) << "copy " << k << " at " << i;
+      }
+      refused += !std::isfinite(brute[i]);
+    }
+  }
+  EXPECT_GT(refused, 0);  // a corner placement covers under half the window
+  const MatchResult m = matcher.BestMatch(window);
+  ASSERT_TRUE(m.found);
+  EXPECT_EQ(m.rotation, 0);
+  EXPECT_EQ(m.u, -2);
+  EXPECT_EQ(m.v, -2);
+  EXPECT_NEAR(m.cost, 0, 1e-4);
 }
 
 TEST(PatchMatching, FindsAPlantedCopyOfTheSample) {

@@ -75,15 +75,16 @@ class Quilter {
       : options_(options), canvas_(options.width, options.height, sample, "quilt"), rng_(options.seed), report_(*report) {
     for (int k = 0; k < options.rotations; ++k)
       copies_.push_back(MakeRotatedSample(sample, sample_mask ? *sample_mask : Image(), 360.0 * k / options.rotations));
+    report_.patch_radius = options.EffectiveRadius(sample.width(), sample.height());
     PatchMatcherOptions mo;
     mo.num_threads = options.num_threads;
     mo.constraint_weight = target ? match_weight : 0;
+    if (!target && options.whole_sample) mo.max_window = 2 * report_.patch_radius + 1;
     matcher_ = std::make_unique<PatchMatcher>(copies_, mo);
     canvas_.sample_mask = sample_mask;
     canvas_.target = target;
     report_.sample_neighbour_step = MeanNeighbourStep(sample);
     variance_ = FeatureVariance(sample);
-    report_.patch_radius = options.EffectiveRadius(sample.width(), sample.height());
     neighbours_.assign(size_t(options.width) * options.height, 0);
   }
 
@@ -112,7 +113,7 @@ class Quilter {
       const int x1 = std::min(options_.width - 1, vx + r), y1 = std::min(options_.height - 1, vy + r);
       PlacedPatch patch;
       patch.x0 = x0, patch.y0 = y0, patch.width = x1 - x0 + 1, patch.height = y1 - y0 + 1;
-      MatchResult match = Match(patch, escalation);
+      MatchResult match = Match(patch, vx - x0, vy - y0, escalation);
       if (!match.found) {
         MESOCAP_CHECK(r > options_.min_patch_radius, "no copy of the sample is as large as the smallest window");
         r = std::max(options_.min_patch_radius, int(r * options_.shrink));
@@ -120,6 +121,7 @@ class Quilter {
       }
       patch.copy = &copies_[match.rotation];
       patch.u0 = match.u, patch.v0 = match.v;
+      ClipToCopy(&patch);
       const auto start = std::chrono::steady_clock::now();
       std::vector<FitFreedom> freedom = DefaultFreedom(canvas_, patch);
       if (region_) KeepSatisfiedTexels(patch, &freedom);
@@ -169,9 +171,19 @@ class Quilter {
  private:
   static constexpr double kMaxEscalation = 512;
 
-  MatchResult Match(const PlacedPatch& patch, double escalation) {
+  // A placement whose window leaves the copy keeps only the part of the window on it.
+  static void ClipToCopy(PlacedPatch* p) {
+    const int left = std::max(0, -p->u0), top = std::max(0, -p->v0);
+    const int right = std::min(p->width, p->copy->size_x - p->u0), bottom = std::min(p->height, p->copy->size_y - p->v0);
+    p->x0 += left, p->y0 += top, p->u0 += left, p->v0 += top;
+    p->width = right - left, p->height = bottom - top;
+  }
+
+  // (ax, ay): the window texel the patch is placed for (the most constrained one).
+  MatchResult Match(const PlacedPatch& patch, int ax, int ay, double escalation) {
     MatchWindow w;
     w.width = patch.width, w.height = patch.height, w.x0 = patch.x0, w.y0 = patch.y0;
+    w.anchor_x = ax, w.anchor_y = ay;
     w.features = &canvas_.features;
     w.synthesized = &canvas_.synthesized;
     w.target_constraint = canvas_.target;

@@ -29,6 +29,13 @@ struct QuiltOptions {
   // least cost (Zhou). A little randomness keeps the output from drawing on one region only.
   double randomness = 0.0;
   int rotations = 1;               // rotated copies of the sample, evenly spaced (Zhou: 72); 1 = none
+  // Placements may leave the sample as long as the texel the patch is for lands on it
+  // (PatchMatcherOptions::max_window), so the sample's border band is drawn on as often as its
+  // centre. Off by default, as Zhou (the work window inside the sample): on the 20 photographs
+  // (96 -> 256, three seeds) it took the subband ratio to random tiling from 1.10x to 1.00x
+  // (geometric mean; losses 9 -> 7) but stones 0.67x -> 2.27x and rock 0.99x -> 1.94x, at twice
+  // the time (docs/synthesis.md; bench_synth_quality --whole-sample 1). Quilting only, not painting.
+  bool whole_sample = false;
   uint32_t seed = 1;
   int num_threads = -1;
   Status Check(int sample_width, int sample_height) const;
