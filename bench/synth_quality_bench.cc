@@ -17,7 +17,7 @@
 //                            [--seeds 3] [--sheet OUT.png|.jpg] [--peer resynth_fill_serial]
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
-//                            [--randomness 0] [--patch-radius 0] [--whole-sample 1]   (quilt)
+//                            [--randomness 0] [--patch-radius 0] [--whole-sample 1|0]   (quilt)
 //                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.1] (block)
 //                            [--ptm] [--relief 4]
 #include <chrono>

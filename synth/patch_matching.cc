@@ -51,6 +51,11 @@ RotatedSample MakeRotatedSample(const Image& features, const Image& constraint, 
 
 namespace {
 using Complex = FftComplex;
+
+// The anchor's distance from the copy's border, kept under half the copy's side.
+int AnchorMargin(const RotatedSample& copy, int margin) {
+  return std::clamp(margin, 0, (std::min(copy.size_x, copy.size_y) - 1) / 2);
+}
 using FloatBuffer = FftFloatBuffer;
 using ComplexBuffer = FftComplexBuffer;
 }  // namespace
@@ -229,36 +234,36 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
   return costs;
 }
 
-// SSD(t) = sum_p M V(p + t) |O|^2 - 2 sum_p M O.S(p + t) + sum_p M |S|^2(p + t) over the covered
-// count sum_p M V(p + t), S and |S|^2 being 0 off the copy: a fourth correlation with the copy's
-// indicator V, and a fifth for the count.
+// cost(t) = (SSD over the covered texels + c x the uncovered ones) / overlap, with the covered SSD
+// sum_p M V(p + t) |O|^2 - 2 sum_p M O.S(p + t) + sum_p M |S|^2(p + t) (S and |S|^2 being 0 off the
+// copy, V its indicator) and the uncovered count overlap - sum_p M V(p + t): linear in the
+// correlations, so one inverse FFT, as for placements inside the copy.
 std::vector<double> PatchMatcher::LeavingCostsFor(const MatchWindow& w, const WindowSpectra& ws, int copy_index, int* valid_w,
                                                   int* valid_h, int* u_min, int* v_min) const {
   const Impl& m = *impl_;
   const RotatedSample& copy = (*m.copies)[copy_index];
   const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
-  *u_min = -ax, *v_min = -ay, *valid_w = copy.size_x, *valid_h = copy.size_y;
+  const int margin = AnchorMargin(copy, m.options.anchor_margin);
+  *u_min = margin - ax, *v_min = margin - ay, *valid_w = copy.size_x - 2 * margin, *valid_h = copy.size_y - 2 * margin;
   const auto& spectra = m.copy_spectra[copy_index];
   const ComplexBuffer& indicator = spectra[m.channels + 1];
-  ComplexBuffer numerator(m.spectrum), count(m.spectrum);
+  const float c = float(m.options.uncovered_cost);
+  ComplexBuffer total(m.spectrum);
   for (size_t i = 0; i < m.spectrum; ++i) {
     Complex cross(0);
-    for (int c = 0; c < m.channels; ++c) cross += spectra[c].data[i] * std::conj(ws.masked_features[c].data[i]);
-    numerator.data[i] = spectra[m.channels].data[i] * std::conj(ws.mask.data[i]) - 2.f * cross +
-                        indicator.data[i] * std::conj(ws.masked_norms.data[i]);
-    count.data[i] = indicator.data[i] * std::conj(ws.mask.data[i]);
+    for (int k = 0; k < m.channels; ++k) cross += spectra[k].data[i] * std::conj(ws.masked_features[k].data[i]);
+    total.data[i] = spectra[m.channels].data[i] * std::conj(ws.mask.data[i]) - 2.f * cross +
+                    indicator.data[i] * std::conj(ws.masked_norms.data[i] - c * ws.mask.data[i]);
   }
-  FloatBuffer ssd(size_t(m.px) * m.py), covered(size_t(m.px) * m.py);
-  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(numerator.data), ssd.data);
-  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(count.data), covered.data);
-  const double scale = 1.0 / (double(m.px) * m.py);
-  std::vector<double> costs(size_t(*valid_w) * *valid_h, std::numeric_limits<double>::infinity());
+  FloatBuffer plane(size_t(m.px) * m.py);
+  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
+  const double scale = 1.0 / (double(m.px) * m.py), inv_overlap = ws.overlap > 0 ? 1.0 / ws.overlap : 0;
+  std::vector<double> costs(size_t(*valid_w) * *valid_h);
   for (int j = 0; j < *valid_h; ++j)
     for (int i = 0; i < *valid_w; ++i) {
       const int u = *u_min + i, v = *v_min + j;
       const size_t at = size_t((v + m.py) % m.py) * m.px + size_t((u + m.px) % m.px);
-      const double n = std::round(covered.data[at] * scale);
-      if (n > 0 && n >= kMinCoveredOverlap * ws.overlap) costs[size_t(j) * *valid_w + i] = std::max(0.0, ssd.data[at] * scale / n);
+      costs[size_t(j) * *valid_w + i] = std::max(0.0, plane.data[at] * scale + c * ws.overlap) * inv_overlap;
     }
   return costs;
 }
@@ -336,16 +341,17 @@ std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow
   return costs;
 }
 
-std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& w, int* valid_w, int* valid_h,
-                                           int* u_min, int* v_min) {
+std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& w, double uncovered_cost,
+                                           int anchor_margin, int* valid_w, int* valid_h, int* u_min, int* v_min) {
   const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
-  *u_min = -ax, *v_min = -ay, *valid_w = copy.size_x, *valid_h = copy.size_y;
+  const int margin = AnchorMargin(copy, anchor_margin);
+  *u_min = margin - ax, *v_min = margin - ay, *valid_w = copy.size_x - 2 * margin, *valid_h = copy.size_y - 2 * margin;
   const Image& out = *w.features;
   auto synthesized = [&](int x, int y) { return (*w.synthesized)[size_t(w.y0 + y) * out.width() + w.x0 + x] != 0; };
   double overlap = 0;
   for (int y = 0; y < w.height; ++y)
     for (int x = 0; x < w.width; ++x) overlap += synthesized(x, y);
-  std::vector<double> costs(size_t(*valid_w) * *valid_h, std::numeric_limits<double>::infinity());
+  std::vector<double> costs(size_t(*valid_w) * *valid_h, 0.0);
   for (int j = 0; j < *valid_h; ++j)
     for (int i = 0; i < *valid_w; ++i) {
       const int u = *u_min + i, v = *v_min + j;
@@ -359,7 +365,7 @@ std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const Matc
           for (int c = 0; c < out.channels(); ++c) ssd += double(a[c] - b[c]) * (a[c] - b[c]);
           n += 1;
         }
-      if (n > 0 && n >= kMinCoveredOverlap * overlap) costs[size_t(j) * *valid_w + i] = ssd / n;
+      if (overlap > 0) costs[size_t(j) * *valid_w + i] = (ssd + (overlap - n) * uncovered_cost) / overlap;
     }
   return costs;
 }

@@ -58,17 +58,17 @@ struct PatchMatcherOptions {
   double constraint_weight = 0;  // lambda of the constraint term (0: no constraint term)
   int num_threads = -1;
   // 0: every placement keeps the whole window on the copy (Kwatra, Zhou). > 0: a placement only
-  // needs the window's anchor texel on the copy, for windows up to this many texels a side; the
-  // SSD is then over the synthesized texels the copy covers, normalised by their count, and a
-  // placement covering fewer than half of the window's synthesized texels is not taken. A window
+  // needs the window's anchor texel on the copy (anchor_margin texels inside its border), for
+  // windows up to this many texels a side; the SSD is over the synthesized texels the copy covers,
+  // each one it does not cover adding uncovered_cost, over the window's synthesized count. A window
   // kept on the copy puts a sample texel under its anchor only that far from the border, so the
   // border band of a small sample is drawn on less than its centre: quilting a 96-texel sample with
-  // 49-texel windows drifted to the centre's statistics. Not with a constraint term (painting).
+  // 49-texel windows drifts to the centre's statistics. Not with a constraint term (painting).
   int max_window = 0;
+  double uncovered_cost = 0;  // per uncovered synthesized texel, squared feature units
+  int anchor_margin = 0;
 };
 
-// The share of a window's synthesized texels a placement that leaves the copy must still cover.
-inline constexpr double kMinCoveredOverlap = 0.5;
 
 class PatchMatcher {
  public:
@@ -86,8 +86,7 @@ class PatchMatcher {
   // exp(-(C(t) - C_min) / temperature), drawn with `uniform` in [0, 1); temperature 0: the least cost.
   MatchResult ChooseMatch(const MatchWindow& window, double temperature, double uniform) const;
   // All costs for one copy (row-major over valid (u, v), from (u_min, v_min): 0, 0 unless
-  // placements may leave the copy; infinite where too little is covered), for tests and the
-  // brute-force comparison.
+  // placements may leave the copy), for tests and the brute-force comparison.
   std::vector<double> Costs(const MatchWindow& window, int copy, int* valid_w, int* valid_h, int* u_min = nullptr,
                             int* v_min = nullptr) const;
 
@@ -108,7 +107,7 @@ class PatchMatcher {
 std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow& window, double constraint_weight,
                                     int* valid_w, int* valid_h);
 // The same for placements that may leave the copy (max_window > 0), from (u_min, v_min).
-std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& window, int* valid_w, int* valid_h,
-                                           int* u_min, int* v_min);
+std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& window, double uncovered_cost,
+                                           int anchor_margin, int* valid_w, int* valid_h, int* u_min, int* v_min);
 
 }  // namespace mesocap

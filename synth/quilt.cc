@@ -68,6 +68,14 @@ double FeatureVariance(const Image& f) {
   return v / double(f.pixel_count());
 }
 
+// Placements leaving the sample (QuiltOptions::whole_sample): a synthesized texel they do not
+// cover costs half the mean squared step between two sample texels (as a texton slot beyond the
+// sample does), and the patch's centre keeps a quarter of r_w from the sample's border. Without
+// these, a patch hanging off a corner of the sample, matched on few texels, could grow a region
+// of the sample's border band (a dark patch over a fifth of a stones output).
+constexpr double kUncoveredShare = 0.5;
+constexpr double kAnchorMargin = 0.25;
+
 class Quilter {
  public:
   Quilter(const Image& sample, const QuiltOptions& options, const Image* sample_mask, const Image* target,
@@ -79,12 +87,16 @@ class Quilter {
     PatchMatcherOptions mo;
     mo.num_threads = options.num_threads;
     mo.constraint_weight = target ? match_weight : 0;
-    if (!target && options.whole_sample) mo.max_window = 2 * report_.patch_radius + 1;
+    variance_ = FeatureVariance(sample);
+    if (!target && options.whole_sample) {
+      mo.max_window = 2 * report_.patch_radius + 1;
+      mo.uncovered_cost = kUncoveredShare * 2 * variance_;  // 2 variance: the mean squared step between two sample texels
+      mo.anchor_margin = int(kAnchorMargin * report_.patch_radius);
+    }
     matcher_ = std::make_unique<PatchMatcher>(copies_, mo);
     canvas_.sample_mask = sample_mask;
     canvas_.target = target;
     report_.sample_neighbour_step = MeanNeighbourStep(sample);
-    variance_ = FeatureVariance(sample);
     neighbours_.assign(size_t(options.width) * options.height, 0);
   }
 

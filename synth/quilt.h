@@ -29,13 +29,14 @@ struct QuiltOptions {
   // least cost (Zhou). A little randomness keeps the output from drawing on one region only.
   double randomness = 0.0;
   int rotations = 1;               // rotated copies of the sample, evenly spaced (Zhou: 72); 1 = none
-  // Placements may leave the sample as long as the texel the patch is for lands on it
-  // (PatchMatcherOptions::max_window), so the sample's border band is drawn on as often as its
-  // centre. Off by default, as Zhou (the work window inside the sample): on the 20 photographs
-  // (96 -> 256, three seeds) it took the subband ratio to random tiling from 1.10x to 1.00x
-  // (geometric mean; losses 9 -> 7) but stones 0.67x -> 2.27x and rock 0.99x -> 1.94x, at twice
-  // the time (docs/synthesis.md; bench_synth_quality --whole-sample 1). Quilting only, not painting.
-  bool whole_sample = false;
+  // Placements may leave the sample as long as the texel the patch is for lands on it (a quarter
+  // of r_w inside the border), so the sample's border band is drawn on as often as its centre; a
+  // synthesized texel a placement does not cover costs half the mean squared step between two
+  // sample texels (PatchMatcherOptions::max_window). Zhou keeps the work window inside the sample
+  // (false), which drifts to the centre's statistics: on the 20 photographs (96 -> 256, three
+  // seeds) the subband ratio to random tiling went 1.10x -> 0.82x (geometric mean), textures losing
+  // to random tiling 9 -> 4, at 1.6-2.2x the time (docs/synthesis.md). Quilting only, not painting.
+  bool whole_sample = true;
   uint32_t seed = 1;
   int num_threads = -1;
   Status Check(int sample_width, int sample_height) const;

@@ -86,6 +86,7 @@ TEST(Quilt, PlacementsLeavingTheSampleDrawOnItsBorderBand) {
   o.width = o.height = 128;
   o.patch_radius = 16;
   o.seed = testing::SeedFromTestName();
+  o.whole_sample = false;
   auto inside = QuiltSynthesis(sample, o, nullptr);
   o.whole_sample = true;
   Image built;
