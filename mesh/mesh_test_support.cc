@@ -117,18 +117,6 @@ TriangleMesh CubeSphere(int n, bool stacked) {
   return m;
 }
 
-Image PhotoCrop(const std::string& name, int size) {
-  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
-  auto photo = ReadImage(path, {true, 3});
-  MESOCAP_CHECK(photo.ok(), photo.status().message());
-  MESOCAP_CHECK(photo->width() >= size && photo->height() >= size, path.string() + " is smaller than the crop");
-  Image crop(size, size, 3);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x)
-      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
-  return crop;
-}
-
 Exemplar RigGridBtf(const std::string& material_name, int size) {
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pairs;
   std::vector<Eigen::Vector3d> views{DirectionFromAnglesDeg(0, 0)}, lights{DirectionFromAnglesDeg(0, 0)};

@@ -9,6 +9,7 @@
 #include "mesh/tangent_frames.h"
 #include "mesh/triangle_mesh.h"
 #include "synth/exemplar.h"
+#include "synth/synth_test_support.h"  // PhotoCrop, shared with the synthesis tests
 #include "synth/texton_analysis.h"
 
 namespace mesocap::testing {
@@ -26,8 +27,6 @@ TriangleMesh DoubleTorus(int cells);
 // every face's UVs on the same square instead (overlapping charts).
 TriangleMesh CubeSphere(int n, bool stacked = false);
 
-// A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
-Image PhotoCrop(const std::string& name, int size);
 // The virtual rig's `material` as a true BTF of 9 views x 13 lights per view, `size` texels a side,
 // written under the test's temp folder and loaded without features.
 Exemplar RigGridBtf(const std::string& material, int size);

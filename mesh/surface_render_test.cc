@@ -160,12 +160,7 @@ RigOnTorus MakeRigOnTorus() {
 // exemplar's BTF at the vertex's mapped texel and local directions; every lit pixel is the blend
 // of its triangle's vertex values.
 TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
-  const RigOnTorus rig = MakeRigOnTorus();
-  const Exemplar& btf = rig.btf;
-  const std::vector<Image>& slices = rig.slices;
-  const SurfaceAppearance& appearance = rig.appearance;
-  const TriangleMesh& torus = rig.torus;
-  const TangentFrames& frames = rig.frames;
+  const auto [btf, slices, appearance, torus, frames] = MakeRigOnTorus();
   SurfaceMap map;  // any map: here a deterministic scatter of texels
   map.sample_width = map.sample_height = 32, map.texel_size = MeanEdgeLength(torus);
   for (int v = 0; v < torus.vertex_count(); ++v)
@@ -202,12 +197,7 @@ TEST(SurfaceRender, RenderedValuesAreTheExemplarsAtTheMappedCoordinates) {
 // exemplar's BTF at the sample texel the pixel's atlas texel names and the light and view in the
 // frame at the pixel's point, turned by the texel's rotation, all recomputed here.
 TEST(SurfaceRender, AtlasMapPixelsAreTheExemplarsAtTheMappedCoordinates) {
-  const RigOnTorus rig = MakeRigOnTorus();
-  const Exemplar& btf = rig.btf;
-  const std::vector<Image>& slices = rig.slices;
-  const SurfaceAppearance& appearance = rig.appearance;
-  const TriangleMesh& torus = rig.torus;
-  const TangentFrames& frames = rig.frames;
+  const auto [btf, slices, appearance, torus, frames] = MakeRigOnTorus();
   auto atlas = BuildAtlas(torus, {256, 2});
   ASSERT_TRUE(atlas.ok());
   const AtlasTexels texels = BuildAtlasTexels(torus, *atlas);

@@ -52,9 +52,15 @@ RotatedSample MakeRotatedSample(const Image& features, const Image& constraint, 
 namespace {
 using Complex = FftComplex;
 
-// The anchor's distance from the copy's border, kept under half the copy's side.
-int AnchorMargin(const RotatedSample& copy, int margin) {
-  return std::clamp(margin, 0, (std::min(copy.size_x, copy.size_y) - 1) / 2);
+// The placements leaving the copy: the window's anchor texel (default its centre) on the copy,
+// `margin` texels inside its border (kept under half the copy's side).
+struct LeavingRange {
+  int u_min = 0, v_min = 0, width = 0, height = 0;
+};
+LeavingRange LeavingPlacements(const RotatedSample& copy, const MatchWindow& w, int margin) {
+  margin = std::clamp(margin, 0, (std::min(copy.size_x, copy.size_y) - 1) / 2);
+  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
+  return {margin - ax, margin - ay, copy.size_x - 2 * margin, copy.size_y - 2 * margin};
 }
 using FloatBuffer = FftFloatBuffer;
 using ComplexBuffer = FftComplexBuffer;
@@ -242,9 +248,8 @@ std::vector<double> PatchMatcher::LeavingCostsFor(const MatchWindow& w, const Wi
                                                   int* valid_h, int* u_min, int* v_min) const {
   const Impl& m = *impl_;
   const RotatedSample& copy = (*m.copies)[copy_index];
-  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
-  const int margin = AnchorMargin(copy, m.options.anchor_margin);
-  *u_min = margin - ax, *v_min = margin - ay, *valid_w = copy.size_x - 2 * margin, *valid_h = copy.size_y - 2 * margin;
+  const LeavingRange range = LeavingPlacements(copy, w, m.options.anchor_margin);
+  *u_min = range.u_min, *v_min = range.v_min, *valid_w = range.width, *valid_h = range.height;
   const auto& spectra = m.copy_spectra[copy_index];
   const ComplexBuffer& indicator = spectra[m.channels + 1];
   const float c = float(m.options.uncovered_cost);
@@ -296,7 +301,7 @@ MatchResult PatchMatcher::ChooseMatch(const MatchWindow& window, double temperat
   MatchResult best;  // the first copy and texel win ties: independent of the thread count
   for (int k = 0; k < n; ++k)
     for (size_t i = 0; i < costs[k].size(); ++i)
-      if (std::isfinite(costs[k][i]) && (!best.found || costs[k][i] < best.cost)) best = at(k, i);
+      if (!best.found || costs[k][i] < best.cost) best = at(k, i);
   if (!best.found || temperature <= 0) return best;
   double total = 0;
   for (const auto& c : costs)
@@ -343,9 +348,8 @@ std::vector<double> BruteForceCosts(const RotatedSample& copy, const MatchWindow
 
 std::vector<double> BruteForceLeavingCosts(const RotatedSample& copy, const MatchWindow& w, double uncovered_cost,
                                            int anchor_margin, int* valid_w, int* valid_h, int* u_min, int* v_min) {
-  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
-  const int margin = AnchorMargin(copy, anchor_margin);
-  *u_min = margin - ax, *v_min = margin - ay, *valid_w = copy.size_x - 2 * margin, *valid_h = copy.size_y - 2 * margin;
+  const LeavingRange range = LeavingPlacements(copy, w, anchor_margin);
+  *u_min = range.u_min, *v_min = range.v_min, *valid_w = range.width, *valid_h = range.height;
   const Image& out = *w.features;
   auto synthesized = [&](int x, int y) { return (*w.synthesized)[size_t(w.y0 + y) * out.width() + w.x0 + x] != 0; };
   double overlap = 0;

@@ -69,7 +69,6 @@ struct PatchMatcherOptions {
   int anchor_margin = 0;
 };
 
-
 class PatchMatcher {
  public:
   // `copies` must outlive the matcher. Every copy is prepared once (FFTs of its feature channels,

@@ -6,12 +6,11 @@
 // than on its centre; the default placements reach 0.54-0.85x (docs/synthesis.md).
 #include <gtest/gtest.h>
 
-#include <filesystem>
 
-#include "core/image_io.h"
 #include "synth/map_apply.h"
 #include "synth/quilt.h"
 #include "synth/synth_quality.h"
+#include "synth/synth_test_support.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -19,16 +18,7 @@ namespace {
 
 constexpr int kCrop = 96, kOutput = 256, kRandomTile = 24, kSeeds = 3;
 
-Image Crop(const std::string& name) {
-  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
-  auto photo = ReadImage(path, {true, 3});
-  MESOCAP_CHECK(photo.ok(), photo.status().message());
-  Image crop(kCrop, kCrop, 3);
-  for (int y = 0; y < kCrop; ++y)
-    for (int x = 0; x < kCrop; ++x)
-      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
-  return crop;
-}
+Image Crop(const std::string& name) { return testing::PhotoCrop(name, kCrop); }
 
 class QuiltOnPhotographs : public ::testing::TestWithParam<std::string> {};
 

@@ -10,13 +10,12 @@
 // within 0.66-1.0x, with up to 10% for the seeds' spread on paving and crackle).
 #include <gtest/gtest.h>
 
-#include <filesystem>
 
-#include "core/image_io.h"
 #include "synth/exemplar.h"
 #include "synth/synth_quality.h"
 #include "synth/texton_analysis.h"
 #include "synth/texton_synthesis.h"
+#include "synth/synth_test_support.h"
 #include "tests/testing.h"
 
 namespace mesocap {
@@ -24,16 +23,7 @@ namespace {
 
 constexpr int kCrop = 96, kOutput = 256, kRandomTile = 24;
 
-Image Crop(const std::string& name) {
-  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
-  auto photo = ReadImage(path, {true, 3});
-  MESOCAP_CHECK(photo.ok(), photo.status().message());
-  Image crop(kCrop, kCrop, 3);
-  for (int y = 0; y < kCrop; ++y)
-    for (int x = 0; x < kCrop; ++x)
-      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
-  return crop;
-}
+Image Crop(const std::string& name) { return testing::PhotoCrop(name, kCrop); }
 
 struct PhotoCase {
   std::string texture;

@@ -10,6 +10,7 @@
 #include "capture/rig_material.h"
 #include "capture/true_btf_folder.h"
 #include "core/directions.h"
+#include "core/image_io.h"
 #include "core/status.h"
 #include "synth/synth_quality.h"
 
@@ -53,6 +54,18 @@ Exemplar VirtualRigExemplar(const std::string& material, int size) {
   auto e = LoadExemplar(dir);
   MESOCAP_CHECK(e.ok(), e.status().message());
   return std::move(*e);
+}
+
+Image PhotoCrop(const std::string& name, int size) {
+  const auto path = std::filesystem::path(MESOCAP_SOURCE_DIR) / "tests" / "data" / "textures" / (name + ".png");
+  auto photo = ReadImage(path, {true, 3});
+  MESOCAP_CHECK(photo.ok(), photo.status().message());
+  MESOCAP_CHECK(photo->width() >= size && photo->height() >= size, path.string() + " is smaller than the crop");
+  Image crop(size, size, 3);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int c = 0; c < 3; ++c) crop.at(x, y, c) = photo->at(x, y, c);
+  return crop;
 }
 
 Image NoiseImage(int width, int height, int channels, uint32_t seed) {

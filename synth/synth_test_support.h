@@ -18,6 +18,9 @@ Exemplar VirtualRigExemplar(const std::string& material, int size = 128);
 // The same pairs, for tests that render the truth themselves.
 std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ExemplarPairs();
 
+// A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
+Image PhotoCrop(const std::string& name, int size);
+
 // Uniform noise in [0, 1), `channels` per texel, from `seed`.
 Image NoiseImage(int width, int height, int channels, uint32_t seed);
 
