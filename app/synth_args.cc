@@ -25,7 +25,7 @@ void AddQuiltOptions(CLI::App* sub, SynthArgs& a) {
   sub->add_option("--seam-threshold", a.quilt.seam_threshold, "T_c as a multiple of the sample's neighbour step")->capture_default_str();
   sub->add_option("--randomness", a.quilt.randomness, "Kwatra's stochastic placement temperature (0: least cost)")->capture_default_str();
   sub->add_flag_callback("--inside-sample", [&a] { a.quilt.whole_sample = false; },
-                         "quilt: keep work windows inside the sample, as Zhou (about 0.6x the time). By default a patch may "
+                         "quilt: keep work windows inside the sample, as Zhou (0.8-1.2x the time). By default a patch may "
                          "hang off the sample's edge, so its border band is used as often as its centre and the statistics "
                          "stay nearer the sample's (docs/synthesis.md)");
   sub->add_option("--svd-components", a.exemplar.svd_components, "BTF: geometry maps kept from the SVD (Zhou: 40)")->capture_default_str();

@@ -35,4 +35,13 @@ const RealFftPlans& RealFftPlansFor(int width, int height) {
   return *slot;
 }
 
+int FftFriendlySize(int n) {
+  for (int m = std::max(n, 1);; ++m) {
+    int r = m;
+    for (int p : {2, 3, 5})
+      while (r % p == 0) r /= p;
+    if (r == 1) return m;
+  }
+}
+
 }  // namespace mesocap

@@ -55,4 +55,7 @@ struct RealFftPlans {
 };
 const RealFftPlans& RealFftPlansFor(int width, int height);
 
+// The least size >= n whose only prime factors are 2, 3 and 5, where FFTW stays fast.
+int FftFriendlySize(int n);
+
 }  // namespace mesocap

@@ -66,14 +66,6 @@ int Mirror(int i, int n) {
   return i < n ? i : period - 1 - i;
 }
 
-int FftSize(int n) {  // a size of small prime factors, so FFTW stays fast
-  for (int m = n;; ++m) {
-    int r = m;
-    for (int p : {2, 3, 5}) while (r % p == 0) r /= p;
-    if (r == 1) return m;
-  }
-}
-
 }  // namespace
 
 std::vector<std::vector<float>> LeungMalikFilters() {
@@ -99,7 +91,7 @@ FilterBank::FilterBank(int width, int height) : impl_(std::make_unique<Impl>()) 
   MESOCAP_CHECK(width > 0 && height > 0, "filter bank on an empty image");
   Impl& m = *impl_;
   m.width = width, m.height = height;
-  m.fft_width = FftSize(width + 2 * kHalf), m.fft_height = FftSize(height + 2 * kHalf);
+  m.fft_width = FftFriendlySize(width + 2 * kHalf), m.fft_height = FftFriendlySize(height + 2 * kHalf);
   m.spectrum_size = size_t(m.fft_height) * (m.fft_width / 2 + 1);
   FftFloatBuffer plane(size_t(m.fft_width) * m.fft_height);
   const RealFftPlans& plans = RealFftPlansFor(m.fft_width, m.fft_height);

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <limits>
+#include <memory>
+#include <vector>
 
 #include "core/directions.h"
 #include "core/fftw_buffers.h"
@@ -66,31 +69,90 @@ using FloatBuffer = FftFloatBuffer;
 using ComplexBuffer = FftComplexBuffer;
 }  // namespace
 
-struct PatchMatcher::Impl {
-  const std::vector<RotatedSample>* copies = nullptr;
-  PatchMatcherOptions options;
-  int px = 0, py = 0;  // padded FFT size (largest copy)
+namespace {
+// One FFT plane size: its plans and every copy's spectra on it.
+struct MatchPlane {
+  int px = 0, py = 0;
   size_t spectrum = 0;
   fftwf_plan forward = nullptr, inverse = nullptr;
-  int channels = 0;
-  bool constrained = false;
-  bool leaving = false;  // placements may leave the copy (options.max_window > 0)
   // Per copy: channel spectra, spectrum of |S|^2, then of ms and of ms^2 (constrained) or of the
   // copy's indicator V (leaving).
   std::vector<std::vector<ComplexBuffer>> copy_spectra;
 
-  void Forward(float* plane, Complex* out) const {
-    fftwf_execute_dft_r2c(forward, plane, reinterpret_cast<fftwf_complex*>(out));
+  MatchPlane(int width, int height) : px(width), py(height), spectrum(size_t(height) * (width / 2 + 1)) {
+    const RealFftPlans& plans = RealFftPlansFor(px, py);
+    forward = plans.forward;
+    inverse = plans.inverse;
   }
   ComplexBuffer SpectrumOf(const std::function<float(int, int)>& value, int w, int h, int x_off = 0, int y_off = 0) const {
     FloatBuffer plane(size_t(px) * py);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) plane.data[size_t(y) * px + x] = value(x + x_off, y + y_off);
     ComplexBuffer out(spectrum);
-    Forward(plane.data, out.data);
+    fftwf_execute_dft_r2c(forward, plane.data, out.fftw());
     return out;
   }
 };
+
+}  // namespace
+
+struct PatchMatcher::Impl {
+  const std::vector<RotatedSample>* copies = nullptr;
+  PatchMatcherOptions options;
+  int size_x = 0, size_y = 0;  // the largest copy
+  int channels = 0;
+  bool constrained = false;
+  bool leaving = false;  // placements may leave the copy (options.max_window > 0)
+  int margin = 0;        // leaving: the smallest anchor margin over the copies
+  // Placements inside the copy: one plane. Leaving: planes for growing reaches (how far a window
+  // texel lies from its anchor), the last for max_window / 2; plane_reach[i] is planes[i]'s.
+  std::vector<std::unique_ptr<MatchPlane>> planes;
+  std::vector<int> plane_reach;
+
+  // A window reaching `reach` texels from its anchor, with the anchor `margin` inside the copy,
+  // touches offsets -(reach - margin) .. size + reach - margin - 1: a plane this much larger keeps
+  // the circular correlation from wrapping onto the copy (Prepare's windows reach r_w at most,
+  // since they are clipped around their anchor).
+  int PlaneSide(int size, int reach) const { return FftFriendlySize(size + std::max(0, reach - margin)); }
+  std::unique_ptr<MatchPlane> MakePlane(int px, int py) const;
+  const MatchPlane& PlaneFor(int reach) const {
+    for (size_t i = 0; i < planes.size(); ++i)
+      if (reach <= plane_reach[i]) return *planes[i];
+    MESOCAP_CHECK(false, "a match window reaches farther from its anchor than max_window / 2");
+    return *planes.back();
+  }
+};
+
+std::unique_ptr<MatchPlane> PatchMatcher::Impl::MakePlane(int px, int py) const {
+  auto plane = std::make_unique<MatchPlane>(px, py);
+  const int per_copy = channels + 1 + (constrained ? 2 : 0) + (leaving ? 1 : 0);
+  plane->copy_spectra.resize(copies->size());
+  for (auto& list : plane->copy_spectra)
+    for (int j = 0; j < per_copy; ++j) list.emplace_back(0);
+  ParallelFor(0, int(copies->size()) * per_copy, [&](int job) {
+    const int k = job / per_copy, j = job % per_copy;
+    const RotatedSample& c = (*copies)[k];
+    std::function<float(int, int)> value;
+    if (j < channels) {
+      value = [&c, j](int x, int y) { return c.features.at(x, y, j); };
+    } else if (j == channels) {
+      value = [&c](int x, int y) {
+        const float* f = c.features.pixel(x, y);
+        float s = 0;
+        for (int i = 0; i < c.features.channels(); ++i) s += f[i] * f[i];
+        return s;
+      };
+    } else if (leaving) {
+      value = [](int, int) { return 1.f; };
+    } else if (j == channels + 1) {
+      value = [&c](int x, int y) { return c.constraint.at(x, y); };
+    } else {
+      value = [&c](int x, int y) { return c.constraint.at(x, y) * c.constraint.at(x, y); };
+    }
+    plane->copy_spectra[k][j] = plane->SpectrumOf(value, c.size_x, c.size_y);
+  }, options.num_threads);
+  return plane;
+}
 
 PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const PatchMatcherOptions& options)
     : impl_(std::make_unique<Impl>()) {
@@ -103,42 +165,33 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
   MESOCAP_CHECK(!(m.leaving && options.constraint_weight > 0), "placements leaving the copy take no constraint term");
   m.constrained = options.constraint_weight > 0 && !copies[0].constraint.empty();
   for (const auto& c : copies) {
-    m.px = std::max(m.px, c.size_x);
-    m.py = std::max(m.py, c.size_y);
+    m.size_x = std::max(m.size_x, c.size_x);
+    m.size_y = std::max(m.size_y, c.size_y);
   }
-  // Leaving placements correlate over offsets -(w - 1) .. size - 1: a plane this much wider keeps
-  // the circular correlation from wrapping onto the copy.
-  if (m.leaving) m.px += options.max_window - 1, m.py += options.max_window - 1;
-  m.spectrum = size_t(m.py) * (m.px / 2 + 1);
-  const RealFftPlans& plans = RealFftPlansFor(m.px, m.py);
-  m.forward = plans.forward;
-  m.inverse = plans.inverse;
-  m.copy_spectra.resize(copies.size());
-  const int per_copy = m.channels + 1 + (m.constrained ? 2 : 0) + (m.leaving ? 1 : 0);
-  for (auto& list : m.copy_spectra)
-    for (int j = 0; j < per_copy; ++j) list.emplace_back(0);
-  ParallelFor(0, int(copies.size()) * per_copy, [&](int job) {
-    const int k = job / per_copy, j = job % per_copy;
-    const RotatedSample& c = copies[k];
-    std::function<float(int, int)> value;
-    if (j < m.channels) {
-      value = [&c, j](int x, int y) { return c.features.at(x, y, j); };
-    } else if (j == m.channels) {
-      value = [&c](int x, int y) {
-        const float* f = c.features.pixel(x, y);
-        float s = 0;
-        for (int i = 0; i < c.features.channels(); ++i) s += f[i] * f[i];
-        return s;
-      };
-    } else if (m.leaving) {
-      value = [](int, int) { return 1.f; };
-    } else if (j == m.channels + 1) {
-      value = [&c](int x, int y) { return c.constraint.at(x, y); };
-    } else {
-      value = [&c](int x, int y) { return c.constraint.at(x, y) * c.constraint.at(x, y); };
+  if (!m.leaving) {
+    m.planes.push_back(m.MakePlane(FftFriendlySize(m.size_x), FftFriendlySize(m.size_y)));
+    m.plane_reach.push_back(std::numeric_limits<int>::max());
+    return;
+  }
+  m.margin = std::numeric_limits<int>::max();
+  MatchWindow centred;
+  for (const auto& c : copies) m.margin = std::min(m.margin, LeavingPlacements(c, centred, options.anchor_margin).u_min);
+  // Three planes: windows within the margin (they stay on the copy: no padding), up to halfway to
+  // max_window / 2, and the rest. Quilting shrinks most of its windows (r_w x 0.8^k): on a 128-texel
+  // sample with r_w 32 the planes are 128, 144 and 160 texels a side, where one plane for every
+  // window would be 160 (and 192 with padding by the whole window).
+  const int largest = options.max_window / 2;
+  for (int reach : {std::min(m.margin, largest), (m.margin + largest) / 2, largest}) {
+    const int px = std::max(m.PlaneSide(m.size_x, reach), std::min(options.max_window, 2 * reach + 1));
+    const int py = std::max(m.PlaneSide(m.size_y, reach), std::min(options.max_window, 2 * reach + 1));
+    if (!m.planes.empty() && m.planes.back()->px == px && m.planes.back()->py == py) {
+      m.plane_reach.back() = reach;
+      continue;
     }
-    m.copy_spectra[k][j] = m.SpectrumOf(value, c.size_x, c.size_y);
-  }, options.num_threads);
+    if (!m.plane_reach.empty() && reach <= m.plane_reach.back()) continue;
+    m.planes.push_back(m.MakePlane(px, py));
+    m.plane_reach.push_back(reach);
+  }
 }
 
 PatchMatcher::~PatchMatcher() = default;
@@ -148,6 +201,7 @@ struct PatchMatcher::WindowSpectra {
   ComplexBuffer mask{0};                       // F(M)
   ComplexBuffer target{0}, box{0};             // F(m0 over the window), F(window indicator)
   ComplexBuffer masked_norms{0};               // F(M |O|^2), for placements leaving the copy
+  const MatchPlane* plane = nullptr;           // the plane the spectra are on
   double masked_norm = 0, target_norm = 0;     // sum M |O|^2, sum m0^2
   double overlap = 0, area = 0;
   bool use_constraint = false;
@@ -156,11 +210,13 @@ struct PatchMatcher::WindowSpectra {
 std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWindow& w) const {
   const Impl& m = *impl_;
   // A window larger than every copy has no placement, and would overflow the FFT planes.
-  if (m.leaving ? std::max(w.width, w.height) > m.options.max_window : w.width > m.px || w.height > m.py) return nullptr;
+  if (m.leaving ? std::max(w.width, w.height) > m.options.max_window : w.width > m.size_x || w.height > m.size_y) return nullptr;
   const Image& out = *w.features;
   const std::vector<uint8_t>& syn = *w.synthesized;
   auto masked = [&](int x, int y) { return syn[size_t(y) * out.width() + x] != 0; };
   auto ws = std::make_unique<WindowSpectra>();
+  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
+  ws->plane = &m.PlaneFor(std::max({ax, w.width - 1 - ax, ay, w.height - 1 - ay}));
   ws->area = double(w.width) * w.height;
   for (int y = 0; y < w.height; ++y)
     for (int x = 0; x < w.width; ++x)
@@ -193,7 +249,7 @@ std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWi
       value = [&](int x, int y) { return w.target_constraint->at(x, y); };
     else
       value = [](int, int) { return 1.f; };
-    ComplexBuffer s = m.SpectrumOf(value, w.width, w.height, w.x0, w.y0);
+    ComplexBuffer s = ws->plane->SpectrumOf(value, w.width, w.height, w.x0, w.y0);
     if (j < m.channels) ws->masked_features[j] = std::move(s);
     else if (j == m.channels) ws->mask = std::move(s);
     else if (m.leaving) ws->masked_norms = std::move(s);
@@ -214,12 +270,13 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
   if (*valid_w <= 0 || *valid_h <= 0) return {};
   // cost spectrum = (F(|S|^2) conj F(M) - 2 sum_c F(S_c) conj F(M O_c)) / overlap
   //               + lambda (F(ms^2) conj F(box) - 2 F(ms) conj F(m0)) / area
-  const auto& spectra = m.copy_spectra[copy_index];
-  ComplexBuffer total(m.spectrum);
+  const MatchPlane& p = *ws.plane;
+  const auto& spectra = p.copy_spectra[copy_index];
+  ComplexBuffer total(p.spectrum);
   const float inv_overlap = ws.overlap > 0 ? float(1.0 / ws.overlap) : 0.f;
   const double weight = m.options.constraint_weight * w.constraint_scale;
   const float lambda = ws.use_constraint ? float(weight / ws.area) : 0.f;
-  for (size_t i = 0; i < m.spectrum; ++i) {
+  for (size_t i = 0; i < p.spectrum; ++i) {
     Complex cross(0);
     for (int c = 0; c < m.channels; ++c) cross += spectra[c].data[i] * std::conj(ws.masked_features[c].data[i]);
     Complex t = (spectra[m.channels].data[i] * std::conj(ws.mask.data[i]) - 2.f * cross) * inv_overlap;
@@ -228,15 +285,15 @@ std::vector<double> PatchMatcher::CostsFor(const MatchWindow& w, const WindowSpe
                      2.f * spectra[m.channels + 1].data[i] * std::conj(ws.target.data[i]));
     total.data[i] = t;
   }
-  FloatBuffer plane(size_t(m.px) * m.py);
-  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
-  const double scale = 1.0 / (double(m.px) * m.py);
+  FloatBuffer plane(size_t(p.px) * p.py);
+  fftwf_execute_dft_c2r(p.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
+  const double scale = 1.0 / (double(p.px) * p.py);
   const double constant = (ws.overlap > 0 ? ws.masked_norm / ws.overlap : 0) +
                           (ws.use_constraint ? weight * ws.target_norm / ws.area : 0);
   std::vector<double> costs(size_t(*valid_w) * *valid_h);
   for (int v = 0; v < *valid_h; ++v)
     for (int u = 0; u < *valid_w; ++u)
-      costs[size_t(v) * *valid_w + u] = std::max(0.0, constant + plane.data[size_t(v) * m.px + u] * scale);
+      costs[size_t(v) * *valid_w + u] = std::max(0.0, constant + plane.data[size_t(v) * p.px + u] * scale);
   return costs;
 }
 
@@ -250,24 +307,25 @@ std::vector<double> PatchMatcher::LeavingCostsFor(const MatchWindow& w, const Wi
   const RotatedSample& copy = (*m.copies)[copy_index];
   const LeavingRange range = LeavingPlacements(copy, w, m.options.anchor_margin);
   *u_min = range.u_min, *v_min = range.v_min, *valid_w = range.width, *valid_h = range.height;
-  const auto& spectra = m.copy_spectra[copy_index];
+  const MatchPlane& p = *ws.plane;
+  const auto& spectra = p.copy_spectra[copy_index];
   const ComplexBuffer& indicator = spectra[m.channels + 1];
   const float c = float(m.options.uncovered_cost);
-  ComplexBuffer total(m.spectrum);
-  for (size_t i = 0; i < m.spectrum; ++i) {
+  ComplexBuffer total(p.spectrum);
+  for (size_t i = 0; i < p.spectrum; ++i) {
     Complex cross(0);
     for (int k = 0; k < m.channels; ++k) cross += spectra[k].data[i] * std::conj(ws.masked_features[k].data[i]);
     total.data[i] = spectra[m.channels].data[i] * std::conj(ws.mask.data[i]) - 2.f * cross +
                     indicator.data[i] * std::conj(ws.masked_norms.data[i] - c * ws.mask.data[i]);
   }
-  FloatBuffer plane(size_t(m.px) * m.py);
-  fftwf_execute_dft_c2r(m.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
-  const double scale = 1.0 / (double(m.px) * m.py), inv_overlap = ws.overlap > 0 ? 1.0 / ws.overlap : 0;
+  FloatBuffer plane(size_t(p.px) * p.py);
+  fftwf_execute_dft_c2r(p.inverse, reinterpret_cast<fftwf_complex*>(total.data), plane.data);
+  const double scale = 1.0 / (double(p.px) * p.py), inv_overlap = ws.overlap > 0 ? 1.0 / ws.overlap : 0;
   std::vector<double> costs(size_t(*valid_w) * *valid_h);
   for (int j = 0; j < *valid_h; ++j)
     for (int i = 0; i < *valid_w; ++i) {
       const int u = *u_min + i, v = *v_min + j;
-      const size_t at = size_t((v + m.py) % m.py) * m.px + size_t((u + m.px) % m.px);
+      const size_t at = size_t((v + p.py) % p.py) * p.px + size_t((u + p.px) % p.px);
       costs[size_t(j) * *valid_w + i] = std::max(0.0, plane.data[at] * scale + c * ws.overlap) * inv_overlap;
     }
   return costs;

@@ -89,6 +89,45 @@ TEST(PatchMatching, LeavingPlacementsEqualBruteForceAndFindAPlantedCornerCopy) {
   EXPECT_NEAR(m.cost, options.uncovered_cost * uncovered / overlap, 1e-4);
 }
 
+// The matcher correlates each window on the smallest of its planes that keeps the window from
+// wrapping onto the copy, by how far the window reaches from its anchor: windows of every reach,
+// anchored at their centre or against an edge (quilting clips windows at the output's border),
+// cost what direct sums give, on copies of two sizes.
+TEST(PatchMatching, LeavingWindowsOfEveryReachEqualBruteForce) {
+  std::mt19937 rng(testing::SeedFromTestName());
+  const Image sample = RandomImage(40, 36, 3, rng);
+  const Image output = RandomImage(60, 60, 3, rng);
+  std::vector<uint8_t> synthesized(60 * 60);
+  for (auto& s : synthesized) s = rng() % 4 != 0;
+  std::vector<RotatedSample> copies;
+  for (double r : {0.0, 45.0}) copies.push_back(MakeRotatedSample(sample, Image(), r));
+  PatchMatcherOptions options;
+  options.max_window = 21;  // reach up to 10: planes for reaches 4, 7 and 10
+  options.uncovered_cost = 0.2;
+  options.anchor_margin = 4;
+  PatchMatcher matcher(copies, options);
+  struct Case {
+    int width, height, anchor_x, anchor_y;
+  };
+  for (const Case c : {Case{3, 3, 1, 1}, {9, 9, 4, 4}, {6, 9, 0, 4}, {11, 11, 5, 5}, {8, 15, 7, 7}, {15, 15, 7, 7},
+                       {21, 21, 10, 10}, {11, 21, 0, 10}, {11, 11, 10, 0}}) {
+    MatchWindow window{c.width, c.height, &output, &synthesized, nullptr, 20, 18};
+    window.anchor_x = c.anchor_x, window.anchor_y = c.anchor_y;
+    for (int k = 0; k < int(copies.size()); ++k) {
+      int fw = 0, fh = 0, fu = 0, fv = 0, bw = 0, bh = 0, bu = 0, bv = 0;
+      const auto fft = matcher.Costs(window, k, &fw, &fh, &fu, &fv);
+      const auto brute =
+          BruteForceLeavingCosts(copies[k], window, options.uncovered_cost, options.anchor_margin, &bw, &bh, &bu, &bv);
+      ASSERT_EQ(std::tie(fw, fh, fu, fv), std::tie(bw, bh, bu, bv));
+      ASSERT_EQ(fft.size(), brute.size());
+      ASSERT_GT(fft.size(), 0u);
+      for (size_t i = 0; i < fft.size(); ++i)
+        ASSERT_NEAR(fft[i], brute[i], 1e-4 * (1 + brute[i]))
+            << c.width << "x" << c.height << " anchored at " << c.anchor_x << "," << c.anchor_y << ", copy " << k << " at " << i;
+    }
+  }
+}
+
 TEST(PatchMatching, FindsAPlantedCopyOfTheSample) {
   std::mt19937 rng(testing::SeedFromTestName());
   const Image sample = RandomImage(48, 48, 3, rng);

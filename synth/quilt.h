@@ -35,7 +35,7 @@ struct QuiltOptions {
   // sample texels (PatchMatcherOptions::max_window). Zhou keeps the work window inside the sample
   // (false), which drifts to the centre's statistics: on the 20 photographs (96 -> 256, three
   // seeds) the subband ratio to random tiling went 1.10x -> 0.82x (geometric mean), textures losing
-  // to random tiling 9 -> 4, at 1.6-2.2x the time (docs/synthesis.md). Quilting only, not painting.
+  // to random tiling 9 -> 4, at 0.9-1.2x the time (docs/synthesis.md). Quilting only, not painting.
   bool whole_sample = true;
   uint32_t seed = 1;
   int num_threads = -1;
