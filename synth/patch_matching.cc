@@ -67,9 +67,7 @@ LeavingRange LeavingPlacements(const RotatedSample& copy, const MatchWindow& w, 
 }
 using FloatBuffer = FftFloatBuffer;
 using ComplexBuffer = FftComplexBuffer;
-}  // namespace
 
-namespace {
 // One FFT plane size: its plans and every copy's spectra on it.
 struct MatchPlane {
   int px = 0, py = 0;
@@ -109,11 +107,12 @@ struct PatchMatcher::Impl {
   std::vector<std::unique_ptr<MatchPlane>> planes;
   std::vector<int> plane_reach;
 
-  // A window reaching `reach` texels from its anchor, with the anchor `margin` inside the copy,
-  // touches offsets -(reach - margin) .. size + reach - margin - 1: a plane this much larger keeps
-  // the circular correlation from wrapping onto the copy (Prepare's windows reach r_w at most,
-  // since they are clipped around their anchor).
-  int PlaneSide(int size, int reach) const { return FftFriendlySize(size + std::max(0, reach - margin)); }
+  // A window reaching `reach` texels from its anchor (so at most 2 reach + 1 a side), with the
+  // anchor `margin` inside the copy, touches offsets -(reach - margin) .. size + reach - margin - 1:
+  // a plane this much larger keeps the circular correlation from wrapping onto the copy.
+  int PlaneSide(int size, int reach) const {
+    return FftFriendlySize(std::max(size + std::max(0, reach - margin), 2 * reach + 1));
+  }
   std::unique_ptr<MatchPlane> MakePlane(int px, int py) const;
   const MatchPlane& PlaneFor(int reach) const {
     for (size_t i = 0; i < planes.size(); ++i)
@@ -181,14 +180,12 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
   // sample with r_w 32 the planes are 128, 144 and 160 texels a side, where one plane for every
   // window would be 160 (and 192 with padding by the whole window).
   const int largest = options.max_window / 2;
-  for (int reach : {std::min(m.margin, largest), (m.margin + largest) / 2, largest}) {
-    const int px = std::max(m.PlaneSide(m.size_x, reach), std::min(options.max_window, 2 * reach + 1));
-    const int py = std::max(m.PlaneSide(m.size_y, reach), std::min(options.max_window, 2 * reach + 1));
+  for (int reach : {std::min(m.margin, largest), std::min((m.margin + largest) / 2, largest), largest}) {
+    const int px = m.PlaneSide(m.size_x, reach), py = m.PlaneSide(m.size_y, reach);
     if (!m.planes.empty() && m.planes.back()->px == px && m.planes.back()->py == py) {
-      m.plane_reach.back() = reach;
+      m.plane_reach.back() = reach;  // a larger reach fits the same plane
       continue;
     }
-    if (!m.plane_reach.empty() && reach <= m.plane_reach.back()) continue;
     m.planes.push_back(m.MakePlane(px, py));
     m.plane_reach.push_back(reach);
   }
