@@ -13,6 +13,7 @@ namespace mesocap {
 namespace {
 
 constexpr int kBlock = 256;  // vertices per parallel task
+constexpr int kSurfaceLevelSteps = 8;  // see SurfaceTextonSynthesis
 
 // One template slot of one vertex: the surface texton w0 t(v0) + w1 t(v1) + w2 t(v2); v[0] < 0
 // for the default texton (no triangle covers the slot).
@@ -259,7 +260,11 @@ StatusOr<SurfaceMap> SurfaceTextonSynthesis(const TriangleMesh& mesh, const Tang
   const auto start = std::chrono::steady_clock::now();
   const double h = o.texel_size > 0 ? o.texel_size : MeanEdgeLength(mesh);
   if (!(h > 0)) return Status::Error("the mesh has no edge length to scale texels by");
-  const int wanted = o.levels > 0 ? std::min<int>(o.levels, int(analysis.levels.size())) : int(analysis.levels.size());
+  // On meshes, levels while the sample spans 8 steps of their spacing, as before the plane's went
+  // to 3: with the coarser ones a torus' texture turned up to 11.5 deg off its field in one eighth
+  // (bound 10, mesh/surface_textons_test).
+  const int usable = LevelsSpanning(analysis, kSurfaceLevelSteps);
+  const int wanted = o.levels > 0 ? std::min(o.levels, usable) : usable;
   auto pyramid = BuildMeshPyramid(mesh, wanted);
   if (!pyramid.ok()) return pyramid.status();
   const int levels = int(pyramid->size());

@@ -4,12 +4,11 @@
 // source, at least half the sample used), per-texel (no coherent region over a quarter of the
 // sample), seams, and the subband statistics against random tiling of 24 x 24 patches.
 //
-// Where the method falls short of the targets the bounds below are what it reaches, kept
-// as regression guards and listed in README.md's Known limits: brick's seams 1.41 (target
-// 1.2), subband statistics up to 2.6x random tiling's (target 1x; paving, reptile and crackle are
-// within 0.66-1.0x, with up to 10% for the seeds' spread on paving and crackle).
+// Seams meet the target (1.2) on all six. Statistics (target 1x random tiling's, measured three
+// seeds): brick 0.77, paving 0.74, reptile 0.85, bark 0.96, leaves 0.51, crackle 1.26, which falls
+// short and is held to 1.35 (it was 1.03 when the levels stopped at 8 steps of the sample, and
+// brick 2.87, bark 2.18, leaves 1.41; README.md's Known limits).
 #include <gtest/gtest.h>
-
 
 #include "synth/exemplar.h"
 #include "synth/synth_quality.h"
@@ -67,16 +66,18 @@ TEST_P(TextonOnPhotographs, NoStreaksPerTexelSeamsAndStatistics) {
   }
   EXPECT_LE(seams, GetParam().max_seam_ratio);
   // 512 pairs per seed cross the edges (130,000 inside), so their mean swings: wrap / inside
-  // measured 0.86-1.24 on these six photographs (mean 1.00).
-  EXPECT_LE(wrap_seams, 1.3 * seams) << "across the wrap-around edges, against " << seams << " inside";
+  // measured 0.86-1.24 on these six photographs (mean 1.00) with levels down to 8 steps of the
+  // sample, 0.77-1.31 (mean 1.01) with levels down to 3 steps, whose larger coherent regions leave
+  // fewer cuts on the edges (bound 1.3 before, README's Known limits).
+  EXPECT_LE(wrap_seams, 1.4 * seams) << "across the wrap-around edges, against " << seams << " inside";
   EXPECT_LE(subband, GetParam().max_subband_ratio * random_subband) << subband / random_subband << "x random tiling's";
 }
 
 // Structured (brick, paving, reptile, crackle), directional (bark) and large-scale (leaves).
 INSTANTIATE_TEST_SUITE_P(Corpus, TextonOnPhotographs,
-                         ::testing::Values(PhotoCase{"brick", 1.5, 3.0}, PhotoCase{"paving", 1.2, 1.1},
-                                           PhotoCase{"reptile", 1.2, 1.0}, PhotoCase{"crackle", 1.2, 1.1},
-                                           PhotoCase{"bark", 1.2, 2.4}, PhotoCase{"leaves", 1.2, 2.3}),
+                         ::testing::Values(PhotoCase{"brick", 1.2, 1.0}, PhotoCase{"paving", 1.2, 1.0},
+                                           PhotoCase{"reptile", 1.2, 1.0}, PhotoCase{"crackle", 1.2, 1.35},
+                                           PhotoCase{"bark", 1.2, 1.1}, PhotoCase{"leaves", 1.2, 0.8}),
                          [](const auto& info) { return info.param.texture; });
 
 }  // namespace

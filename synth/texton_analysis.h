@@ -40,7 +40,7 @@ inline constexpr int kMaxTextonLevels = 8;
 struct TextonAnalysisOptions {
   int representative_slices = 400;  // n_s (Tong: 400); all slices when there are no more
   int textons = 400;                // n_t at the finest level (Tong: 400); a quarter per coarser level
-  int levels = 0;                   // stack levels (Tong: three or four); 0: while side / 2^l >= 8
+  int levels = 0;                   // stack levels (Tong: three or four); 0: while side / 2^l >= 3
   int grid_points = 256;            // texels on a slice's subsampling grid (its appearance vector)
   int dimensions = 64;              // principal directions kept of the concatenated responses
   int kmeans_iterations = 30;
@@ -87,6 +87,10 @@ StatusOr<TextonAnalysis> AnalyzeTextons(int slice_count, const std::function<Sta
 // Squared distances ||t_i - t_j||^2 = gamma_ii + gamma_jj - 2 gamma_ij, as floats (clamped at 0):
 // the table every neighbourhood distance of texton synthesis is summed from.
 std::vector<float> TextonDistances(const TextonLevel& level);
+
+// How many of the analysis' levels, finest first, leave the sample's shorter side at least
+// `min_steps` steps of their spacing.
+int LevelsSpanning(const TextonAnalysis& analysis, int min_steps);
 
 // A multi-part float OpenEXR (docs/formats.md): per level a part "labels<l>" (channel "texton")
 // and a part "gamma<l>" (channel "gamma"), with the analysis' parameters as attributes. Reading

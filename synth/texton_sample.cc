@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
@@ -16,6 +18,9 @@ constexpr int kEmbeddingDimensions = 8;  // texton coordinates per slot in the n
 constexpr int kSummaryDimensions = 12;   // principal components of the summary (L&H 2006 keep 8 of theirs)
 constexpr int kRerankFactor = 4;         // summary-nearest texels re-ranked by the exact distance, per list entry
 constexpr int kListBlock = 64;           // texels whose lists one task builds
+constexpr int kSummaryRows = 8;          // texels whose summary distances are summed together
+constexpr int kScanStretch = 32;         // candidates whose least summary distance is checked at once
+constexpr int kSparseSpacing = 2;        // levels this spaced draw their lists from every other row and column
 constexpr int kPcaRows = 4096;           // texels the summaries' principal components are found from
 
 
@@ -94,6 +99,62 @@ std::vector<float> NeighbourhoodSummaries(const SampleLevel& s, int* dimensions)
   return summary;
 }
 
+// The summaries of a level's texels (component-major, `dimensions` components) and of the
+// candidates their lists are drawn from: every texel, or at levels spaced kSparseSpacing or more,
+// those on even rows and columns (a level blurred over its spacing varies little between
+// neighbours, and texels within the spacing are left out of each other's lists anyway).
+struct Summaries {
+  std::vector<float> texels, candidates;
+  std::vector<int32_t> candidate_texel;  // candidate -> texel
+  int dimensions = 0, count = 0, candidate_count = 0;
+};
+
+// Squared summary distances from texels first .. first + kSummaryRows - 1 to every candidate, into
+// distances[r * candidates + j], and the least of each stretch of kScanStretch candidates into
+// least[r * stretches + k]: four candidates at a time, each sum kept in a register over the
+// components in the same order (the lists do not depend on the thread count or the memory's
+// alignment; GCC's vector extensions, plain SSE2 on any x86-64). Texels past the last are summed
+// against zeros and never read.
+void SummaryDistances(const Summaries& y, int first, float* distances, float* least) {
+  using Floats = float __attribute__((vector_size(16)));
+  constexpr int kLanes = 4;
+  const int m = y.candidate_count, d = y.dimensions;
+  float own[kSummaryRows][kSummaryDimensions] = {};
+  for (int r = 0; r < kSummaryRows && first + r < y.count; ++r)
+    for (int c = 0; c < d; ++c) own[r][c] = y.texels[size_t(c) * y.count + first + r];
+  const int stretches = (m + kScanStretch - 1) / kScanStretch;
+  std::fill_n(least, size_t(kSummaryRows) * stretches, std::numeric_limits<float>::infinity());
+  auto keep = [&](int r, int j, float sum) {
+    distances[size_t(r) * m + j] = sum;
+    float& l = least[size_t(r) * stretches + j / kScanStretch];
+    l = std::min(l, sum);
+  };
+  int j = 0;
+  for (; j + kLanes <= m; j += kLanes) {
+    Floats sum[kSummaryRows];
+    for (int r = 0; r < kSummaryRows; ++r) sum[r] = Floats{};
+    for (int c = 0; c < d; ++c) {
+      Floats candidate;
+      std::memcpy(&candidate, y.candidates.data() + size_t(c) * m + j, sizeof candidate);
+      for (int r = 0; r < kSummaryRows; ++r) {
+        const Floats diff = candidate - own[r][c];
+        sum[r] += diff * diff;
+      }
+    }
+    for (int r = 0; r < kSummaryRows; ++r)
+      for (int l = 0; l < kLanes; ++l) keep(r, j + l, sum[r][l]);
+  }
+  for (; j < m; ++j)  // the last m % kLanes candidates
+    for (int r = 0; r < kSummaryRows; ++r) {
+      float sum = 0;
+      for (int c = 0; c < d; ++c) {
+        const float diff = y.candidates[size_t(c) * m + j] - own[r][c];
+        sum += diff * diff;
+      }
+      keep(r, j, sum);
+    }
+}
+
 }  // namespace
 
 // The n x n template around a texel without the texel itself, nearest offsets first: a distance
@@ -167,27 +228,38 @@ bool BuildNearestLists(SampleLevel& s, int k, int num_threads) {
     std::iota(s.nearest.begin(), s.nearest.end(), 0);
     return true;
   }
-  int d = 0;
-  const std::vector<float> y = NeighbourhoodSummaries(s, &d);
+  Summaries y;
+  y.texels = NeighbourhoodSummaries(s, &y.dimensions);
+  y.count = count;
   const int W = s.width(), blocks = (count + kListBlock - 1) / kListBlock, exclusion = std::max(2, s.spacing);
+  for (int32_t t = 0; t < count; ++t)
+    if (s.spacing < kSparseSpacing || (t % W % 2 == 0 && t / W % 2 == 0)) y.candidate_texel.push_back(t);
+  y.candidate_count = int(y.candidate_texel.size());
+  const int m = y.candidate_count;
+  y.candidates.resize(size_t(y.dimensions) * m);
+  for (int c = 0; c < y.dimensions; ++c)
+    for (int j = 0; j < m; ++j) y.candidates[size_t(c) * m + j] = y.texels[size_t(c) * count + y.candidate_texel[j]];
   ParallelFor(0, blocks, [&](int b) {
     if (CancelRequested()) return;
-    std::vector<float> distance(count);
+    const int stretches = (m + kScanStretch - 1) / kScanStretch;
+    std::vector<float> distances(size_t(kSummaryRows) * m), least(size_t(kSummaryRows) * stretches);
     Nearest summary(kRerankFactor * (s.list_length - 1)), exact(s.list_length - 1);
     for (int i = b * kListBlock; i < std::min(count, (b + 1) * kListBlock); ++i) {
-      std::fill(distance.begin(), distance.end(), 0.f);
-      for (int c = 0; c < d; ++c) {  // each candidate's sum in the same order, vectorised across candidates
-        const float* component = y.data() + size_t(c) * count;
-        const float own = component[i];
-        for (int j = 0; j < count; ++j) distance[j] += (component[j] - own) * (component[j] - own);
-      }
+      const int row = (i - b * kListBlock) % kSummaryRows;
+      if (row == 0) SummaryDistances(y, i, distances.data(), least.data());
+      const float* distance = distances.data() + size_t(row) * m;
+      const float* stretch_least = least.data() + size_t(row) * stretches;
       const int32_t t = i;
       const int tx = t % W, ty = t / W;
       summary.Clear(), exact.Clear();
-      for (int32_t c = 0; c < count; ++c) {
-        if (distance[c] >= summary.bound()) continue;
-        if (std::abs(c % W - tx) < exclusion && std::abs(c / W - ty) < exclusion) continue;
-        summary.Offer(distance[c], c);
+      for (int j0 = 0; j0 < m; j0 += kScanStretch) {  // most stretches hold no candidate within the bound
+        if (stretch_least[j0 / kScanStretch] >= summary.bound()) continue;
+        for (int j = j0; j < std::min(m, j0 + kScanStretch); ++j) {
+          if (distance[j] >= summary.bound()) continue;
+          const int32_t c = y.candidate_texel[j];
+          if (std::abs(c % W - tx) < exclusion && std::abs(c / W - ty) < exclusion) continue;
+          summary.Offer(distance[j], c);
+        }
       }
       const Query q = SampleQuery(s, t);
       for (const auto& [dist, c] : summary.Sorted()) exact.Offer(q.Distance(s.vector(c), exact.bound()), c);

@@ -76,7 +76,9 @@ TEST(TextonAnalysis, LabelsEveryTexelWithItsNearestTextonAndGammaIsAGramMatrix) 
   auto a = Analyse(e, o, &vocabulary);
   ASSERT_TRUE(a.ok()) << a.status().message();
   EXPECT_EQ(a->representative_slices.size(), 4u);
-  ASSERT_EQ(a->levels.size(), 4u);  // spacings 1, 2, 4, 8: the 64-texel side spans 8 of the coarsest
+  ASSERT_EQ(a->levels.size(), 5u);  // spacings 1 to 16: the 64-texel side spans 4 of the coarsest (3 or more)
+  EXPECT_EQ(LevelsSpanning(*a, 8), 4);  // the surfaces' levels: 8 steps or more (spacing 8 at most)
+  EXPECT_EQ(LevelsSpanning(*a, 1000), 1);  // the finest always counts
   for (size_t l = 0; l < a->levels.size(); ++l) {
     const TextonLevel& level = a->levels[l];
     const TextonVocabulary& v = vocabulary[l];
@@ -133,7 +135,7 @@ TEST(TextonAnalysis, APlainImageWorksAndTooManyTextonsAreCapped) {
   TextonAnalysisOptions o;  // 400 textons asked of 144 texels
   auto a = Analyse(e, o);
   ASSERT_TRUE(a.ok()) << a.status().message();
-  EXPECT_EQ(a->levels.size(), 1u);  // 6 x 6 would be below the smallest level
+  EXPECT_EQ(a->levels.size(), 3u);  // spacings 1, 2, 4: the 12-texel side spans 3 steps of 4, not of 8
   EXPECT_LE(a->levels[0].textons, 144);
 }
 
