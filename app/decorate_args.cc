@@ -23,7 +23,7 @@ CLI::App* AddDecorateOptions(CLI::App& app, DecorateArgs* args) {
   sub->add_option("--k", a.texton.k, "k of the k-coherence search (Tong: 11; 1 for \"natural\" textures)")->capture_default_str();
   sub->add_option("--neighbourhood", a.texton.neighbourhood, "N, the N x N template, spaced 2^level texels")->capture_default_str();
   sub->add_option("--passes", a.texton.passes, "Correction passes per level")->capture_default_str();
-  sub->add_option("--levels", a.texton.levels, "Mesh pyramid levels (0: as many as the analysis and mesh allow)")->capture_default_str();
+  sub->add_option("--levels", a.texton.levels, "Mesh pyramid levels (0: as many as the mesh allows, while the sample spans 8 steps of the level's spacing)")->capture_default_str();
   sub->add_option("--patch-radius", a.quilt.patch_radius, "quilt: work patch radius r_w in sample texels (0: 32, or what the sample holds)")
       ->capture_default_str();
   sub->add_option("--textons", a.texton_analysis.textons, "n_t, textons at the finest level")->capture_default_str();

@@ -46,7 +46,7 @@ void AddTextonOptions(CLI::App* sub, SynthArgs& a) {
   sub->add_option("--representative-slices", a.texton_analysis.representative_slices,
                   "texton: n_s, slices chosen by K-means whose filter responses are clustered")
       ->capture_default_str();
-  sub->add_option("--levels", a.texton_analysis.levels, "texton: Gaussian stack levels (0: while the sample spans 8 steps of the coarsest spacing)")->capture_default_str();
+  sub->add_option("--levels", a.texton_analysis.levels, "texton: Gaussian stack levels (0: while the sample spans 3 steps of the coarsest spacing; on meshes 8)")->capture_default_str();
   sub->add_option("--texton-dimensions", a.texton_analysis.dimensions,
                   "texton: principal directions kept of the concatenated filter responses")
       ->capture_default_str();
