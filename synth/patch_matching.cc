@@ -55,15 +55,25 @@ RotatedSample MakeRotatedSample(const Image& features, const Image& constraint, 
 namespace {
 using Complex = FftComplex;
 
-// The placements leaving the copy: the window's anchor texel (default its centre) on the copy,
-// `margin` texels inside its border (kept under half the copy's side).
+// The window texel that must land on the copy: the anchor, or the window's centre.
+Eigen::Vector2i AnchorOf(const MatchWindow& w) {
+  return {w.anchor_x >= 0 ? w.anchor_x : w.width / 2, w.anchor_y >= 0 ? w.anchor_y : w.height / 2};
+}
+
+// The anchor's distance from the copy's border, kept under half the copy's side.
+int AnchorMargin(const RotatedSample& copy, int margin) {
+  return std::clamp(margin, 0, (std::min(copy.size_x, copy.size_y) - 1) / 2);
+}
+
+// The placements leaving the copy: the window's anchor texel on the copy, `margin` texels inside
+// its border.
 struct LeavingRange {
   int u_min = 0, v_min = 0, width = 0, height = 0;
 };
 LeavingRange LeavingPlacements(const RotatedSample& copy, const MatchWindow& w, int margin) {
-  margin = std::clamp(margin, 0, (std::min(copy.size_x, copy.size_y) - 1) / 2);
-  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
-  return {margin - ax, margin - ay, copy.size_x - 2 * margin, copy.size_y - 2 * margin};
+  margin = AnchorMargin(copy, margin);
+  const Eigen::Vector2i a = AnchorOf(w);
+  return {margin - a.x(), margin - a.y(), copy.size_x - 2 * margin, copy.size_y - 2 * margin};
 }
 using FloatBuffer = FftFloatBuffer;
 using ComplexBuffer = FftComplexBuffer;
@@ -173,8 +183,7 @@ PatchMatcher::PatchMatcher(const std::vector<RotatedSample>& copies, const Patch
     return;
   }
   m.margin = std::numeric_limits<int>::max();
-  MatchWindow centred;
-  for (const auto& c : copies) m.margin = std::min(m.margin, LeavingPlacements(c, centred, options.anchor_margin).u_min);
+  for (const auto& c : copies) m.margin = std::min(m.margin, AnchorMargin(c, options.anchor_margin));
   // Three planes: windows within the margin (they stay on the copy: no padding), up to halfway to
   // max_window / 2, and the rest. Quilting shrinks most of its windows (r_w x 0.8^k): on a 128-texel
   // sample with r_w 32 the planes are 128, 144 and 160 texels a side, where one plane for every
@@ -212,8 +221,8 @@ std::unique_ptr<PatchMatcher::WindowSpectra> PatchMatcher::Prepare(const MatchWi
   const std::vector<uint8_t>& syn = *w.synthesized;
   auto masked = [&](int x, int y) { return syn[size_t(y) * out.width() + x] != 0; };
   auto ws = std::make_unique<WindowSpectra>();
-  const int ax = w.anchor_x >= 0 ? w.anchor_x : w.width / 2, ay = w.anchor_y >= 0 ? w.anchor_y : w.height / 2;
-  ws->plane = &m.PlaneFor(std::max({ax, w.width - 1 - ax, ay, w.height - 1 - ay}));
+  const Eigen::Vector2i a = AnchorOf(w);
+  ws->plane = &m.PlaneFor(std::max({a.x(), w.width - 1 - a.x(), a.y(), w.height - 1 - a.y()}));
   ws->area = double(w.width) * w.height;
   for (int y = 0; y < w.height; ++y)
     for (int x = 0; x < w.width; ++x)

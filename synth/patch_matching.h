@@ -60,8 +60,9 @@ struct PatchMatcherOptions {
   // 0: every placement keeps the whole window on the copy (Kwatra, Zhou). > 0: a placement only
   // needs the window's anchor texel on the copy (anchor_margin texels inside its border), for
   // windows up to this many texels a side with no texel farther than max_window / 2 from the
-  // anchor (each is correlated on the smallest of three FFT planes its reach allows); the SSD is over the synthesized texels the copy covers,
-  // each one it does not cover adding uncovered_cost, over the window's synthesized count. A window
+  // anchor (each is correlated on the smallest of three FFT planes its reach allows); the SSD is
+  // over the synthesized texels the copy covers, each one it does not cover adding
+  // uncovered_cost, over the window's synthesized count. A window
   // kept on the copy puts a sample texel under its anchor only that far from the border, so the
   // border band of a small sample is drawn on less than its centre: quilting a 96-texel sample with
   // 49-texel windows drifts to the centre's statistics. Not with a constraint term (painting).

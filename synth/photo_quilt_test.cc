@@ -6,7 +6,6 @@
 // than on its centre; the default placements reach 0.54-0.85x (docs/synthesis.md).
 #include <gtest/gtest.h>
 
-
 #include "synth/map_apply.h"
 #include "synth/quilt.h"
 #include "synth/synth_quality.h"
