@@ -72,7 +72,12 @@ CLI::App* AddSynthOptions(CLI::App& app, SynthArgs* args) {
   sub->add_option("--block", args->block.block, "ptm-block: block side in texels (the paper: 30)")->capture_default_str();
   sub->add_option("--overlap", args->block.overlap, "ptm-block: overlap of neighbouring blocks (0: block / 6)")->capture_default_str();
   sub->add_option("--tolerance", args->block.tolerance,
-                  "ptm-block: blocks within (1 + tolerance) of the best neighbourhood distance are drawn from at random")
+                  "ptm-block: blocks within (1 + tolerance) of the best neighbourhood distance are admitted, the least used "
+                  "tried first")
+      ->capture_default_str();
+  sub->add_option("--seam-limit", args->block.seam_limit,
+                  "ptm-block: take the first admitted block whose cuts leave steps within this x the sample's mean "
+                  "neighbour step (else the least erring; 0: the first)")
       ->capture_default_str();
   sub->add_option("--projections", args->block.projections, "ptm-block: basis vectors of the rejection search's lower bounds")
       ->capture_default_str();

@@ -58,7 +58,7 @@ StatusOr<SynthMap> RunBlocks(const Exemplar& e, const SynthMethodOptions& a, Jso
   auto map = BlockSynthesis(e.features, o, &r, progress);
   if (!map.ok()) return map.status();
   (*report)["parameters"] = {{"block", o.block}, {"overlap", r.overlap}, {"tolerance", o.tolerance},
-                             {"projections", o.projections},
+                             {"seam_limit", o.seam_limit}, {"balance_usage", o.balance_usage}, {"projections", o.projections},
                              {"search", o.search == BlockSearch::kRejection ? "rejection" : "brute force"},
                              {"bound_basis", o.basis == BlockBasis::kPrincipal ? "principal directions" : "Walsh-Hadamard"},
                              {"features", e.kind == ExemplarKind::kPtm ? "Legendre coefficients per colour channel"

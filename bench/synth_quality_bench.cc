@@ -18,7 +18,8 @@
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
 //                            [--randomness 0] [--patch-radius 0] [--whole-sample 1|0]   (quilt)
-//                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.1] (block)
+//                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.5] [--seam-limit 1.2]
+//                            [--balance-usage 1] (block)
 //                            [--ptm] [--relief 4]
 #include <chrono>
 #include <cstdio>
@@ -36,6 +37,7 @@
 #include "reconstruct/ptm.h"
 #include "reconstruct/ptm_legendre.h"
 #include "synth/block_synthesis.h"
+#include "synth/synth_test_support.h"
 #include "synth/exemplar.h"
 #include "synth/quilt.h"
 #include "synth/synth_quality.h"
@@ -125,36 +127,6 @@ StatusOr<SynthMap> Synthesize(const std::string& method, const Image& sample, co
   return Status::Error("unknown method " + method);
 }
 
-// The photograph as albedo over its luminance as a height field (`relief` texels per unit),
-// Lambertian under the 16 lights of the tests' virtual-rig PTMs, fitted as an RGB PTM.
-Ptm PtmFromPhotograph(const Image& photo, double relief) {
-  const int w = photo.width(), h = photo.height();
-  auto height = [&](int x, int y) {
-    x = std::clamp(x, 0, w - 1), y = std::clamp(y, 0, h - 1);
-    return relief * (0.2126 * photo.at(x, y, 0) + 0.7152 * photo.at(x, y, 1) + 0.0722 * photo.at(x, y, 2));
-  };
-  std::vector<Image> photos;
-  std::vector<Eigen::Vector3d> lights;
-  for (int k = 0; k < 16; ++k) {
-    lights.push_back(DirectionFromAnglesDeg(k < 8 ? 30 : 55, 45.0 * (k % 8) + (k < 8 ? 0 : 22.5)));
-    Image lit(w, h, 3);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        // Image rows run down; the material frame's y runs up the slice.
-        const Eigen::Vector3d n = Eigen::Vector3d(-(height(x + 1, y) - height(x - 1, y)) / 2,
-                                                  (height(x, y + 1) - height(x, y - 1)) / 2, 1).normalized();
-        const double shade = std::max(0.0, n.dot(lights.back()));
-        for (int c = 0; c < 3; ++c) lit.at(x, y, c) = float(photo.at(x, y, c) * shade);
-      }
-    photos.push_back(std::move(lit));
-  }
-  PtmFitOptions fit;
-  fit.format = PtmFormat::kRgb;
-  auto ptm = FitPtm(photos, lights, fit);
-  MESOCAP_CHECK(ptm.ok(), ptm.status().message());
-  return std::move(*ptm);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -175,6 +147,8 @@ int main(int argc, char** argv) {
     else if (arg == "--overlap") a.block.overlap = std::atoi(next().c_str());
     else if (arg == "--exclusion") a.block.continuation_exclusion = std::atoi(next().c_str());
     else if (arg == "--tolerance") a.block.tolerance = std::atof(next().c_str());
+    else if (arg == "--seam-limit") a.block.seam_limit = std::atof(next().c_str());
+    else if (arg == "--balance-usage") a.block.balance_usage = std::atoi(next().c_str()) != 0;
     else if (arg == "--ptm") a.ptm = true;
     else if (arg == "--relief") a.relief = std::atof(next().c_str());
     else if (arg == "--k") a.texton.k = std::atoi(next().c_str());
@@ -201,7 +175,7 @@ int main(int argc, char** argv) {
   Image features = sample;
   std::vector<Image> images{sample};
   if (a.ptm) {
-    const Ptm ptm = PtmFromPhotograph(sample, a.relief);
+    const Ptm ptm = testing::PhotoReliefPtm(sample, a.relief);
     features = PtmLegendreCoefficients(ptm);
     images = {RelightPtm(ptm, DirectionFromAnglesDeg(0, 0)), RelightPtm(ptm, DirectionFromAnglesDeg(40, 60))};
   }

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/text_format.h"
 #include "synth/feature_distance.h"
+#include "synth/graphcut_fit.h"
 
 namespace mesocap {
 namespace {
@@ -145,6 +147,7 @@ Status BlockSynthesisOptions::Check(int sample_width, int sample_height) const {
     return Status::Error(Format("the sample (%dx%d) is smaller than a block (%d x %d): use a smaller --block", sample_width,
                                 sample_height, block, block));
   if (!(tolerance >= 0)) return Status::Error("the tolerance must be at least 0");
+  if (!(seam_limit >= 0)) return Status::Error("the seam limit must be at least 0");
   if (projections < 1) return Status::Error("at least one projection is needed for the lower bounds");
   return Status::Ok();
 }
@@ -277,6 +280,72 @@ double StepError(const Image& a, int ax, int ay, const Image& b, int bx, int by)
   return FeatureDistance(a.pixel(ax, ay), b.pixel(bx, by), a.channels());
 }
 
+// Where sample block (sx, sy) placed at canvas (x0, y0) takes over: it starts right of the vertical
+// cut (through the left overlap, if `left`) and below the horizontal one (the top overlap, if `top`).
+struct BlockCuts {
+  std::vector<int> column, row;  // per block row, the first new column; per block column, the first new row
+  double worst = 0;              // the larger of the two cuts' mean error per line
+  double sum = 0;                // the cuts' mean errors summed
+  int count = 0;
+};
+
+BlockCuts CutBlock(const Image& canvas, const Image& sample, int x0, int y0, int sx, int sy, int block, int overlap, bool left,
+                   bool top) {
+  BlockCuts cuts;
+  cuts.column.assign(size_t(block), 0), cuts.row.assign(size_t(block), 0);
+  // A cut along lines (rows for the vertical cut, columns for the horizontal one): `at(line,
+  // position)` is the block offset. Cutting at p leaves old p-1 next to new p; moving from q to q+1
+  // between lines leaves new q on the line before next to old q on this one, and from q to q-1 old
+  // q-1 on the line before next to new q-1 on this one.
+  const auto cut_along = [&](bool rows) {
+    const auto at = [rows](int line, int position) { return rows ? std::pair{position, line} : std::pair{line, position}; };
+    const auto step = [&](std::pair<int, int> old_texel, std::pair<int, int> new_texel) {
+      return StepError(canvas, x0 + old_texel.first, y0 + old_texel.second, sample, sx + new_texel.first, sy + new_texel.second);
+    };
+    double error = 0;
+    std::vector<int> path = MinimumErrorCut(
+        block, overlap, [&](int l, int p) { return step(at(l, p - 1), at(l, p)); },
+        [&](int l, int q, int p) { return p > q ? step(at(l, q), at(l - 1, q)) : step(at(l - 1, p), at(l, p)); }, &error);
+    cuts.worst = std::max(cuts.worst, error), cuts.sum += error, ++cuts.count;
+    return path;
+  };
+  if (left) cuts.column = cut_along(true);
+  if (top) cuts.row = cut_along(false);
+  return cuts;
+}
+
+// Sums of the usage over sample blocks in O(1): a summed-area table.
+class UsageTable {
+ public:
+  UsageTable(const std::vector<double>& usage, int width, int height) : width_(width), table_(size_t(width + 1) * (height + 1)) {
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        table_[size_t(y + 1) * (width + 1) + x + 1] =
+            usage[size_t(y) * width + x] + at(x + 1, y) + at(x, y + 1) - at(x, y);
+  }
+  double Block(int x, int y, int side) const { return at(x + side, y + side) - at(x, y + side) - at(x + side, y) + at(x, y); }
+
+ private:
+  double at(int x, int y) const { return table_[size_t(y) * (width_ + 1) + x]; }
+  int width_;
+  std::vector<double> table_;
+};
+
+// The admitted candidates in the order they are tried: at random, then (with `usage`) the least
+// used blocks first.
+std::vector<long> TryOrder(const std::vector<BlockCandidate>& admitted, const UsageTable* usage, int columns, int block,
+                           std::mt19937& rng) {
+  std::vector<long> order;
+  for (const BlockCandidate& c : admitted) order.push_back(c.index);
+  std::shuffle(order.begin(), order.end(), rng);
+  if (!usage) return order;
+  std::vector<std::pair<double, long>> keyed;
+  for (long c : order) keyed.emplace_back(usage->Block(int(c % columns), int(c / columns), block), c);
+  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
+
 }  // namespace
 
 StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptions& options, BlockSynthesisReport* report,
@@ -297,9 +366,14 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
   std::mt19937 rng(options.seed);
   long rejected = 0;
   double cut_error_sum = 0;
-  int cuts = 0;
+  int cut_count = 0;
+  const int columns = searcher.candidate_columns();
+  const double sample_step = MeanNeighbourStep(sample);
   // Each block's sample position, for the continuation rule.
   std::vector<Eigen::Vector2i> source(size_t(blocks_x) * blocks_y, Eigen::Vector2i(-1, -1));
+  // How many output texels each sample texel fills so far, and each canvas texel's sample texel.
+  std::vector<double> usage(size_t(sample.width()) * sample.height(), 0.0);
+  std::vector<long> canvas_source(size_t(canvas_w) * canvas_h, -1);
   for (int by = 0; by < blocks_y; ++by) {
     for (int bx = 0; bx < blocks_x; ++bx) {
       const int x0 = bx * step, y0 = by * step;
@@ -315,59 +389,47 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
           return false;
         };
       long chosen = 0;
-      auto search_start = std::chrono::steady_clock::now();
+      BlockCuts cuts = CutBlock(canvas, sample, x0, y0, 0, 0, block, overlap, false, false);  // none: the first block
       if (bx == 0 && by == 0) {
         chosen = std::uniform_int_distribution<long>(0, searcher.candidate_count() - 1)(rng);
       } else {
+        const auto search_start = std::chrono::steady_clock::now();
         BlockSearchResult found = searcher.Search(canvas, x0, y0, options.tolerance, options.search, continues);
         if (found.candidates.empty())  // a sample too small to hold anything but continuations
           found = searcher.Search(canvas, x0, y0, options.tolerance, options.search);
         ++r.queries;
         r.full_distances += found.full_distances;
         rejected += found.rejected;
-        chosen = found.candidates[std::uniform_int_distribution<size_t>(0, found.candidates.size() - 1)(rng)].index;
+        r.seconds_search += SecondsSince(search_start);
+        const auto choice_start = std::chrono::steady_clock::now();
+        std::optional<UsageTable> table;
+        if (options.balance_usage) table.emplace(usage, sample.width(), sample.height());
+        const std::vector<long> order = TryOrder(found.candidates, table ? &*table : nullptr, columns, block, rng);
+        // The first in that order whose cuts stay within the seam limit, else the one whose cuts err least.
+        double least = std::numeric_limits<double>::infinity();
+        for (long c : order) {
+          BlockCuts trial = CutBlock(canvas, sample, x0, y0, int(c % columns), int(c / columns), block, overlap, bx > 0, by > 0);
+          if (trial.worst < least) least = trial.worst, chosen = c, cuts = std::move(trial);
+          if (options.seam_limit <= 0 || least <= options.seam_limit * sample_step) break;
+        }
+        r.seconds_cut += SecondsSince(choice_start);
       }
-      r.seconds_search += SecondsSince(search_start);
-      const auto cut_start = std::chrono::steady_clock::now();
-      const int sx = int(chosen % searcher.candidate_columns()), sy = int(chosen / searcher.candidate_columns());
+      const int sx = int(chosen % columns), sy = int(chosen / columns);
       source[size_t(by) * blocks_x + bx] = {sx, sy};
-      // The cuts: the new block starts right of the vertical cut and below the horizontal one.
-      std::vector<int> column_cut(static_cast<size_t>(block), 0), row_cut(static_cast<size_t>(block), 0);
-      double cut_error = 0;
-      // The step between the old texel at block offset `old` and the new one at `fresh`.
-      const auto step_between = [&](int old_x, int old_y, int new_x, int new_y) {
-        return StepError(canvas, x0 + old_x, y0 + old_y, sample, sx + new_x, sy + new_y);
-      };
-      // A cut along lines (rows for the vertical cut, columns for the horizontal one): `at(line,
-      // position)` is the block offset. Cutting at p leaves old p-1 next to new p; moving from q
-      // to q+1 between lines leaves new q on the line before next to old q on this one, and from
-      // q to q-1 old q-1 on the line before next to new q-1 on this one.
-      const auto cut_along = [&](bool rows) {
-        const auto at = [rows](int line, int position) { return rows ? std::pair{position, line} : std::pair{line, position}; };
-        const auto step = [&](std::pair<int, int> old_texel, std::pair<int, int> new_texel) {
-          return step_between(old_texel.first, old_texel.second, new_texel.first, new_texel.second);
-        };
-        return MinimumErrorCut(
-            block, overlap, [&](int l, int p) { return step(at(l, p - 1), at(l, p)); },
-            [&](int l, int q, int p) { return p > q ? step(at(l, q), at(l - 1, q)) : step(at(l - 1, p), at(l, p)); },
-            &cut_error);
-      };
-      if (bx > 0) {
-        column_cut = cut_along(true);
-        cut_error_sum += cut_error, ++cuts;
-      }
-      if (by > 0) {
-        row_cut = cut_along(false);
-        cut_error_sum += cut_error, ++cuts;
-      }
+      cut_error_sum += cuts.sum, cut_count += cuts.count;
       const int32_t id = by * blocks_x + bx;
       for (int dy = 0; dy < block; ++dy)
         for (int dx = 0; dx < block; ++dx) {
-          if (dx < column_cut[size_t(dy)] || dy < row_cut[size_t(dx)]) continue;
+          if (dx < cuts.column[size_t(dy)] || dy < cuts.row[size_t(dx)]) continue;
           std::copy_n(sample.pixel(sx + dx, sy + dy), sample.channels(), canvas.pixel(x0 + dx, y0 + dy));
+          if (x0 + dx < options.width && y0 + dy < options.height) {
+            long& from = canvas_source[size_t(y0 + dy) * canvas_w + x0 + dx];
+            if (from >= 0) usage[size_t(from)] -= 1;
+            from = long(sy + dy) * sample.width() + sx + dx;
+            usage[size_t(from)] += 1;
+          }
           full.Set(x0 + dx, y0 + dy, float(sx + dx) + 0.5f, float(sy + dy) + 0.5f, 0, id);
         }
-      r.seconds_cut += SecondsSince(cut_start);
       ++r.blocks;
     }
     if (progress) progress(by + 1, blocks_y, "blocks");
@@ -384,7 +446,7 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
       std::copy_n(canvas.row(y), size_t(options.width) * sample.channels(), built->row(y));
   }
   r.rejected_fraction = r.queries ? double(rejected) / (double(r.queries) * r.candidates_per_query) : 0;
-  r.mean_cut_error = cuts ? cut_error_sum / cuts : 0;
+  r.mean_cut_error = cut_count ? cut_error_sum / cut_count : 0;
   r.seconds = SecondsSince(start);
   if (report) *report = r;
   return map;

@@ -38,13 +38,22 @@ struct BlockSynthesisOptions {
   int width = 512, height = 512;  // output texels
   int block = 30;                 // block side (the paper: 30 x 30)
   int overlap = 0;                // texels shared with the neighbours; 0: block / 6
-  // Candidates whose neighbourhood distance is within (1 + tolerance) of the best are equally
-  // good; one is drawn at random (Efros & Freeman: 0.1). 0 takes the best.
-  double tolerance = 0.1;
+  // Candidates whose neighbourhood distance is within (1 + tolerance) of the best are admitted
+  // (Efros & Freeman draw one at random, tolerance 0.1; 0.5 here, measured on 20 photographs:
+  // docs/synthesis.md). 0 admits only the best.
+  double tolerance = 0.5;
+  // Among the admitted blocks, the least used first: how many output texels already come from the
+  // block's sample texels. Blocks drawn at random favour the sample's centre (a border texel lies in
+  // one block position, a central one in `block`) and the blocks that match anything (bland ones),
+  // so the output's histograms drifted from the sample's. Off: a random order.
+  bool balance_usage = true;
+  // In that order, the first block whose boundary cuts leave a mean step of at most this x the
+  // sample's mean neighbour step; if none does, the one whose cuts err least. 0: the first.
+  double seam_limit = 1.2;
   // Candidates within this many texels (in both axes) of the sample position that continues the
   // left or the upper neighbour's block are left out: the continuation matches its overlap
-  // exactly (distance 0), so with it the tolerance admits nothing else and the output copies the
-  // sample verbatim until its edge, then tiles it. 0 keeps them.
+  // exactly (distance 0), so with it a tolerance relative to the best admits nothing else and the
+  // output copies the sample verbatim until its edge. 0 keeps them.
   int continuation_exclusion = 0;
   int projections = 8;            // basis vectors of the lower bounds
   BlockBasis basis = BlockBasis::kPrincipal;

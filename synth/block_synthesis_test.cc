@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
+#include "synth/graphcut_fit.h"
 #include "synth/synth_quality.h"
 #include "synth/synth_test_support.h"
 #include "tests/testing.h"
@@ -130,6 +132,63 @@ TEST(BlockSynthesis, ValidMapReproducedBitForBitAndBruteForceAgrees) {
   EXPECT_LT(report.full_distances, report_brute.full_distances / 4);
 }
 
+// The share of `map`'s texels drawn from the sample's outer band `band` texels wide.
+double BorderBandShare(const SynthMap& map, int band) {
+  long inside = 0;
+  for (size_t i = 0; i < map.source_x.size(); ++i) {
+    const int x = int(map.source_x[i]), y = int(map.source_y[i]);
+    inside += x >= band && y >= band && x < map.sample_width - band && y < map.sample_height - band;
+  }
+  return 1.0 - double(inside) / double(map.source_x.size());
+}
+
+// A block position drawn at random holds a central texel in `block` times as many positions as a
+// border texel, so the output drew on the sample's border band less than on its centre; balancing
+// the usage brings the band's share toward its area. On noise (no position matches better than
+// another) the outer 8 texels of a 64-texel sample cover 44% of it.
+TEST(BlockSynthesis, BalancedUsageDrawsMoreOnTheBorderBand) {
+  const Image sample = testing::NoiseImage(64, 64, 3, testing::SeedFromTestName());
+  BlockSynthesisOptions o;
+  o.width = o.height = 192;
+  o.block = 16;
+  o.seed = testing::SeedFromTestName();
+  const double area = 1.0 - (48.0 * 48.0) / (64.0 * 64.0);
+  o.balance_usage = false;
+  auto drawn = BlockSynthesis(sample, o, nullptr);
+  o.balance_usage = true;
+  auto balanced = BlockSynthesis(sample, o, nullptr);
+  ASSERT_TRUE(drawn.ok() && balanced.ok());
+  const double drawn_share = BorderBandShare(*drawn, 8), balanced_share = BorderBandShare(*balanced, 8);
+  std::printf("border band: %.3f of the area, drawn at random %.3f, balanced %.3f\n", area, drawn_share, balanced_share);
+  EXPECT_LT(drawn_share, 0.5 * area);
+  EXPECT_GT(balanced_share, 0.65 * area);
+  EXPECT_GT(MeasureMapUsage(*balanced).used_share, MeasureMapUsage(*drawn).used_share);
+}
+
+// With a seam limit each block is the first admitted one (least used first) whose cuts err at most
+// the limit x the sample's mean step: the cuts err less than without it, and a limit every cut meets
+// changes nothing.
+TEST(BlockSynthesis, SeamLimitLowersTheCutsErrorAndAnUnreachedLimitChangesNothing) {
+  const Exemplar e = testing::VirtualRigExemplar("stones", 64);
+  BlockSynthesisOptions o;
+  o.width = o.height = 128;
+  o.block = 16;
+  o.tolerance = 3;  // many blocks admitted, the least used of them often a poor fit
+  o.seed = testing::SeedFromTestName();
+  BlockSynthesisReport free, limited, unreached;
+  o.seam_limit = 0;
+  auto a = BlockSynthesis(e.features, o, &free);
+  o.seam_limit = 1;
+  auto b = BlockSynthesis(e.features, o, &limited);
+  o.seam_limit = 1e9;
+  auto c = BlockSynthesis(e.features, o, &unreached);
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  std::printf("mean cut error: free %.4f, limit 1: %.4f (sample step %.4f)\n", free.mean_cut_error, limited.mean_cut_error,
+              MeanNeighbourStep(e.features));
+  EXPECT_LT(limited.mean_cut_error, 0.9 * free.mean_cut_error);
+  EXPECT_EQ(a->source_x, c->source_x);
+  EXPECT_EQ(a->source_y, c->source_y);
+}
 
 TEST(BlockSynthesis, RefusesASampleSmallerThanABlockAndABadOverlap) {
   const Image small(20, 40, 3, 0.5f);

@@ -27,6 +27,9 @@ Image NoiseImage(int width, int height, int channels, uint32_t seed);
 // A PTM (RGB) fitted to `material`'s head-on true BTF under 16 lights at 30 and 55 deg, `size`
 // texels a side.
 Ptm VirtualRigPtm(const std::string& material, int size = 96);
+// A PTM (RGB) of a photograph as albedo over its luminance as a height field (`relief` texels per
+// unit of luminance), Lambertian under the same 16 lights: a PTM with a photograph's structure.
+Ptm PhotoReliefPtm(const Image& photo, double relief = 4);
 // The PTM relit head-on, at 40 deg and at 60 deg: the images its syntheses are judged on.
 std::vector<Image> RelitUnderThreeLights(const Ptm& ptm);
 
