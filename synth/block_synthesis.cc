@@ -371,9 +371,9 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
   const double sample_step = MeanNeighbourStep(sample);
   // Each block's sample position, for the continuation rule.
   std::vector<Eigen::Vector2i> source(size_t(blocks_x) * blocks_y, Eigen::Vector2i(-1, -1));
-  // How many output texels each sample texel fills so far, and each canvas texel's sample texel.
+  // How many output texels each sample texel fills so far.
   std::vector<double> usage(size_t(sample.width()) * sample.height(), 0.0);
-  std::vector<long> canvas_source(size_t(canvas_w) * canvas_h, -1);
+  const auto use = [&](const Eigen::Vector2i& texel, double count) { usage[size_t(texel.y()) * sample.width() + texel.x()] += count; };
   for (int by = 0; by < blocks_y; ++by) {
     for (int bx = 0; bx < blocks_x; ++bx) {
       const int x0 = bx * step, y0 = by * step;
@@ -422,13 +422,10 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
         for (int dx = 0; dx < block; ++dx) {
           if (dx < cuts.column[size_t(dy)] || dy < cuts.row[size_t(dx)]) continue;
           std::copy_n(sample.pixel(sx + dx, sy + dy), sample.channels(), canvas.pixel(x0 + dx, y0 + dy));
-          if (x0 + dx < options.width && y0 + dy < options.height) {
-            long& from = canvas_source[size_t(y0 + dy) * canvas_w + x0 + dx];
-            if (from >= 0) usage[size_t(from)] -= 1;
-            from = long(sy + dy) * sample.width() + sx + dx;
-            usage[size_t(from)] += 1;
-          }
+          const bool in_output = x0 + dx < options.width && y0 + dy < options.height;
+          if (in_output && full.filled(x0 + dx, y0 + dy)) use(full.SourceTexel(x0 + dx, y0 + dy), -1);  // cut away
           full.Set(x0 + dx, y0 + dy, float(sx + dx) + 0.5f, float(sy + dy) + 0.5f, 0, id);
+          if (in_output) use({sx + dx, sy + dy}, 1);
         }
       ++r.blocks;
     }
