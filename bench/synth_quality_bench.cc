@@ -37,10 +37,10 @@
 #include "reconstruct/ptm.h"
 #include "reconstruct/ptm_legendre.h"
 #include "synth/block_synthesis.h"
-#include "synth/synth_test_support.h"
 #include "synth/exemplar.h"
 #include "synth/quilt.h"
 #include "synth/synth_quality.h"
+#include "synth/synth_test_support.h"
 #include "synth/texton_analysis.h"
 #include "synth/texton_synthesis.h"
 

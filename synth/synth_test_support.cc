@@ -70,6 +70,12 @@ Image PhotoCrop(const std::string& name, int size) {
   return crop;
 }
 
+double RandomTilingSubband(const Image& image, int width, int height, uint32_t seed) {
+  constexpr int kRandomTile = 24;
+  const SynthMap random = RandomTilingMap(image.width(), image.height(), width, height, kRandomTile, seed);
+  return SubbandDistance(ApplyMapToImage(random, image), image);
+}
+
 Image NoiseImage(int width, int height, int channels, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0, 1);

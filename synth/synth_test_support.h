@@ -21,6 +21,10 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ExemplarPairs();
 // A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
 Image PhotoCrop(const std::string& name, int size);
 
+// The synthesis issue's one baseline for every method on photographs: the subband distance to
+// `image` of random-offset tiling of 24 x 24 patches of it into `width` x `height`, at `seed`.
+double RandomTilingSubband(const Image& image, int width, int height, uint32_t seed);
+
 // Uniform noise in [0, 1), `channels` per texel, from `seed`.
 Image NoiseImage(int width, int height, int channels, uint32_t seed);
 
