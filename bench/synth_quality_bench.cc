@@ -14,10 +14,11 @@
 // the methods then synthesize its Legendre coefficients (block, quilt) and every method, random
 // tiling included, is scored on the output relit under two lights (0, 0) and (40, 60) deg, the mean.
 // Usage: bench_synth_quality SAMPLE.png [--crop 96] [--size 256] [--methods quilt,texton,block,resynth]
-//                            [--seeds 3] [--sheet OUT.png|.jpg] [--peer resynth_fill_serial]
+//                            [--seeds 3] [--first-seed 1] [--sheet OUT.png|.jpg] [--peer resynth_fill_serial]
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
-//                            [--randomness 0] [--patch-radius 0] [--whole-sample 1|0]   (quilt)
+//                            [--randomness 0] [--patch-radius 0] [--whole-sample 1|0]
+//                            [--usage-weight 0.5] [--restart-steps 2]   (quilt)
 //                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.5] [--seam-limit 1.2]
 //                            [--balance-usage 1] (block)
 //                            [--ptm] [--relief 4]
@@ -50,7 +51,7 @@ namespace {
 
 struct Args {
   std::string sample, sheet, methods = "quilt,texton", peer;
-  int crop = 96, size = 256, seeds = 3;
+  int crop = 96, size = 256, seeds = 3, first_seed = 1;
   TextonSynthesisOptions texton;
   TextonAnalysisOptions analysis;
   QuiltOptions quilt;
@@ -137,6 +138,9 @@ int main(int argc, char** argv) {
     if (arg == "--crop") a.crop = std::atoi(next().c_str());
     else if (arg == "--size") a.size = std::atoi(next().c_str());
     else if (arg == "--seeds") a.seeds = std::atoi(next().c_str());
+    else if (arg == "--first-seed") a.first_seed = std::atoi(next().c_str());
+    else if (arg == "--usage-weight") a.quilt.usage_weight = std::atof(next().c_str());
+    else if (arg == "--restart-steps") a.quilt.restart_steps = std::atoi(next().c_str());
     else if (arg == "--methods") a.methods = next();
     else if (arg == "--sheet") a.sheet = next();
     else if (arg == "--peer") a.peer = next();
@@ -211,7 +215,7 @@ int main(int argc, char** argv) {
     for (int s = 0; s < a.seeds; ++s) {
       const auto start = std::chrono::steady_clock::now();
       auto map = Synthesize(methods[m], methods[m] == "resynth" || methods[m] == "texton" ? images[0] : features, &textons, a,
-                            uint32_t(s + 1));
+                            uint32_t(a.first_seed + s));
       if (!map.ok()) return std::fprintf(stderr, "%s: %s\n", methods[m].c_str(), map.status().message().c_str()), 1;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       Scores sc = Measure(*map, images);

@@ -14,6 +14,7 @@
 #include "core/text_format.h"
 #include "synth/feature_distance.h"
 #include "synth/graphcut_fit.h"
+#include "synth/usage_table.h"
 
 namespace mesocap {
 namespace {
@@ -313,23 +314,6 @@ BlockCuts CutBlock(const Image& canvas, const Image& sample, int x0, int y0, int
   if (top) cuts.row = cut_along(false);
   return cuts;
 }
-
-// Sums of the usage over sample blocks in O(1): a summed-area table.
-class UsageTable {
- public:
-  UsageTable(const std::vector<double>& usage, int width, int height) : width_(width), table_(size_t(width + 1) * (height + 1)) {
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x)
-        table_[size_t(y + 1) * (width + 1) + x + 1] =
-            usage[size_t(y) * width + x] + at(x + 1, y) + at(x, y + 1) - at(x, y);
-  }
-  double Block(int x, int y, int side) const { return at(x + side, y + side) - at(x, y + side) - at(x + side, y) + at(x, y); }
-
- private:
-  double at(int x, int y) const { return table_[size_t(y) * (width_ + 1) + x]; }
-  int width_;
-  std::vector<double> table_;
-};
 
 // The admitted candidates in the order they are tried: at random, then (with `usage`) the least
 // used blocks first.

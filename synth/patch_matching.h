@@ -7,6 +7,7 @@
 // whole window (graphcut painting's joint search, Zhou §IV-A).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -86,6 +87,10 @@ class PatchMatcher {
   // Kwatra's stochastic choice: placement t with probability proportional to
   // exp(-(C(t) - C_min) / temperature), drawn with `uniform` in [0, 1); temperature 0: the least cost.
   MatchResult ChooseMatch(const MatchWindow& window, double temperature, double uniform) const;
+  // Among the placements whose cost is at most (1 + tolerance) x the least cost + floor, the one of
+  // least key(placement) (ties: the first copy and texel): the caller's choice among near-equals.
+  MatchResult ChooseNearBest(const MatchWindow& window, double tolerance, double floor,
+                             const std::function<double(const MatchResult&)>& key) const;
   // All costs for one copy (row-major over valid (u, v), from (u_min, v_min): 0, 0 unless
   // placements may leave the copy), for tests and the brute-force comparison.
   std::vector<double> Costs(const MatchWindow& window, int copy, int* valid_w, int* valid_h, int* u_min = nullptr,
@@ -98,6 +103,9 @@ class PatchMatcher {
   std::unique_ptr<WindowSpectra> Prepare(const MatchWindow& window) const;
   std::vector<double> CostsFor(const MatchWindow& window, const WindowSpectra& spectra, int copy, int* valid_w,
                                int* valid_h, int* u_min, int* v_min) const;
+  // Every copy's costs for the window (false: the window is larger than every copy).
+  struct AllCosts;
+  bool CostsOfAll(const MatchWindow& window, AllCosts* all) const;
   std::vector<double> LeavingCostsFor(const MatchWindow& window, const WindowSpectra& spectra, int copy, int* valid_w,
                                       int* valid_h, int* u_min, int* v_min) const;
   std::unique_ptr<Impl> impl_;

@@ -12,6 +12,7 @@
 #include "core/text_format.h"
 #include "synth/graphcut_fit.h"
 #include "synth/patch_matching.h"
+#include "synth/usage_table.h"
 
 namespace mesocap {
 
@@ -27,6 +28,9 @@ Status QuiltOptions::Check(int sample_width, int sample_height) const {
   if (!(seam_threshold > 0)) return Status::Error("the seam threshold must be positive");
   if (!(randomness >= 0)) return Status::Error("the randomness must be at least 0");
   if (rotations < 1 || rotations > 360) return Status::Error("rotations must be 1..360");
+  if (!(usage_weight >= 0)) return Status::Error("the usage weight must be at least 0");
+  if (!(usage_tolerance >= 0)) return Status::Error("the usage tolerance must be at least 0");
+  if (restart_steps < -1) return Status::Error("the restart steps must be -1 (start every patch at r_w) or more");
   const int r = EffectiveRadius(sample_width, sample_height);
   if (r < min_patch_radius) return Status::Error(Format("patch radius %d is below the minimum %d", r, min_patch_radius));
   const int smallest_copy = rotations > 1 ? int(std::min(sample_width, sample_height) / std::sqrt(2.0)) : std::min(sample_width, sample_height);
@@ -75,6 +79,9 @@ double FeatureVariance(const Image& f) {
 // of the sample's border band (a dark patch over a fifth of a stones output).
 constexpr double kUncoveredShare = 0.5;
 constexpr double kAnchorMargin = 0.25;
+// Usage balance admits the placements within usage_tolerance x the least cost plus this share of
+// 2 sigma^2: an exact continuation of the sample costs 0, and would otherwise be admitted alone.
+constexpr double kNearBestFloor = 0.05;
 
 class Quilter {
  public:
@@ -98,6 +105,17 @@ class Quilter {
     canvas_.target = target;
     report_.sample_neighbour_step = MeanNeighbourStep(sample);
     neighbours_.assign(size_t(options.width) * options.height, 0);
+    unfilled_in_row_.assign(size_t(options.height), options.width);
+    // Usage balance and the restart rule are quilting's, not painting's (whose constraint decides).
+    balanced_ = !target && options.usage_weight > 0;
+    restarts_ = !target && options.restart_steps >= 0;
+    usage_.assign(sample.pixel_count(), 0.0);
+    sample_width_ = sample.width(), sample_height_ = sample.height();
+    for (const RotatedSample& copy : copies_) {
+      source_texels_.emplace_back();
+      for (int v = 0; v < copy.size_y; ++v)
+        for (int u = 0; u < copy.size_x; ++u) source_texels_.back().push_back(copy.SourceTexel(u, v));
+    }
   }
 
   SynthCanvas& canvas() { return canvas_; }
@@ -111,7 +129,7 @@ class Quilter {
       const auto texel = MostConstrained(region);
       if (!texel) return true;
       PlaceAround(texel->first, texel->second, fit, /*repair=*/false);
-      if (!ReportProgress(progress, canvas_.map.FilledCount(), total, "quilting")) return false;
+      if (!ReportProgress(progress, filled_, total, "quilting")) return false;
     }
   }
 
@@ -119,26 +137,22 @@ class Quilter {
   // too costly or no copy of the sample is that large; returns the number of texels it changed.
   int PlaceAround(int vx, int vy, const FitOptions& fit, bool repair, int radius = 0) {
     int r = radius > 0 ? radius : report_.patch_radius;
+    if (radius == 0 && restarts_ && last_radius_ > 0)
+      r = std::min(r, int(std::ceil(last_radius_ / std::pow(options_.shrink, options_.restart_steps))));
     double escalation = 1;  // region rule: the constraint's weight grows while no placement keeps the sides
     while (true) {
       const int x0 = std::max(0, vx - r), y0 = std::max(0, vy - r);
       const int x1 = std::min(options_.width - 1, vx + r), y1 = std::min(options_.height - 1, vy + r);
-      PlacedPatch patch;
-      patch.x0 = x0, patch.y0 = y0, patch.width = x1 - x0 + 1, patch.height = y1 - y0 + 1;
-      MatchResult match = Match(patch, vx - x0, vy - y0, escalation);
+      PlacedPatch window;
+      window.x0 = x0, window.y0 = y0, window.width = x1 - x0 + 1, window.height = y1 - y0 + 1;
+      const MatchResult match = Match(window, vx - x0, vy - y0, escalation);
       if (!match.found) {
         MESOCAP_CHECK(r > options_.min_patch_radius, "no copy of the sample is as large as the smallest window");
         r = std::max(options_.min_patch_radius, int(r * options_.shrink));
         continue;
       }
-      patch.copy = &copies_[match.rotation];
-      patch.u0 = match.u, patch.v0 = match.v;
-      ClipToCopy(&patch);
-      const auto start = std::chrono::steady_clock::now();
-      std::vector<FitFreedom> freedom = DefaultFreedom(canvas_, patch);
-      if (region_) KeepSatisfiedTexels(patch, &freedom);
-      CutResult cut = FitPatch(canvas_, patch, freedom, fit);
-      report_.seconds_cutting += SecondsSince(start);
+      const PlacedPatch patch = Placed(window, match);
+      CutResult cut = Cut(patch, fit);
       const bool last_try = r <= options_.min_patch_radius;
       // Under a region rule, a cut that fills no empty texel on the right side is matched again with
       // the constraint weighted more, then in smaller windows; the last try fills its empty texels
@@ -151,14 +165,8 @@ class Quilter {
       }
       if ((cut.mean_seam_cost() <= options_.seam_threshold * report_.sample_neighbour_step && sides_kept) || last_try) {
         if (cut.new_texels == 0) return 0;
-        CommitPatch(&canvas_, patch, cut);
-        UpdateNeighbours(patch);
-        ++report_.patches;
-        if (repair) ++report_.repair_patches;
-        seam_cost_sum_ += cut.seam_cost;
-        seam_edges_ += cut.seam_edges;
-        report_.mean_seam_cost = seam_edges_ ? seam_cost_sum_ / seam_edges_ : 0;
-        return cut.new_texels;
+        last_radius_ = r;
+        return Commit(patch, cut, repair);
       }
       ++report_.rejected_cuts;
       r = std::max(options_.min_patch_radius, int(r * options_.shrink));
@@ -175,8 +183,7 @@ class Quilter {
   void PlaceFixed(const PlacedPatch& patch, const std::vector<FitFreedom>& freedom, const FitOptions& fit) {
     const CutResult cut = FitPatch(canvas_, patch, freedom, fit);
     if (cut.new_texels == 0) return;
-    CommitPatch(&canvas_, patch, cut);
-    UpdateNeighbours(patch);
+    CommitAndCount(patch, cut);
     ++report_.patches;
   }
 
@@ -191,8 +198,73 @@ class Quilter {
     p->width = right - left, p->height = bottom - top;
   }
 
-  // (ax, ay): the window texel the patch is placed for (the most constrained one).
-  MatchResult Match(const PlacedPatch& patch, int ax, int ay, double escalation) {
+  // The window's placement on the copy, clipped to the copy.
+  PlacedPatch Placed(const PlacedPatch& window, const MatchResult& match) const {
+    PlacedPatch patch = window;
+    patch.copy = &copies_[match.rotation];
+    patch.u0 = match.u, patch.v0 = match.v;
+    ClipToCopy(&patch);
+    return patch;
+  }
+
+  CutResult Cut(const PlacedPatch& patch, const FitOptions& fit) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<FitFreedom> freedom = DefaultFreedom(canvas_, patch);
+    if (region_) KeepSatisfiedTexels(patch, &freedom);
+    CutResult cut = FitPatch(canvas_, patch, freedom, fit);
+    report_.seconds_cutting += SecondsSince(start);
+    return cut;
+  }
+
+  int Commit(const PlacedPatch& patch, const CutResult& cut, bool repair) {
+    CommitAndCount(patch, cut);
+    ++report_.patches;
+    if (repair) ++report_.repair_patches;
+    seam_cost_sum_ += cut.seam_cost;
+    seam_edges_ += cut.seam_edges;
+    report_.mean_seam_cost = seam_edges_ ? seam_cost_sum_ / seam_edges_ : 0;
+    return cut.new_texels;
+  }
+
+  // Commits the cut and moves the usage of the texels it replaces to the patch's source texels.
+  void CommitAndCount(const PlacedPatch& patch, const CutResult& cut) {
+    for (int y = 0; y < patch.height; ++y)
+      for (int x = 0; x < patch.width; ++x) {
+        if (!cut.take_new[size_t(y) * patch.width + x]) continue;
+        const int ox = patch.x0 + x, oy = patch.y0 + y;
+        if (canvas_.synthesized[size_t(oy) * options_.width + ox]) Use(canvas_.map.SourceTexel(ox, oy), -1);
+        else --unfilled_in_row_[size_t(oy)], ++filled_;
+        Use(patch.copy->SourceTexel(patch.u0 + x, patch.v0 + y), 1);
+      }
+    CommitPatch(&canvas_, patch, cut);
+    UpdateNeighbours(patch);
+  }
+  void Use(const Eigen::Vector2i& texel, double count) {
+    usage_table_.reset();
+    usage_[size_t(texel.y()) * sample_width_ + texel.x()] += count;
+    used_ += count;
+  }
+
+  // Usage balance: among the placements near the least cost, the one of least cost plus the
+  // crowding of the sample around the texel under the anchor (ax, ay): the usage of the box of
+  // radius r_w / 2 around it over its share under uniform use (1: used as much as the average).
+  MatchResult BalancedMatch(const MatchWindow& w, int ax, int ay) {
+    if (!usage_table_) usage_table_.emplace(usage_, sample_width_, sample_height_);  // once per usage change
+    const UsageTable& table = *usage_table_;
+    const double per_texel = used_ / (double(sample_width_) * sample_height_);
+    const double scale = options_.usage_weight * 2 * variance_;
+    const int R = std::max(1, report_.patch_radius / 2);
+    const auto key = [&](const MatchResult& m) {
+      const Eigen::Vector2i s = source_texels_[m.rotation][size_t(m.v + ay) * copies_[m.rotation].size_x + m.u + ax];
+      const int x0 = std::max(0, s.x() - R), y0 = std::max(0, s.y() - R);
+      const int x1 = std::min(sample_width_, s.x() + R + 1), y1 = std::min(sample_height_, s.y() + R + 1);
+      const double crowding = table.Sum(x0, y0, x1, y1) / (per_texel * double(x1 - x0) * (y1 - y0));
+      return m.cost + scale * (crowding - 1);
+    };
+    return matcher_->ChooseNearBest(w, options_.usage_tolerance, kNearBestFloor * 2 * variance_, key);
+  }
+
+  MatchWindow Window(const PlacedPatch& patch, int ax, int ay, double escalation) const {
     MatchWindow w;
     w.width = patch.width, w.height = patch.height, w.x0 = patch.x0, w.y0 = patch.y0;
     w.anchor_x = ax, w.anchor_y = ay;
@@ -200,6 +272,12 @@ class Quilter {
     w.synthesized = &canvas_.synthesized;
     w.target_constraint = canvas_.target;
     w.constraint_scale = escalation;
+    return w;
+  }
+
+  // (ax, ay): the window texel the patch is placed for (the most constrained one).
+  MatchResult Match(const PlacedPatch& patch, int ax, int ay, double escalation) {
+    const MatchWindow w = Window(patch, ax, ay, escalation);
     bool any = false;
     for (int y = 0; y < w.height && !any; ++y)
       for (int x = 0; x < w.width && !any; ++x) any = canvas_.synthesized[size_t(w.y0 + y) * options_.width + w.x0 + x];
@@ -214,7 +292,8 @@ class Quilter {
     }
     const auto start = std::chrono::steady_clock::now();
     const double uniform = std::uniform_real_distribution<double>(0, 1)(rng_);
-    MatchResult m = matcher_->ChooseMatch(w, options_.randomness * variance_, uniform);
+    MatchResult m = balanced_ && used_ > 0 ? BalancedMatch(w, ax, ay)
+                                           : matcher_->ChooseMatch(w, options_.randomness * variance_, uniform);
     report_.seconds_matching += SecondsSince(start);
     return m;
   }
@@ -263,13 +342,15 @@ class Quilter {
   // The unfilled texel (inside `region` if given) with the most filled neighbours, or none left.
   std::optional<std::pair<int, int>> MostConstrained(const Image* region) const {
     int best = -1, bx = 0, by = 0;
-    for (int y = 0; y < options_.height; ++y)
+    for (int y = 0; y < options_.height; ++y) {
+      if (unfilled_in_row_[size_t(y)] == 0) continue;
       for (int x = 0; x < options_.width; ++x) {
         const size_t i = size_t(y) * options_.width + x;
         if (canvas_.synthesized[i] || neighbours_[i] <= best || (region && region->at(x, y) <= 0.5f)) continue;
         best = neighbours_[i], bx = x, by = y;
         if (best == 8) return std::pair{bx, by};
       }
+    }
     if (best < 0) return std::nullopt;
     if (best == 0 && canvas_.next_patch == 0)  // the very first patch: anywhere
       return std::pair{std::uniform_int_distribution<int>(0, options_.width - 1)(rng_),
@@ -298,7 +379,16 @@ class Quilter {
   mutable std::mt19937 rng_;
   QuiltReport& report_;
   std::vector<uint8_t> neighbours_;
+  std::vector<int> unfilled_in_row_;  // the most constrained texel is looked for in these rows only
+  int filled_ = 0;
   double variance_ = 0;
+  std::vector<double> usage_;
+  std::optional<UsageTable> usage_table_;  // of usage_, rebuilt when a patch changes it
+  std::vector<std::vector<Eigen::Vector2i>> source_texels_;  // per copy, per copy texel
+  double used_ = 0;
+  int sample_width_ = 0, sample_height_ = 0;
+  bool balanced_ = false, restarts_ = false;
+  int last_radius_ = 0;  // the window radius of the last accepted patch
   const Image* region_ = nullptr;
   double seam_cost_sum_ = 0;
   long seam_edges_ = 0;

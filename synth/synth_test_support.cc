@@ -70,10 +70,13 @@ Image PhotoCrop(const std::string& name, int size) {
   return crop;
 }
 
-double RandomTilingSubband(const Image& image, int width, int height, uint32_t seed) {
+Image RandomTiling(const Image& image, int width, int height, uint32_t seed) {
   constexpr int kRandomTile = 24;
-  const SynthMap random = RandomTilingMap(image.width(), image.height(), width, height, kRandomTile, seed);
-  return SubbandDistance(ApplyMapToImage(random, image), image);
+  return ApplyMapToImage(RandomTilingMap(image.width(), image.height(), width, height, kRandomTile, seed), image);
+}
+
+double RandomTilingSubband(const Image& image, int width, int height, uint32_t seed) {
+  return SubbandDistance(RandomTiling(image, width, height, seed), image);
 }
 
 Image NoiseImage(int width, int height, int channels, uint32_t seed) {

@@ -21,8 +21,9 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> ExemplarPairs();
 // A size x size crop (top left) of tests/data/textures/NAME.png, linear RGB.
 Image PhotoCrop(const std::string& name, int size);
 
-// The synthesis issue's one baseline for every method on photographs: the subband distance to
-// `image` of random-offset tiling of 24 x 24 patches of it into `width` x `height`, at `seed`.
+// The synthesis issue's one baseline for every method on photographs: random-offset tiling of
+// 24 x 24 patches of `image` into `width` x `height`, at `seed`; and its subband distance to `image`.
+Image RandomTiling(const Image& image, int width, int height, uint32_t seed);
 double RandomTilingSubband(const Image& image, int width, int height, uint32_t seed);
 
 // Uniform noise in [0, 1), `channels` per texel, from `seed`.
