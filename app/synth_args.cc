@@ -30,14 +30,11 @@ void AddQuiltOptions(CLI::App* sub, SynthArgs& a) {
                          "stay nearer the sample's (docs/synthesis.md)");
   sub->add_option("--usage-weight", a.quilt.usage_weight,
                   "quilt: weight of the sample's usage in the choice among near-best placements, so that no region of "
-                  "the sample is drawn on more than its share (0: the least cost, as Zhou)")
+                  "the sample is drawn on more than its share (0: the least cost, as Zhou; 0.5 brings stochastic and "
+                  "directional photographs' statistics nearer the sample's, at 1.4-2x the time)")
       ->capture_default_str();
   sub->add_option("--usage-tolerance", a.quilt.usage_tolerance,
                   "quilt: placements within this fraction of the least cost are weighed by their usage")
-      ->capture_default_str();
-  sub->add_option("--restart-steps", a.quilt.restart_steps,
-                  "quilt: each patch's window starts this many shrink steps above the last accepted one (-1: at r_w, "
-                  "as Zhou)")
       ->capture_default_str();
   sub->add_option("--svd-components", a.exemplar.svd_components, "BTF: geometry maps kept from the SVD (Zhou: 40)")->capture_default_str();
 }

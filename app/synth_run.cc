@@ -84,7 +84,7 @@ StatusOr<SynthMap> RunQuilt(const Exemplar& e, const SynthMethodOptions& a, Json
   (*report)["parameters"] = {{"patch_radius", o.patch_radius}, {"min_patch_radius", o.min_patch_radius}, {"shrink", o.shrink},
                              {"seam_threshold", o.seam_threshold}, {"randomness", o.randomness}, {"rotations", o.rotations},
                              {"whole_sample", o.whole_sample}, {"usage_weight", o.usage_weight},
-                             {"usage_tolerance", o.usage_tolerance}, {"restart_steps", o.restart_steps},
+                             {"usage_tolerance", o.usage_tolerance},
                              {"seed", o.seed}, {"width", o.width}, {"height", o.height}, {"svd_components", a.svd_components}};
   (*report)["derived"] = {{"patch_radius", r.patch_radius}, {"sample_neighbour_step", r.sample_neighbour_step}};
   (*report)["patches"] = r.patches;

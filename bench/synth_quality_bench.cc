@@ -18,7 +18,7 @@
 //                            [--k 11] [--jitter 0.5] [--passes 2] [--coherence 0.5]
 //                            [--neighbourhood 5] [--levels 0] [--textons 400] [--values 1]
 //                            [--randomness 0] [--patch-radius 0] [--whole-sample 1|0]
-//                            [--usage-weight 0.5] [--restart-steps 2]   (quilt)
+//                            [--usage-weight 0.5] [--usage-tolerance 0.5]   (quilt)
 //                            [--block 30] [--overlap 0] [--exclusion 0] [--tolerance 0.5] [--seam-limit 1.2]
 //                            [--balance-usage 1] (block)
 //                            [--ptm] [--relief 4]
@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
     else if (arg == "--seeds") a.seeds = std::atoi(next().c_str());
     else if (arg == "--first-seed") a.first_seed = std::atoi(next().c_str());
     else if (arg == "--usage-weight") a.quilt.usage_weight = std::atof(next().c_str());
-    else if (arg == "--restart-steps") a.quilt.restart_steps = std::atoi(next().c_str());
+    else if (arg == "--usage-tolerance") a.quilt.usage_tolerance = std::atof(next().c_str());
     else if (arg == "--methods") a.methods = next();
     else if (arg == "--sheet") a.sheet = next();
     else if (arg == "--peer") a.peer = next();

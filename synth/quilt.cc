@@ -30,7 +30,6 @@ Status QuiltOptions::Check(int sample_width, int sample_height) const {
   if (rotations < 1 || rotations > 360) return Status::Error("rotations must be 1..360");
   if (!(usage_weight >= 0)) return Status::Error("the usage weight must be at least 0");
   if (!(usage_tolerance >= 0)) return Status::Error("the usage tolerance must be at least 0");
-  if (restart_steps < -1) return Status::Error("the restart steps must be -1 (start every patch at r_w) or more");
   const int r = EffectiveRadius(sample_width, sample_height);
   if (r < min_patch_radius) return Status::Error(Format("patch radius %d is below the minimum %d", r, min_patch_radius));
   const int smallest_copy = rotations > 1 ? int(std::min(sample_width, sample_height) / std::sqrt(2.0)) : std::min(sample_width, sample_height);
@@ -106,9 +105,7 @@ class Quilter {
     report_.sample_neighbour_step = MeanNeighbourStep(sample);
     neighbours_.assign(size_t(options.width) * options.height, 0);
     unfilled_in_row_.assign(size_t(options.height), options.width);
-    // Usage balance and the restart rule are quilting's, not painting's (whose constraint decides).
-    balanced_ = !target && options.usage_weight > 0;
-    restarts_ = !target && options.restart_steps >= 0;
+    balanced_ = !target && options.usage_weight > 0;  // quilting's, not painting's (whose constraint decides)
     usage_.assign(sample.pixel_count(), 0.0);
     sample_width_ = sample.width(), sample_height_ = sample.height();
     for (const RotatedSample& copy : copies_) {
@@ -137,8 +134,6 @@ class Quilter {
   // too costly or no copy of the sample is that large; returns the number of texels it changed.
   int PlaceAround(int vx, int vy, const FitOptions& fit, bool repair, int radius = 0) {
     int r = radius > 0 ? radius : report_.patch_radius;
-    if (radius == 0 && restarts_ && last_radius_ > 0)
-      r = std::min(r, int(std::ceil(last_radius_ / std::pow(options_.shrink, options_.restart_steps))));
     double escalation = 1;  // region rule: the constraint's weight grows while no placement keeps the sides
     while (true) {
       const int x0 = std::max(0, vx - r), y0 = std::max(0, vy - r);
@@ -165,7 +160,6 @@ class Quilter {
       }
       if ((cut.mean_seam_cost() <= options_.seam_threshold * report_.sample_neighbour_step && sides_kept) || last_try) {
         if (cut.new_texels == 0) return 0;
-        last_radius_ = r;
         return Commit(patch, cut, repair);
       }
       ++report_.rejected_cuts;
@@ -387,8 +381,7 @@ class Quilter {
   std::vector<std::vector<Eigen::Vector2i>> source_texels_;  // per copy, per copy texel
   double used_ = 0;
   int sample_width_ = 0, sample_height_ = 0;
-  bool balanced_ = false, restarts_ = false;
-  int last_radius_ = 0;  // the window radius of the last accepted patch
+  bool balanced_ = false;
   const Image* region_ = nullptr;
   double seam_cost_sum_ = 0;
   long seam_edges_ = 0;

@@ -42,15 +42,12 @@ struct QuiltOptions {
   // sigma^2 x (crowding - 1), the crowding being how often the sample box of radius r_w / 2 around
   // the texel under the patch's anchor is already used, over its share under uniform use; 0: the
   // least cost (Zhou). The least cost favours bland regions (they match anything), so the output's
-  // statistics drift from the sample's: on the 20 photographs (96 -> 256, three seeds) the subband
-  // ratio to random tiling went 0.82x -> 0.63x, and from 17 to 20 at or below it (docs/synthesis.md).
-  double usage_weight = 0.5;
+  // statistics drift from the sample's. On the 20 photographs (96 -> 256, three seeds) 0.5 takes the
+  // subband ratio to random tiling from 0.82x to 0.62x (fur 1.43x -> 0.56x, rock 1.07x -> 0.85x; 17
+  // -> 19 of 20 at or below it), but at 1.5-2.0x the time (more cuts are refused), and brick courses
+  // break more often: off by default (docs/synthesis.md).
+  double usage_weight = 0;
   double usage_tolerance = 0.5;
-  // Each patch's window starts this many shrink steps above the last accepted one's radius (at
-  // most r_w); -1: at r_w every time (Zhou). Most windows end far below r_w after refused cuts, so
-  // starting near where the last one ended saves a fifth to two fifths of the matches, which pays
-  // for the cuts the usage balance gets refused (quilting, not painting).
-  int restart_steps = 2;
   uint32_t seed = 1;
   int num_threads = -1;
   Status Check(int sample_width, int sample_height) const;

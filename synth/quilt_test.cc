@@ -24,39 +24,29 @@ struct QuiltCase {
 
 class QuiltOnMaterial : public ::testing::TestWithParam<QuiltCase> {};
 
-// Seams on every slice and seed; the statistics as the mean of three seeds per slice, since one
-// seed's subband distance on one slice varies by about 10% between seeds.
 TEST_P(QuiltOnMaterial, ValidMapReproducedBitForBitSeamsBelowRandomTiling) {
   const QuiltCase& c = GetParam();
   const Exemplar e = testing::VirtualRigExemplar(c.material);
-  const int seeds = c.statistics_beat_random ? 3 : 1;
-  std::vector<double> subband(e.slices.size(), 0.0), random_subband(e.slices.size(), 0.0);
-  for (int seed = 0; seed < seeds; ++seed) {
-    QuiltOptions o;
-    o.width = o.height = 256;
-    o.seed = testing::SeedFromTestName() + uint32_t(seed);
-    QuiltReport rep;
-    Image built;
-    auto map = QuiltSynthesis(e.features, o, &rep, nullptr, &built);
-    ASSERT_TRUE(map.ok()) << map.status().message();
-    ASSERT_TRUE(ValidateMap(*map).ok()) << ValidateMap(*map).message();
-    EXPECT_EQ(ApplyMapToImage(*map, e.features), built);  // bit for bit
-    const SynthMap random = RandomTilingMap(e.width, e.height, o.width, o.height, 2 * rep.patch_radius + 1, o.seed);
-    for (size_t k = 0; k < e.slices.size(); ++k) {  // several lights and two views
-      const Image slice = *e.ReadSlice(int(k));
-      const Image out = ApplyMapToImage(*map, slice), tiled = ApplyMapToImage(random, slice);
-      const SeamMeasure s = MeasureSeams(*map, out, slice), r = MeasureSeams(random, tiled, slice);
-      EXPECT_GT(s.cut_pairs, 0);
-      EXPECT_LE(s.ratio(), c.max_seam_ratio) << "slice " << k << ", seed " << o.seed;
-      EXPECT_LT(s.ratio(), 0.8 * r.ratio()) << "slice " << k << ", seed " << o.seed;
-      subband[k] += SubbandDistance(out, slice) / seeds;
-      random_subband[k] += SubbandDistance(tiled, slice) / seeds;
+  QuiltOptions o;
+  o.width = o.height = 256;
+  o.seed = testing::SeedFromTestName();
+  QuiltReport rep;
+  Image built;
+  auto map = QuiltSynthesis(e.features, o, &rep, nullptr, &built);
+  ASSERT_TRUE(map.ok()) << map.status().message();
+  ASSERT_TRUE(ValidateMap(*map).ok()) << ValidateMap(*map).message();
+  EXPECT_EQ(ApplyMapToImage(*map, e.features), built);  // bit for bit
+  const SynthMap random = RandomTilingMap(e.width, e.height, o.width, o.height, 2 * rep.patch_radius + 1, o.seed);
+  for (int k = 0; k < int(e.slices.size()); ++k) {  // several lights and two views
+    const Image slice = *e.ReadSlice(k);
+    const Image out = ApplyMapToImage(*map, slice), tiled = ApplyMapToImage(random, slice);
+    const SeamMeasure s = MeasureSeams(*map, out, slice), r = MeasureSeams(random, tiled, slice);
+    EXPECT_GT(s.cut_pairs, 0);
+    EXPECT_LE(s.ratio(), c.max_seam_ratio) << "slice " << k;
+    EXPECT_LT(s.ratio(), 0.8 * r.ratio()) << "slice " << k;
+    if (c.statistics_beat_random) {
+      EXPECT_LT(SubbandDistance(out, slice), SubbandDistance(tiled, slice)) << "slice " << k;
     }
-  }
-  if (!c.statistics_beat_random) return;
-  for (size_t k = 0; k < e.slices.size(); ++k) {
-    std::printf("slice %zu: subband %.3fx random tiling's\n", k, subband[k] / random_subband[k]);
-    EXPECT_LT(subband[k], random_subband[k]) << "slice " << k;
   }
 }
 
@@ -129,7 +119,7 @@ TEST(Quilt, UsageBalanceDrawsOnTheSampleEvenly) {
   o.seed = testing::SeedFromTestName();
   o.usage_weight = 0;
   auto least_cost = QuiltSynthesis(sample, o, nullptr);
-  o.usage_weight = QuiltOptions().usage_weight;
+  o.usage_weight = 0.5;
   Image built;
   auto balanced = QuiltSynthesis(sample, o, nullptr, nullptr, &built);
   ASSERT_TRUE(least_cost.ok() && balanced.ok()) << balanced.status().message();
@@ -137,27 +127,6 @@ TEST(Quilt, UsageBalanceDrawsOnTheSampleEvenly) {
   EXPECT_EQ(ApplyMapToImage(*balanced, sample), built);
   std::printf("usage spread over 8x8 blocks: least cost %.3f, balanced %.3f\n", spread(*least_cost), spread(*balanced));
   EXPECT_LT(spread(*balanced), 0.8 * spread(*least_cost));
-}
-
-// Starting each window near the last accepted one's radius matches less than starting at r_w every
-// time (Zhou), with seams as good.
-TEST(Quilt, RestartNearTheLastWindowMatchesLess) {
-  const Image sample = testing::PhotoCrop("stones", 96);
-  QuiltOptions o;
-  o.width = o.height = 256;
-  o.seed = testing::SeedFromTestName();
-  auto run = [&](int steps, QuiltReport* report) {
-    o.restart_steps = steps;
-    auto map = QuiltSynthesis(sample, o, report);
-    EXPECT_TRUE(map.ok());
-    return MeasureSeams(*map, ApplyMapToImage(*map, sample), sample).ratio();
-  };
-  QuiltReport from_rw, restarted;
-  const double seams_from_rw = run(-1, &from_rw), seams_restarted = run(QuiltOptions().restart_steps, &restarted);
-  const int matches_from_rw = from_rw.patches + from_rw.rejected_cuts, matches_restarted = restarted.patches + restarted.rejected_cuts;
-  std::printf("matches %d -> %d, seams %.3f -> %.3f\n", matches_from_rw, matches_restarted, seams_from_rw, seams_restarted);
-  EXPECT_LT(matches_restarted, 0.9 * matches_from_rw);  // measured 4328 -> 3418, in windows 0.8^2 smaller or less
-  EXPECT_LE(seams_restarted, 1.2);
 }
 
 TEST(Quilt, SameSeedSameMap) {
