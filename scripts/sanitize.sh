@@ -43,7 +43,7 @@ done
 # rig_checkerboard 16, virtual_camera 8, app/capture_guide 31), and block and texton synthesis's
 # seam and statistics tests, on the virtual rig and on photographs (18-60 s each; over 5 min under ASan; their search and map tests,
 # synth/block_synthesis_test and synth/texton_test, run), quilting's on photographs (18 s; synth/quilt_test runs its
-# usage balance and restart), and surface texton synthesis's tests on whole meshes
+# usage balance), and surface texton synthesis's tests on whole meshes
 # (mesh/surface_textons_test 17 s, surface_quality_test 13 s, surface_quilt_test 65 s; 580 and 400 s under ASan for
 # the first two: texton synthesis's small case,
 # mesh/surface_textons_small_test, runs); the rest takes about 1 min under ASan.

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <optional>
 #include <random>
 
 #include "core/parallel.h"
@@ -355,9 +354,7 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
   const double sample_step = MeanNeighbourStep(sample);
   // Each block's sample position, for the continuation rule.
   std::vector<Eigen::Vector2i> source(size_t(blocks_x) * blocks_y, Eigen::Vector2i(-1, -1));
-  // How many output texels each sample texel fills so far.
-  std::vector<double> usage(size_t(sample.width()) * sample.height(), 0.0);
-  const auto use = [&](const Eigen::Vector2i& texel, double count) { usage[size_t(texel.y()) * sample.width() + texel.x()] += count; };
+  SampleUsage usage(sample.width(), sample.height());
   for (int by = 0; by < blocks_y; ++by) {
     for (int bx = 0; bx < blocks_x; ++bx) {
       const int x0 = bx * step, y0 = by * step;
@@ -386,9 +383,8 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
         rejected += found.rejected;
         r.seconds_search += SecondsSince(search_start);
         const auto choice_start = std::chrono::steady_clock::now();
-        std::optional<UsageTable> table;
-        if (options.balance_usage) table.emplace(usage, sample.width(), sample.height());
-        const std::vector<long> order = TryOrder(found.candidates, table ? &*table : nullptr, columns, block, rng);
+        const std::vector<long> order =
+            TryOrder(found.candidates, options.balance_usage ? &usage.Table() : nullptr, columns, block, rng);
         // The first in that order whose cuts stay within the seam limit, else the one whose cuts err least.
         double least = std::numeric_limits<double>::infinity();
         for (long c : order) {
@@ -407,9 +403,9 @@ StatusOr<SynthMap> BlockSynthesis(const Image& sample, const BlockSynthesisOptio
           if (dx < cuts.column[size_t(dy)] || dy < cuts.row[size_t(dx)]) continue;
           std::copy_n(sample.pixel(sx + dx, sy + dy), sample.channels(), canvas.pixel(x0 + dx, y0 + dy));
           const bool in_output = x0 + dx < options.width && y0 + dy < options.height;
-          if (in_output && full.filled(x0 + dx, y0 + dy)) use(full.SourceTexel(x0 + dx, y0 + dy), -1);  // cut away
+          if (in_output && full.filled(x0 + dx, y0 + dy)) usage.Add(full.SourceTexel(x0 + dx, y0 + dy), -1);  // cut away
           full.Set(x0 + dx, y0 + dy, float(sx + dx) + 0.5f, float(sy + dy) + 0.5f, 0, id);
-          if (in_output) use({sx + dx, sy + dy}, 1);
+          if (in_output) usage.Add({sx + dx, sy + dy}, 1);
         }
       ++r.blocks;
     }

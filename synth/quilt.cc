@@ -105,13 +105,13 @@ class Quilter {
     report_.sample_neighbour_step = MeanNeighbourStep(sample);
     neighbours_.assign(size_t(options.width) * options.height, 0);
     unfilled_in_row_.assign(size_t(options.height), options.width);
-    balanced_ = !target && options.usage_weight > 0;  // quilting's, not painting's (whose constraint decides)
-    usage_.assign(sample.pixel_count(), 0.0);
-    sample_width_ = sample.width(), sample_height_ = sample.height();
-    for (const RotatedSample& copy : copies_) {
-      source_texels_.emplace_back();
-      for (int v = 0; v < copy.size_y; ++v)
-        for (int u = 0; u < copy.size_x; ++u) source_texels_.back().push_back(copy.SourceTexel(u, v));
+    if (!target && options.usage_weight > 0) {  // quilting's, not painting's (whose constraint decides)
+      usage_.emplace(sample.width(), sample.height());
+      for (const RotatedSample& copy : copies_) {
+        source_texels_.emplace_back();
+        for (int v = 0; v < copy.size_y; ++v)
+          for (int u = 0; u < copy.size_x; ++u) source_texels_.back().push_back(copy.SourceTexel(u, v));
+      }
     }
   }
 
@@ -226,34 +226,25 @@ class Quilter {
       for (int x = 0; x < patch.width; ++x) {
         if (!cut.take_new[size_t(y) * patch.width + x]) continue;
         const int ox = patch.x0 + x, oy = patch.y0 + y;
-        if (canvas_.synthesized[size_t(oy) * options_.width + ox]) Use(canvas_.map.SourceTexel(ox, oy), -1);
-        else --unfilled_in_row_[size_t(oy)], ++filled_;
-        Use(patch.copy->SourceTexel(patch.u0 + x, patch.v0 + y), 1);
+        const bool replaced = canvas_.synthesized[size_t(oy) * options_.width + ox];
+        if (!replaced) --unfilled_in_row_[size_t(oy)], ++filled_;
+        if (!usage_) continue;
+        if (replaced) usage_->Add(canvas_.map.SourceTexel(ox, oy), -1);
+        usage_->Add(patch.copy->SourceTexel(patch.u0 + x, patch.v0 + y), 1);
       }
     CommitPatch(&canvas_, patch, cut);
     UpdateNeighbours(patch);
-  }
-  void Use(const Eigen::Vector2i& texel, double count) {
-    usage_table_.reset();
-    usage_[size_t(texel.y()) * sample_width_ + texel.x()] += count;
-    used_ += count;
   }
 
   // Usage balance: among the placements near the least cost, the one of least cost plus the
   // crowding of the sample around the texel under the anchor (ax, ay): the usage of the box of
   // radius r_w / 2 around it over its share under uniform use (1: used as much as the average).
   MatchResult BalancedMatch(const MatchWindow& w, int ax, int ay) {
-    if (!usage_table_) usage_table_.emplace(usage_, sample_width_, sample_height_);  // once per usage change
-    const UsageTable& table = *usage_table_;
-    const double per_texel = used_ / (double(sample_width_) * sample_height_);
     const double scale = options_.usage_weight * 2 * variance_;
-    const int R = std::max(1, report_.patch_radius / 2);
+    const int radius = std::max(1, report_.patch_radius / 2);
     const auto key = [&](const MatchResult& m) {
       const Eigen::Vector2i s = source_texels_[m.rotation][size_t(m.v + ay) * copies_[m.rotation].size_x + m.u + ax];
-      const int x0 = std::max(0, s.x() - R), y0 = std::max(0, s.y() - R);
-      const int x1 = std::min(sample_width_, s.x() + R + 1), y1 = std::min(sample_height_, s.y() + R + 1);
-      const double crowding = table.Sum(x0, y0, x1, y1) / (per_texel * double(x1 - x0) * (y1 - y0));
-      return m.cost + scale * (crowding - 1);
+      return m.cost + scale * (usage_->Crowding(s, radius) - 1);
     };
     return matcher_->ChooseNearBest(w, options_.usage_tolerance, kNearBestFloor * 2 * variance_, key);
   }
@@ -286,7 +277,7 @@ class Quilter {
     }
     const auto start = std::chrono::steady_clock::now();
     const double uniform = std::uniform_real_distribution<double>(0, 1)(rng_);
-    MatchResult m = balanced_ && used_ > 0 ? BalancedMatch(w, ax, ay)
+    MatchResult m = usage_ && usage_->total() > 0 ? BalancedMatch(w, ax, ay)
                                            : matcher_->ChooseMatch(w, options_.randomness * variance_, uniform);
     report_.seconds_matching += SecondsSince(start);
     return m;
@@ -376,12 +367,8 @@ class Quilter {
   std::vector<int> unfilled_in_row_;  // the most constrained texel is looked for in these rows only
   int filled_ = 0;
   double variance_ = 0;
-  std::vector<double> usage_;
-  std::optional<UsageTable> usage_table_;  // of usage_, rebuilt when a patch changes it
-  std::vector<std::vector<Eigen::Vector2i>> source_texels_;  // per copy, per copy texel
-  double used_ = 0;
-  int sample_width_ = 0, sample_height_ = 0;
-  bool balanced_ = false;
+  std::optional<SampleUsage> usage_;  // with usage balance only
+  std::vector<std::vector<Eigen::Vector2i>> source_texels_;  // likewise: per copy, per copy texel
   const Image* region_ = nullptr;
   double seam_cost_sum_ = 0;
   long seam_edges_ = 0;
